@@ -1,0 +1,5 @@
+//! tdm-stepper: a time-division multiplexed multi-axis stepper motor controller IP
+//! core. See README.md and docs/ for the architecture; this crate holds the
+//! reference model, the test vectors, the accuracy report and the CLI.
+
+pub mod model;

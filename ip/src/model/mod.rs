@@ -1,0 +1,22 @@
+//! The reference model: plain Rust, no HDL.
+//!
+//! * [`segment`]: segments in register units, the documented range, validation and
+//!   error codes;
+//! * [`exact`]: exact kinematics, the yardstick;
+//! * [`integer`]: the bit-accurate integer model of the hardware algorithm;
+//! * [`axis`]: one axis running segments back to back;
+//! * [`units`]: steps/s and seconds to register units;
+//! * [`planner`]: trapezoid moves to segments;
+//! * [`alternatives`]: other period algorithms, for the accuracy report.
+
+pub mod alternatives;
+pub mod axis;
+pub mod exact;
+pub mod integer;
+pub mod planner;
+pub mod segment;
+pub mod units;
+
+pub use axis::{AxisRun, FifoEntry, Rejected};
+pub use integer::{PlanKind, SegmentPlan, EDGE_ERROR_BOUND_TICKS, ROOT_BITS, TAU_FRAC_BITS};
+pub use segment::{Limits, Segment, SegmentError, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};

@@ -1,0 +1,233 @@
+//! Property tests of the reference model over the documented range.
+//!
+//! Each property runs 10,000 cases (`PROPTEST_CASES` overrides). Segments are drawn
+//! log-uniformly over T ∈ [1, 2^30] and n ∈ [0, 2^24], with start speeds at the
+//! interval ends, uniform, and nearly uniform (tiny |D|, which reaches the widest
+//! accumulators and the uniform fallback). Every edge is checked twice: in f64
+//! against the documented bound, and exactly, in integers, against 1 tick.
+
+use proptest::prelude::*;
+use tdm_stepper::model::exact::{edge_within, step_time};
+use tdm_stepper::model::*;
+
+const CASES: u32 = 10_000;
+/// Segments up to this many steps are checked at every step; longer ones at samples.
+const FULL_CHECK_STEPS: u32 = 4096;
+
+fn config() -> ProptestConfig {
+    let cases = std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(CASES);
+    ProptestConfig {
+        cases,
+        max_shrink_iters: 2000,
+        // Most near-uniform draws fall outside the range; allow for it.
+        max_local_rejects: 1 << 22,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    }
+}
+
+/// Log-uniform integer in [lo, hi].
+fn log_uniform(lo: u64, hi: u64) -> impl Strategy<Value = u64> {
+    let (l, h) = ((lo.max(1) as f64).ln(), (hi as f64).ln());
+    (0.0f64..=1.0).prop_map(move |x| ((l + x * (h - l)).exp().round() as u64).clamp(lo, hi))
+}
+
+fn min_period() -> impl Strategy<Value = u32> {
+    prop_oneof![Just(2u32), Just(3), 2u32..20, 20u32..2000]
+}
+
+/// The valid v0_rate interval for (T, n, M): no reversal and both ends under the rate limit.
+fn rate_interval(t: u64, n: u64, m: u32) -> Option<(u64, u64)> {
+    let one = 1u128 << 32;
+    let m1 = m as u128 + 1;
+    let hi = ((2 * n as u128 * one) / t as u128).min(one / m1).min(MAX_V0_RATE as u128);
+    // v_end = 2n/T − v0 ≤ 1/(M+1)  ⟺  v0·T·(M+1) ≥ 2n·2^32·(M+1) − T·2^32
+    let need = (2 * n as u128 * one * m1).saturating_sub(t as u128 * one);
+    let lo = need.div_ceil(t as u128 * m1);
+    (lo <= hi).then_some((lo as u64, hi as u64))
+}
+
+/// A valid segment anywhere in the range.
+fn valid_segment() -> impl Strategy<Value = (Segment, Limits)> {
+    (min_period(), log_uniform(1, MAX_T_TICKS as u64), 0.0f64..=1.0, 0u8..6, any::<u64>(), any::<bool>())
+        .prop_filter_map("no valid rate", |(m, t, nx, pick, r, neg)| {
+            let n_max = (t / (m as u64 + 1)).min(MAX_STEPS as u64);
+            let n = if nx < 0.05 { 0 } else { ((n_max as f64 + 1.0).powf(nx) - 1.0).round() as u64 };
+            let n = n.min(n_max);
+            let (lo, hi) = if n == 0 { (0, 0) } else { rate_interval(t, n, m)? };
+            let uniform = ((n as u128) << 32) / t as u128;
+            let v0 = match pick {
+                0 => lo,
+                1 => hi,
+                2 => (uniform as u64).clamp(lo, hi),
+                3 => (uniform as u64 + r % 3).saturating_sub(1).clamp(lo, hi),
+                _ => lo + r % (hi - lo + 1),
+            };
+            let steps = if neg { -(n as i64) } else { n as i64 } as i32;
+            Some((Segment::new(v0 as u32, t as u32, steps), Limits::new(m).unwrap()))
+        })
+}
+
+/// A nearly uniform segment: |D·2^32| small, so P is huge (up to the sqrt path's width
+/// and past it, into the uniform fallback). Built by solving v0_rate·T ≡ −d (mod 2^32).
+fn nearly_uniform_segment() -> impl Strategy<Value = (Segment, Limits)> {
+    (1u64..(1 << 28), -4000i64..4000, any::<bool>()).prop_filter_map(
+        "no segment in range",
+        |(half_rate, d, neg)| {
+            let v0 = 2 * half_rate + 1; // odd, so invertible mod 2^32
+            let inv = (0..5).fold(v0, |x, _| x.wrapping_mul(2u64.wrapping_sub(v0.wrapping_mul(x))));
+            let t = ((-d) as u64).wrapping_mul(inv) & 0xffff_ffff;
+            if t == 0 || t > MAX_T_TICKS as u64 {
+                return None;
+            }
+            let n = (d as i128 + v0 as i128 * t as i128) >> 32;
+            if n <= 0 || n > MAX_STEPS as i128 {
+                return None;
+            }
+            let steps = if neg { -(n as i32) } else { n as i32 };
+            let seg = Segment::new(v0 as u32, t as u32, steps);
+            let limits = Limits::default();
+            seg.validate(&limits).ok().map(|_| (seg, limits))
+        },
+    )
+}
+
+/// Checks one segment's edges; returns the largest f64 error seen.
+fn check_segment(seg: &Segment, limits: &Limits, rng_seed: u64) -> Result<f64, TestCaseError> {
+    prop_assert_eq!(seg.validate(limits), Ok(()));
+    let plan = SegmentPlan::new(*seg);
+    let n = seg.n_steps();
+    let mut worst = 0.0f64;
+    let mut check_edge = |i: u32, e: u64| -> Result<(), TestCaseError> {
+        let err = (e as f64 - step_time(seg, i)).abs();
+        worst = worst.max(err);
+        prop_assert!(err <= EDGE_ERROR_BOUND_TICKS + 1e-6, "step {i}: edge {e}, error {err} ticks, {plan:?}");
+        prop_assert!(edge_within(seg, i, e as i64, 1), "step {i}: edge {e} not within 1 tick (exact check)");
+        Ok(())
+    };
+    if n <= FULL_CHECK_STEPS {
+        let mut edge = 0u64;
+        let mut count = 0;
+        for (k, p) in plan.periods().enumerate() {
+            let i = k as u32 + 1;
+            prop_assert!(p >= limits.min_period_ticks, "step {i}: period {p} < {}", limits.min_period_ticks);
+            edge += p as u64;
+            prop_assert_eq!(edge, plan.edge(i), "incremental and direct edge differ at step {}", i);
+            check_edge(i, edge)?;
+            count += 1;
+        }
+        prop_assert_eq!(count, n);
+        prop_assert_eq!(edge, if n == 0 { 0 } else { seg.t_ticks as u64 }, "segment does not sum to T");
+    } else {
+        // Ends of the segment plus pseudo-random steps in between (direct form).
+        let mut x = rng_seed | 1;
+        let mut samples: Vec<u32> = (1..=64).chain(n - 64..=n).collect();
+        for _ in 0..192 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            samples.push(1 + (x % n as u64) as u32);
+        }
+        for i in samples {
+            let e = plan.edge(i);
+            check_edge(i, e)?;
+            let p = e - plan.edge(i - 1);
+            prop_assert!(p >= limits.min_period_ticks as u64, "step {i}: period {p}");
+        }
+        prop_assert_eq!(plan.edge(n), seg.t_ticks as u64);
+    }
+    Ok(worst)
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn every_edge_within_bound_over_the_range((seg, limits) in valid_segment(), seed in any::<u64>()) {
+        check_segment(&seg, &limits, seed)?;
+    }
+
+    #[test]
+    fn nearly_uniform_segments_within_bound((seg, limits) in nearly_uniform_segment(), seed in any::<u64>()) {
+        check_segment(&seg, &limits, seed)?;
+    }
+
+    /// Multi-segment moves: edges measured from the move start, cumulatively.
+    #[test]
+    fn multi_segment_moves_do_not_drift(
+        parts in prop::collection::vec(valid_segment(), 1..6),
+    ) {
+        let limits = Limits::default();
+        let segs: Vec<Segment> = parts.iter()
+            .map(|(s, _)| *s)
+            .filter(|s| s.n_steps() <= FULL_CHECK_STEPS && s.validate(&limits).is_ok())
+            .collect();
+        let run = AxisRun::run(&segs, &limits);
+        prop_assert!(run.rejected.is_empty());
+        prop_assert_eq!(run.end_tick, segs.iter().map(|s| s.t_ticks as u64).sum::<u64>());
+        prop_assert_eq!(run.position, segs.iter().map(|s| s.steps as i64).sum::<i64>());
+        prop_assert_eq!(run.fifo.iter().map(|f| f.ticks as u64).sum::<u64>(), run.end_tick);
+        prop_assert_eq!(run.edge_ticks.len(), segs.iter().map(|s| s.n_steps() as usize).sum::<usize>());
+        prop_assert!(run.max_edge_error_ticks() <= EDGE_ERROR_BOUND_TICKS + 1e-6,
+            "cumulative error {} ticks", run.max_edge_error_ticks());
+        // The same, exactly in integers, segment by segment against each segment's start.
+        let mut start = 0u64;
+        let mut k = 0usize;
+        for s in &segs {
+            for i in 1..=s.n_steps() {
+                prop_assert!(edge_within(s, i, (run.edge_ticks[k] - start) as i64, 1));
+                k += 1;
+            }
+            start += s.t_ticks as u64;
+        }
+    }
+
+    /// Any 32-bit register image: validation never panics, and its verdict is
+    /// right by an independent, semantic check.
+    #[test]
+    fn invalid_segments_rejected_with_the_right_code(
+        v0 in prop_oneof![any::<u32>(), 0u32..(1 << 24), Just(0u32)],
+        t in prop_oneof![any::<u32>(), 0u32..2000, Just(0u32), (MAX_T_TICKS - 2)..=(MAX_T_TICKS + 2)],
+        steps in prop_oneof![any::<i32>(), -3000i32..3000, Just(0i32),
+                             (MAX_STEPS as i32 - 1)..=(MAX_STEPS as i32 + 1)],
+        m in min_period(),
+    ) {
+        let seg = Segment::new(v0, t, steps);
+        let limits = Limits::new(m).unwrap();
+        let verdict = seg.validate(&limits);
+        let n = steps.unsigned_abs();
+        let v0f = v0 as f64 / 2f64.powi(32);
+        match verdict {
+            Err(SegmentError::TicksZero) => prop_assert_eq!(t, 0),
+            Err(SegmentError::TicksRange) => prop_assert!(t > MAX_T_TICKS),
+            Err(SegmentError::StepsRange) => prop_assert!(n > MAX_STEPS && t >= 1 && t <= MAX_T_TICKS),
+            Err(SegmentError::RateRange) => prop_assert!(v0 > MAX_V0_RATE && n <= MAX_STEPS),
+            Err(SegmentError::Reverses) => {
+                // The exact final speed 2n/T − v0 is negative (checked in i128, not f64).
+                prop_assert!((2 * n as i128) << 32 < v0 as i128 * t as i128);
+            }
+            Err(SegmentError::PeriodTooShort) => {
+                let v_end = 2.0 * n as f64 / t as f64 - v0f;
+                prop_assert!(v0f.max(v_end) * (m as f64 + 1.0) > 1.0 - 1e-9);
+            }
+            Ok(()) => {
+                prop_assert!(t >= 1 && t <= MAX_T_TICKS && n <= MAX_STEPS && v0 <= MAX_V0_RATE);
+                // Valid means the model runs and every period honours the minimum.
+                if n <= FULL_CHECK_STEPS {
+                    check_segment(&seg, &limits, 1)?;
+                }
+            }
+        }
+        if verdict.is_err() {
+            // A rejected segment between valid ones disturbs nothing.
+            // Peak 2e-4 steps/tick: valid for every minimum period drawn here.
+            let good = Segment::new(0, 1_000_000, 100);
+            let alone = AxisRun::run(&[good, good], &limits);
+            prop_assert!(alone.rejected.is_empty());
+            let mixed = AxisRun::run(&[good, seg, good], &limits);
+            prop_assert_eq!(&mixed.rejected, &vec![Rejected { index: 1, error: verdict.unwrap_err() }]);
+            prop_assert_eq!(&mixed.edge_ticks, &alone.edge_ticks);
+            prop_assert_eq!(mixed.position, alone.position);
+        }
+    }
+}
