@@ -2,4 +2,6 @@
 //! core. See README.md and docs/ for the architecture; this crate holds the
 //! reference model, the test vectors, the accuracy report and the CLI.
 
+pub mod accuracy;
 pub mod model;
+pub mod vectors;
