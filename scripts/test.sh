@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs what the tests need, then runs them. This is the README's test command
+# and what .ci/run calls. Works as root on a fresh Debian machine (no sudo);
+# stops with a clear message when something cannot be installed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+die() { echo "scripts/test.sh: error: $*" >&2; exit 1; }
+
+# Tools the tests need, as "command:debian-package". The Rust toolchain itself
+# (cargo, rustc) comes from rustup and has no package here.
+REQUIRED=(
+    "cc:gcc"        # the linker rustc calls
+)
+
+apt_updated=0
+install_pkg() {
+    command -v apt-get >/dev/null || die "'$1' is missing and apt-get is not available to install it"
+    [ "$(id -u)" -eq 0 ] || die "'$1' is missing; run as root (or install package '$2' yourself)"
+    if [ "$apt_updated" -eq 0 ]; then
+        apt-get update -qq || die "apt-get update failed"
+        apt_updated=1
+    fi
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$2" >/dev/null || die "apt-get install $2 failed"
+}
+
+command -v cargo >/dev/null || die "cargo not found: install the Rust toolchain (https://rustup.rs), then rerun"
+for entry in "${REQUIRED[@]}"; do
+    cmd=${entry%%:*}; pkg=${entry#*:}
+    if ! command -v "$cmd" >/dev/null; then
+        echo "scripts/test.sh: installing $pkg for $cmd"
+        install_pkg "$cmd" "$pkg"
+        command -v "$cmd" >/dev/null || die "'$cmd' still missing after installing $pkg"
+    fi
+done
+
+# All targets: unit, integration and property tests, the CLI, and the criterion
+# benches run once each in test mode so that they cannot rot.
+cargo test --workspace --all-targets --locked
