@@ -36,4 +36,11 @@ done
 
 # All targets: unit, integration and property tests, the CLI, and the criterion
 # benches run once each in test mode so that they cannot rot.
-cargo test --workspace --all-targets --locked
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+cargo test --workspace --all-targets --locked 2>&1 | tee "$log"
+
+# One closing line over every test binary (cargo prints one per binary, and the
+# last of them may be an empty target's "0 passed").
+awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p, f; exit (p == 0) }' "$log" \
+    || die "no test ran"
