@@ -133,21 +133,15 @@ pub const PAPER_CLOCK_HZ: u32 = 50_000_000;
 /// root width, so the core takes the uniform fallback: v0_rate·T ≡ −d (mod 2^32)
 /// with |d| small. Deterministic search.
 pub fn nearly_uniform_fallback(approx_steps: u64, d: i64) -> Segment {
-    for half in (1u64 << 14)..(1u64 << 20) {
-        let v0 = 2 * half + 1;
-        let inv = (0..5).fold(v0, |x, _| x.wrapping_mul(2u64.wrapping_sub(v0.wrapping_mul(x))));
-        let t = ((-d) as u64).wrapping_mul(inv) & 0xffff_ffff;
-        if t == 0 || t > crate::model::MAX_T_TICKS as u64 {
-            continue;
-        }
-        let n = (d as i128 + v0 as i128 * t as i128) >> 32;
-        if n >= approx_steps as i128 / 2 && n <= approx_steps as i128 {
-            let seg = Segment::new(v0 as u32, t as u32, n as i32);
-            if matches!(SegmentPlan::new(seg).kind, PlanKind::Uniform { nearly: true })
-                && seg.validate(&Limits::default()).is_ok()
-            {
-                return seg;
-            }
+    for half in (1u32 << 14)..(1u32 << 20) {
+        let Some(seg) = Segment::with_tiny_d(2 * half + 1, d, false) else { continue };
+        let n = seg.n_steps() as u64;
+        if n >= approx_steps / 2
+            && n <= approx_steps
+            && matches!(SegmentPlan::new(seg).kind, PlanKind::Uniform { nearly: true })
+            && seg.validate(&Limits::default()).is_ok()
+        {
+            return seg;
         }
     }
     panic!("no nearly uniform fallback segment near {approx_steps} steps");

@@ -132,7 +132,7 @@ fn committed_accuracy_report_is_current() {
     let path = repo().join("docs/accuracy/accuracy.md");
     let committed = std::fs::read_to_string(&path).expect("docs/accuracy/accuracy.md");
     assert!(
-        committed == accuracy::markdown_text(&accuracy::report()),
+        committed == accuracy::markdown(&accuracy::report()),
         "docs/accuracy is stale: run `cargo run --release -- accuracy`"
     );
 }

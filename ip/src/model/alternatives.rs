@@ -49,26 +49,17 @@ impl Algorithm {
     pub fn edges(self, segments: &[Segment]) -> Vec<u64> {
         let peak = peak_speed(segments);
         let mut edges = Vec::new();
-        let mut start = 0u64; // where this algorithm starts the segment
+        // Each algorithm starts a segment where its previous one ended (ours: exactly
+        // at the sum of the T, as its periods sum to T; the others wherever they drifted).
+        let mut start = 0u64;
         for seg in segments {
             let mut edge = start;
-            match self {
-                Algorithm::Integer => {
-                    for p in SegmentPlan::new(*seg).periods() {
-                        edge += p as u64;
-                        edges.push(edge);
-                    }
-                    edge = start + seg.t_ticks as u64;
-                }
-                _ => {
-                    for p in self.periods(seg, peak) {
-                        edge += p.max(1);
-                        edges.push(edge);
-                    }
-                    if seg.n_steps() == 0 {
-                        edge += seg.t_ticks as u64;
-                    }
-                }
+            for p in self.periods(seg, peak) {
+                edge += p.max(1);
+                edges.push(edge);
+            }
+            if seg.n_steps() == 0 {
+                edge += seg.t_ticks as u64;
             }
             start = edge;
         }

@@ -17,17 +17,24 @@
 
 use super::segment::{Segment, RATE_FRAC_BITS};
 
-/// Exact time of step i (1 ≤ i ≤ n) after the segment start, in ticks.
+/// w_k·T·2^32, the speed after k steps scaled by T·2^32: the square root of
+/// (v0² + 2αk)·T²·2^64 = (v0·T·2^32)² + 4·k·D·2^32·2^32, whose radicand is exact.
+fn speed_scaled(seg: &Segment, k: u32) -> f64 {
+    let v0t = seg.v0_rate as i128 * seg.t_ticks as i128;
+    let radicand = v0t * v0t + 4 * (k as i128) * seg.d_q32() * (1i128 << RATE_FRAC_BITS);
+    (radicand.max(0) as f64).sqrt()
+}
+
+/// T·2^32, the scale of [`speed_scaled`].
+fn speed_scale(seg: &Segment) -> f64 {
+    seg.t_ticks as f64 * (1u64 << RATE_FRAC_BITS) as f64
+}
+
+/// Exact time of step i (1 ≤ i ≤ n) after the segment start, in ticks:
+/// t_i = 2i / (v0 + w_i), both speeds scaled by T·2^32.
 pub fn step_time(seg: &Segment, i: u32) -> f64 {
     debug_assert!(i >= 1 && i <= seg.n_steps());
-    let t = seg.t_ticks as i128;
-    let v0t = seg.v0_rate as i128 * t; // v0·T·2^32
-    // (v0² + 2αi)·T²·2^64 = (v0·T·2^32)² + 4·i·D·2^32·2^32, exact.
-    let radicand = v0t * v0t + 4 * (i as i128) * seg.d_q32() * (1i128 << RATE_FRAC_BITS);
-    let root = (radicand.max(0) as f64).sqrt();
-    // t_i = 2i / (v0 + w_i) = 2i·T·2^32 / (v0·T·2^32 + w_i·T·2^32)
-    let num = 2.0 * i as f64 * seg.t_ticks as f64 * (1u64 << RATE_FRAC_BITS) as f64;
-    num / (v0t as f64 + root)
+    2.0 * i as f64 * speed_scale(seg) / (speed_scaled(seg, 0) + speed_scaled(seg, i))
 }
 
 /// Exact times of all steps of a segment, t_1..t_n, relative to its start.
@@ -39,14 +46,7 @@ pub fn step_times(seg: &Segment) -> Vec<f64> {
 /// t_i − t_{i−1} = 2/(w_{i−1} + w_i) in steps/tick.
 pub fn step_period(seg: &Segment, i: u32) -> f64 {
     debug_assert!(i >= 1 && i <= seg.n_steps());
-    let t = seg.t_ticks as i128;
-    let v0t = seg.v0_rate as i128 * t;
-    let w_t = |k: u32| {
-        let r = v0t * v0t + 4 * (k as i128) * seg.d_q32() * (1i128 << RATE_FRAC_BITS);
-        (r.max(0) as f64).sqrt()
-    };
-    let scale = seg.t_ticks as f64 * (1u64 << RATE_FRAC_BITS) as f64;
-    2.0 * scale / (w_t(i - 1) + w_t(i))
+    2.0 * speed_scale(seg) / (speed_scaled(seg, i - 1) + speed_scaled(seg, i))
 }
 
 /// pos(t)·T²·2^32 for an integer tick t: v0_rate·T²·t + D·2^32·t².

@@ -78,11 +78,6 @@ pub struct SegmentPlan {
     pub b_scaled: u128,
 }
 
-/// Integer square root, ⌊√a⌋.
-pub fn isqrt_u128(a: u128) -> u128 {
-    a.isqrt()
-}
-
 /// Rounded quotient ⌊num/den + ½⌋, den > 0.
 fn div_round(num: u128, den: u128) -> u128 {
     (num + den / 2) / den
@@ -143,7 +138,7 @@ impl SegmentPlan {
 
     /// E_i from the accumulator value of step i (sqrt paths only).
     fn edge_from_acc(&self, acc: u128) -> u64 {
-        let tau_scaled = isqrt_u128(acc) - self.p_scaled;
+        let tau_scaled = acc.isqrt() - self.p_scaled;
         let rounded = ((tau_scaled + (1 << (TAU_FRAC_BITS - 1))) >> TAU_FRAC_BITS) as u64;
         match self.kind {
             PlanKind::Accelerate => rounded,

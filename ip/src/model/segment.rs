@@ -167,6 +167,28 @@ impl Segment {
         ((2 * self.n_steps() as i128) << RATE_FRAC_BITS) - (self.v0_rate as i128) * (self.t_ticks as i128)
     }
 
+    /// The segment with an odd `v0_rate` whose D·2^32 = n·2^32 − v0_rate·T equals
+    /// `d_q32` exactly: T solves v0_rate·T ≡ −d (mod 2^32). With |d| small it is nearly
+    /// uniform and P is huge. None when T or n falls outside the range (not validated).
+    pub fn with_tiny_d(v0_rate_odd: u32, d_q32: i64, reverse: bool) -> Option<Segment> {
+        let v0 = v0_rate_odd as u64;
+        if v0 % 2 == 0 {
+            return None;
+        }
+        // Inverse of v0 mod 2^64 by Newton's iteration (each step doubles the bits).
+        let inv = (0..6).fold(v0, |x, _| x.wrapping_mul(2u64.wrapping_sub(v0.wrapping_mul(x))));
+        let t = (d_q32.wrapping_neg() as u64).wrapping_mul(inv) & 0xffff_ffff;
+        if t == 0 || t > MAX_T_TICKS as u64 {
+            return None;
+        }
+        let n = (d_q32 as i128 + v0 as i128 * t as i128) >> RATE_FRAC_BITS;
+        if n <= 0 || n > MAX_STEPS as i128 {
+            return None;
+        }
+        let steps = if reverse { -(n as i32) } else { n as i32 };
+        Some(Segment::new(v0_rate_odd, t as u32, steps))
+    }
+
     /// Checks the segment against the documented range and the limits.
     ///
     /// Checks run in this order and the first failure is reported: T = 0, T range,
