@@ -10,7 +10,13 @@ die() { echo "scripts/test.sh: error: $*" >&2; exit 1; }
 # Tools the tests need, as "command:debian-package". The Rust toolchain itself
 # (cargo, rustc) comes from rustup and has no package here.
 REQUIRED=(
-    "cc:gcc"        # the linker rustc calls
+    "cc:gcc"                # the linker rustc calls
+    "c++:g++"               # Verilator compiles its models with it
+    "make:make"             # and builds them with it
+    "verilator:verilator"   # exported Verilog, the check that counts
+    "iverilog:iverilog"     # exported Verilog, second simulator
+    "vvp:iverilog"
+    "yosys:yosys"           # synthesis checks of the exported Verilog
 )
 
 apt_updated=0

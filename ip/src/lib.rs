@@ -3,5 +3,7 @@
 //! reference model, the test vectors, the accuracy report and the CLI.
 
 pub mod accuracy;
+pub mod hdl;
 pub mod model;
 pub mod vectors;
+pub mod verify;
