@@ -11,6 +11,7 @@
 //! `busy` are cleared by the first start, and the testbench checks that nothing is
 //! read before.
 
+use super::iterate::Iterate;
 use rust_hdl::prelude::*;
 
 /// Width of the radicand.
@@ -71,10 +72,7 @@ pub struct Sqrt<const R: usize> {
     x: DFF<Bits<SQRT_RADICAND_BITS>>,
     rem: DFF<Bits<REM_BITS>>,
     acc: DFF<Bits<SQRT_ROOT_BITS>>,
-    count: DFF<Bits<8>>,
-    running: DFF<Bit>,
-    done: DFF<Bit>,
-    cycles: Constant<Bits<8>>,
+    ctl: Iterate,
 }
 
 impl<const R: usize> Default for Sqrt<R> {
@@ -91,10 +89,7 @@ impl<const R: usize> Default for Sqrt<R> {
             x: Default::default(),
             rem: Default::default(),
             acc: Default::default(),
-            count: Default::default(),
-            running: Default::default(),
-            done: Default::default(),
-            cycles: Constant::new(((SQRT_ROOT_BITS / R) as u64).into()),
+            ctl: Iterate::new(SQRT_ROOT_BITS / R),
         }
     }
 }
@@ -102,7 +97,9 @@ impl<const R: usize> Default for Sqrt<R> {
 impl<const R: usize> Logic for Sqrt<R> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, x, rem, acc, count, running, done);
+        dff_setup!(self, clock, x, rem, acc);
+        self.ctl.clock.next = self.clock.val();
+        self.ctl.start.next = self.start.val();
         // The digit chain: digit 0 reads the registers, digit i reads digit i - 1.
         self.digits[0].rem_in.next = self.rem.q.val();
         self.digits[0].root_in.next = self.acc.q.val();
@@ -113,27 +110,19 @@ impl<const R: usize> Logic for Sqrt<R> {
             self.digits[i].x_in.next = self.digits[i - 1].x_out.val();
         }
         self.root.next = self.acc.q.val();
-        self.valid.next = self.done.q.val();
-        self.busy.next = self.running.q.val();
-        if self.running.q.val() {
+        self.valid.next = self.ctl.valid.val();
+        self.busy.next = self.ctl.busy.val();
+        if self.ctl.step.val() {
             // The last digit's outputs win: later assignments override earlier ones.
             for i in 0..R {
                 self.rem.d.next = self.digits[i].rem_out.val();
                 self.acc.d.next = self.digits[i].root_out.val();
                 self.x.d.next = self.digits[i].x_out.val();
             }
-            self.count.d.next = self.count.q.val() - 1;
-            if self.count.q.val() == 1 {
-                self.running.d.next = false;
-                self.done.d.next = true;
-            }
-        } else if self.start.val() {
+        } else if self.ctl.load.val() {
             self.x.d.next = self.radicand.val();
             self.rem.d.next = 0.into();
             self.acc.d.next = 0.into();
-            self.count.d.next = self.cycles.val();
-            self.running.d.next = true;
-            self.done.d.next = false;
         }
     }
 }

@@ -1,0 +1,118 @@
+//! Shared by the HDL block tests: stimulus and a cycle-level protocol model for the
+//! iterative units (pulse `start` while idle, results `valid` after a fixed latency,
+//! `busy` in between, `start` while busy ignored), and pseudo-random numbers.
+#![allow(dead_code)]
+
+use tdm_stepper::verify::Simulator;
+
+/// xorshift64: deterministic pseudo-random numbers for stimulus.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    pub fn next_u128(&mut self) -> u128 {
+        ((self.next() as u128) << 64) | self.next() as u128
+    }
+}
+
+/// Rows of (start, operands...): each operation starts, then idles for `latency`
+/// cycles, with a start pulse and junk operands while busy that must be ignored.
+pub fn iterative_stimulus(latency: usize, ops: &[Vec<u128>], junk: impl Fn(&[u128]) -> Vec<u128>) -> Vec<Vec<u128>> {
+    let width = ops[0].len();
+    let mut rows = vec![vec![0; width + 1]];
+    for op in ops {
+        rows.push([vec![1], op.clone()].concat());
+        for k in 0..latency {
+            rows.push([vec![(k == 1) as u128], junk(op)].concat());
+        }
+    }
+    rows
+}
+
+/// Expected (results..., valid, busy) per row of an iterative unit that runs
+/// `iterations` cycles after its start edge. None where the Verilog may be
+/// undefined: everything before the first start, results before the first valid.
+pub fn iterative_model(
+    iterations: usize,
+    rows: &[Vec<u128>],
+    results: usize,
+    compute: impl Fn(&[u128]) -> Vec<u128>,
+) -> Vec<Vec<Option<u128>>> {
+    let (mut left, mut done, mut started) = (0usize, false, false);
+    let mut shown = vec![0u128; results];
+    let mut pending = shown.clone();
+    let mut out = Vec::new();
+    for row in rows {
+        let mut r: Vec<Option<u128>> = shown.iter().map(|&v| (started && done).then_some(v)).collect();
+        r.push(started.then_some(done as u128));
+        r.push(started.then_some((left > 0) as u128));
+        out.push(r);
+        if left > 0 {
+            left -= 1;
+            if left == 0 {
+                done = true;
+                shown = pending.clone();
+            }
+        } else if row[0] == 1 {
+            left = iterations;
+            done = false;
+            pending = compute(&row[1..]);
+            started = true;
+        }
+    }
+    out
+}
+
+/// Compares simulator output with the model row by row. Undefined output is
+/// accepted only where the model has no value; at least one result must be checked.
+pub fn check(want: &[Vec<Option<u128>>], got: &[Vec<Option<u128>>], what: &str) {
+    assert_eq!(got.len(), want.len(), "{what}: cycle count");
+    let mut checked = 0;
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        for (p, w) in w.iter().enumerate() {
+            if let Some(w) = w {
+                assert_eq!(g[p], Some(*w), "{what}: row {k}, output {p}");
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 0, "{what}: nothing was checked");
+}
+
+/// rust-hdl outputs are always defined.
+pub fn defined(rows: Vec<Vec<u128>>) -> Vec<Vec<Option<u128>>> {
+    rows.into_iter().map(|r| r.into_iter().map(Some).collect()).collect()
+}
+
+pub const SIMULATORS: [Simulator; 2] = [Simulator::Verilator, Simulator::Icarus];
+
+/// A scratch folder for one simulator run.
+pub fn sim_dir(name: &str, sim: Simulator) -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}_{sim:?}"))
+}
+
+/// Runs a block three ways on `rows`: `want` (the model's outputs per row), the
+/// block in a rust-hdl clock loop, and its exported Verilog in every simulator.
+pub fn three_ways<B: rust_hdl::prelude::Block>(
+    name: &str,
+    make: impl Fn() -> B,
+    clock: impl FnMut(&mut B, bool),
+    set: impl FnMut(&mut B, &[u128]),
+    get: impl FnMut(&B) -> Vec<u128>,
+    spec: &tdm_stepper::verify::TbSpec,
+    rows: &[Vec<u128>],
+    want: &[Vec<Option<u128>>],
+) {
+    let got = tdm_stepper::verify::run_rust_hdl(&mut make(), rows, clock, set, get);
+    check(want, &defined(got), &format!("{name}: rust-hdl"));
+    let verilog = rust_hdl::prelude::generate_verilog(&make());
+    for sim in SIMULATORS {
+        let got = tdm_stepper::verify::run(sim, &sim_dir(name, sim), &verilog, spec, rows).unwrap();
+        check(want, &got, &format!("{name}: {sim:?}"));
+    }
+}
