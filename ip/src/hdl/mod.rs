@@ -10,4 +10,6 @@
 pub mod divider;
 pub mod iterate;
 pub mod mul_wide;
+pub mod period_fifo;
 pub mod sqrt;
+pub mod step_gen;

@@ -1,0 +1,223 @@
+//! StepAxis (period FIFO + step generator) against the reference model's vectors:
+//! every STEP rising edge at release + 1 + E_i, pulse widths, DIR setup and hold,
+//! the final position, and underrun exactly when the FIFO is starved. The rust-hdl
+//! simulation and the exported Verilog (Verilator, Icarus) must also produce the
+//! same trace, bit for bit.
+
+mod common;
+
+use common::*;
+use rust_hdl::prelude::*;
+use std::path::PathBuf;
+use tdm_stepper::hdl::period_fifo::{pack_entry, ENTRY_BITS};
+use tdm_stepper::hdl::step_gen::StepAxis;
+use tdm_stepper::verify::{run, run_rust_hdl, Port, TbSpec};
+use tdm_stepper::vectors::VectorFile;
+
+const DEPTH: usize = 4;
+const RESET_ROWS: usize = 3;
+
+#[derive(Clone, Copy, Debug)]
+struct Entry {
+    ticks: u32,
+    step: bool,
+    reverse: bool,
+}
+
+/// The FIFO stream of one vector axis, and its expected edges (ticks from release).
+fn axis_entries(file: &str, axis: usize) -> (Vec<Entry>, Vec<u64>, i64) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../vectors").join(file);
+    let v: VectorFile = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let a = &v.axes[axis];
+    let mut entries = Vec::new();
+    for s in a.segments.iter().filter(|s| s.error.is_none()) {
+        if s.steps == 0 {
+            entries.push(Entry { ticks: s.t_ticks, step: false, reverse: false });
+        }
+        for &p in &s.periods {
+            entries.push(Entry { ticks: p, step: true, reverse: s.steps < 0 });
+        }
+    }
+    (entries, a.edge_ticks.clone(), a.final_position)
+}
+
+struct Scenario {
+    rows: Vec<Vec<u128>>,
+    release_row: usize,
+}
+
+/// Pushes each entry as early as the FIFO allows (or `starve` cycles later for entry
+/// `starve_at`), releases once the first entry is in, and says `more` while entries
+/// are still to be pushed. Pops are predicted from the reference edges, which the
+/// generator must meet for the prediction (and the test) to hold.
+fn scenario(entries: &[Entry], starve_at: Option<(usize, usize)>) -> Scenario {
+    let n = entries.len();
+    // pop_rows[k]: the row in which entry k is loaded (its pop takes effect at that
+    // row's edge). Entry 0 loads on release; entry k + 1 when entry k ends, or the
+    // row after its push if that is later (the generator waits for it).
+    let mut pushes: Vec<usize> = Vec::with_capacity(n);
+    let mut pop_rows: Vec<usize> = Vec::with_capacity(n);
+    for k in 0..n {
+        let after_previous = pushes.last().map_or(RESET_ROWS, |&r| r + 1);
+        // Room: entry k − DEPTH must have been popped in an earlier row.
+        let room = if k >= DEPTH { pop_rows[k - DEPTH] + 1 } else { 0 };
+        let mut r = after_previous.max(room);
+        if let Some((at, extra)) = starve_at {
+            if k == at {
+                r = r.max(pop_rows[k - 1] + entries[k - 1].ticks as usize + extra);
+            }
+        }
+        pushes.push(r);
+        let due = if k == 0 { r + 1 } else { pop_rows[k - 1] + entries[k - 1].ticks as usize };
+        pop_rows.push(due.max(r + 1));
+    }
+    let release_row = pop_rows[0];
+    let last = pop_rows[n - 1] + 2 * entries[n - 1].ticks as usize + 4;
+    let mut rows = Vec::with_capacity(last);
+    let mut next_push = 0;
+    for r in 0..last {
+        let push = next_push < n && pushes[next_push] == r;
+        let entry = if push {
+            let e = entries[next_push];
+            pack_entry(e.ticks, e.step, e.reverse) as u128
+        } else {
+            0
+        };
+        let more = (next_push < n) as u128;
+        rows.push(vec![(r < RESET_ROWS) as u128, push as u128, entry, (r == release_row) as u128, more]);
+        next_push += push as usize;
+    }
+    Scenario { rows, release_row }
+}
+
+fn uut() -> StepAxis<DEPTH> {
+    let mut u = StepAxis::<DEPTH>::default();
+    u.clock.connect();
+    u.reset.connect();
+    u.push.connect();
+    u.entry_in.connect();
+    u.go.connect();
+    u.more.connect();
+    u.connect_all();
+    u
+}
+
+fn spec() -> TbSpec {
+    TbSpec {
+        clock: "clock".into(),
+        inputs: ["reset", "push"].iter().map(|n| Port::new(n, 1))
+            .chain([Port::new("entry_in", ENTRY_BITS)])
+            .chain(["go", "more"].iter().map(|n| Port::new(n, 1)))
+            .collect(),
+        outputs: vec![
+            Port::new("step", 1),
+            Port::new("dir", 1),
+            Port::new("position", 32),
+            Port::new("underrun", 1),
+            Port::new("active", 1),
+            Port::new("level", 8),
+        ],
+    }
+}
+
+fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
+    let reference = run_rust_hdl(
+        &mut uut(),
+        rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.push.next = r[1] == 1;
+            u.entry_in.next = Bits::<ENTRY_BITS>::from(r[2] as u64);
+            u.go.next = r[3] == 1;
+            u.more.next = r[4] == 1;
+        },
+        |u| {
+            vec![
+                u.step.val() as u128,
+                u.dir.val() as u128,
+                u.position.val().to_u64() as u128,
+                u.underrun.val() as u128,
+                u.active.val() as u128,
+                u.level.val().to_u64() as u128,
+            ]
+        },
+    );
+    let verilog = generate_verilog(&uut());
+    for sim in SIMULATORS {
+        let got = run(sim, &sim_dir(name, sim), &verilog, &spec(), rows).unwrap();
+        for (k, (g, r)) in got.iter().zip(&reference).enumerate().skip(RESET_ROWS) {
+            let g: Vec<u128> = g.iter().map(|v| v.unwrap_or_else(|| panic!("{name} {sim:?}: x at row {k}"))).collect();
+            assert_eq!(&g, r, "{name}: {sim:?} differs from rust-hdl at row {k} (step, dir, position, underrun, active, level)");
+        }
+    }
+    reference
+}
+
+/// Checks a trace against the reference edges and the timing rules.
+fn check_trace(name: &str, entries: &[Entry], edges: &[u64], position: i64, sc: &Scenario, trace: &[Vec<u128>], starved: bool) {
+    let rises: Vec<usize> = (1..trace.len()).filter(|&r| trace[r][0] == 1 && trace[r - 1][0] == 0).collect();
+    assert_eq!(rises.len(), edges.len(), "{name}: step count");
+    let steps: Vec<&Entry> = entries.iter().filter(|e| e.step).collect();
+    if !starved {
+        for (i, (&r, &e)) in rises.iter().zip(edges).enumerate() {
+            assert_eq!(r as u64, sc.release_row as u64 + 1 + e, "{name}: edge {i}");
+        }
+        assert!(trace.iter().all(|t| t[3] == 0), "{name}: underrun without starvation");
+    } else {
+        assert_eq!(trace.last().unwrap()[3], 1, "{name}: starved but no underrun flag");
+        for (i, w) in rises.windows(2).enumerate() {
+            assert!(w[1] - w[0] >= steps[i + 1].ticks as usize, "{name}: edge {} early", i + 1);
+        }
+    }
+    assert_eq!(trace.last().unwrap()[2] as u32 as i32 as i64, position, "{name}: final position");
+    // Pulse widths: max(1, ⌊next entry/2⌋), or half the last period at the end.
+    let mut k_entry = 0usize;
+    for (i, &r) in rises.iter().enumerate() {
+        while !entries[k_entry].step {
+            k_entry += 1;
+        }
+        let next = entries.get(k_entry + 1).map_or(entries[k_entry].ticks, |e| e.ticks);
+        let high = (r..trace.len()).take_while(|&q| trace[q][0] == 1).count();
+        if !starved {
+            assert_eq!(high as u32, (next / 2).max(1), "{name}: pulse {i} high time");
+        }
+        // DIR at the edge is the step's direction, and was already one row before.
+        assert_eq!(trace[r][1] == 1, steps[i].reverse, "{name}: DIR at edge {i}");
+        assert_eq!(trace[r - 1][1], trace[r][1], "{name}: DIR setup at edge {i}");
+        k_entry += 1;
+    }
+    // DIR never changes while STEP is high.
+    for r in 1..trace.len() {
+        if trace[r][1] != trace[r - 1][1] {
+            assert_eq!(trace[r][0], 0, "{name}: DIR changed at row {r} with STEP high");
+        }
+    }
+}
+
+fn run_vector(file: &str, axis: usize) {
+    let name = format!("step_{}_{axis}", file.trim_end_matches(".json"));
+    let (entries, edges, position) = axis_entries(file, axis);
+    let sc = scenario(&entries, None);
+    let trace = simulate_all(&name, &sc.rows);
+    check_trace(&name, &entries, &edges, position, &sc, &trace, false);
+}
+
+#[test]
+fn short_segments_both_axes() {
+    run_vector("short_segments.json", 0);
+    run_vector("short_segments.json", 1);
+}
+
+#[test]
+fn near_limit_two_tick_periods() {
+    run_vector("near_limit.json", 0);
+}
+
+#[test]
+fn starved_fifo_flags_underrun_and_loses_no_step() {
+    let (entries, edges, position) = axis_entries("short_segments.json", 1);
+    let sc = scenario(&entries, Some((5, 7)));
+    let trace = simulate_all("step_starved", &sc.rows);
+    check_trace("step_starved", &entries, &edges, position, &sc, &trace, true);
+}
