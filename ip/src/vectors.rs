@@ -171,8 +171,8 @@ pub fn all() -> Vec<VectorFile> {
         100_000_000,
         2,
         &[
-            vec![Segment::new(0, 7, 1), Segment::new(0, 12, 2), Segment::new(rate(10e6, 100_000_000), 9, 1)],
-            [plan(3, [12, 0, 12]), plan(-5, [30, 30, 30]), plan(1, [6, 0, 6])].concat(),
+            vec![Segment::new(0, 7, 1), Segment::new(0, 13, 2), Segment::new(rate(10e6, 100_000_000), 9, 1)],
+            [plan(3, [13, 0, 13]), plan(-5, [30, 30, 30]), plan(1, [7, 0, 7])].concat(),
         ],
     ));
 
@@ -218,12 +218,12 @@ pub fn all() -> Vec<VectorFile> {
 
     out.push(file(
         "near_limit",
-        "Near the step-rate limit: accelerating to 1/3 step/tick with a 2-tick minimum period, \
-         exactly uniform at 256 and 4 ticks per step, and 200 kHz (250 ticks) at 50 MHz",
+        "Near the step-rate limit: accelerating to just under 1/3 step/tick, then starting at \
+         RMAX, with a 2-tick minimum period; exactly uniform at 256 and 4 ticks per step, and 200 kHz (250 ticks) at 50 MHz",
         50_000_000,
         2,
         &[
-            vec![Segment::new(0, 6000, 1000), Segment::new((1u64 << 32).div_ceil(3) as u32 - 1, 3000, 999)],
+            vec![Segment::new(0, 6001, 1000), Segment::new(Limits::default().max_rate(), 3000, 999)],
             // Exactly uniform (v0·T = n): 256-tick periods, 4-tick periods; then 200 kHz.
             vec![
                 Segment::new(1 << 24, 256_000, 1000),

@@ -36,14 +36,14 @@ fn min_period() -> impl Strategy<Value = u32> {
     prop_oneof![Just(2u32), Just(3), 2u32..20, 20u32..2000]
 }
 
-/// The valid v0_rate interval for (T, n, M): no reversal and both ends under the rate limit.
+/// The valid v0_rate interval for (T, n, M): no reversal and both ends at most RMAX.
 fn rate_interval(t: u64, n: u64, m: u32) -> Option<(u64, u64)> {
     let one = 1u128 << 32;
-    let m1 = m as u128 + 1;
-    let hi = ((2 * n as u128 * one) / t as u128).min(one / m1).min(MAX_V0_RATE as u128);
-    // v_end = 2n/T − v0 ≤ 1/(M+1)  ⟺  v0·T·(M+1) ≥ 2n·2^32·(M+1) − T·2^32
-    let need = (2 * n as u128 * one * m1).saturating_sub(t as u128 * one);
-    let lo = need.div_ceil(t as u128 * m1);
+    let rmax = Limits::new(m).unwrap().max_rate() as u128;
+    let hi = ((2 * n as u128 * one) / t as u128).min(rmax).min(MAX_V0_RATE as u128);
+    // v_end·T·2^32 = 2n·2^32 − v0·T ≤ T·RMAX  ⟺  v0 ≥ (2n·2^32 − T·RMAX)/T
+    let need = (2 * n as u128 * one).saturating_sub(t as u128 * rmax);
+    let lo = need.div_ceil(t as u128);
     (lo <= hi).then_some((lo as u64, hi as u64))
 }
 
@@ -51,7 +51,9 @@ fn rate_interval(t: u64, n: u64, m: u32) -> Option<(u64, u64)> {
 fn valid_segment() -> impl Strategy<Value = (Segment, Limits)> {
     (min_period(), log_uniform(1, MAX_T_TICKS as u64), 0.0f64..=1.0, 0u8..6, any::<u64>(), any::<bool>())
         .prop_filter_map("no valid rate", |(m, t, nx, pick, r, neg)| {
-            let n_max = (t / (m as u64 + 1)).min(MAX_STEPS as u64);
+            // Average rate n/T at most RMAX/2^32 (both ends can then be within it).
+            let rmax = Limits::new(m).unwrap().max_rate() as u64;
+            let n_max = ((t as u128 * rmax as u128) >> 32).min(MAX_STEPS as u128) as u64;
             let n = if nx < 0.05 { 0 } else { ((n_max as f64 + 1.0).powf(nx) - 1.0).round() as u64 };
             let n = n.min(n_max);
             let (lo, hi) = if n == 0 { (0, 0) } else { rate_interval(t, n, m)? };
@@ -196,8 +198,10 @@ proptest! {
                 prop_assert!((2 * n as i128) << 32 < v0 as i128 * t as i128);
             }
             Err(SegmentError::PeriodTooShort) => {
+                // Faster than RMAX/2^32 ≈ 1/(M+1) steps/tick at one end.
+                let rmax = limits.max_rate() as f64 / 2f64.powi(32);
                 let v_end = 2.0 * n as f64 / t as f64 - v0f;
-                prop_assert!(v0f.max(v_end) * (m as f64 + 1.0) > 1.0 - 1e-9);
+                prop_assert!(v0f.max(v_end) > rmax - 1e-12);
             }
             Ok(()) => {
                 prop_assert!(t >= 1 && t <= MAX_T_TICKS && n <= MAX_STEPS && v0 <= MAX_V0_RATE);

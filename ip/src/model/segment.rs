@@ -134,6 +134,12 @@ impl Limits {
         }
         Ok(Limits { min_period_ticks })
     }
+
+    /// RMAX = ⌊2^32 / (min_period + 1)⌋: the largest rate (Q0.32 steps/tick) at either
+    /// end of a segment.
+    pub fn max_rate(&self) -> u32 {
+        ((1u64 << RATE_FRAC_BITS) / (self.min_period_ticks as u64 + 1)) as u32
+    }
 }
 
 impl Segment {
@@ -195,11 +201,13 @@ impl Segment {
     /// steps range, rate range, reversal, minimum period. A dwell (n = 0, v0 = 0,
     /// T > 0) is valid. n = 0 with v0 > 0 would have to reverse and is rejected.
     ///
-    /// The period rule: the peak speed v_peak = max(v0, v_end) must satisfy
-    /// v_peak·(min_period + 1) ≤ 1 step/tick. The exact periods are then at least
-    /// min_period + 1 ticks, and as every emitted edge is within
+    /// The period rule: with `RMAX = ⌊2^32/(min_period + 1)⌋` ([`Limits::max_rate`]),
+    /// `v0_rate ≤ RMAX` and `v_end·T·2^32 ≤ T·RMAX`: both ends at most RMAX/2^32 ≤
+    /// 1/(min_period + 1) steps/tick. The exact periods are then at least min_period + 1
+    /// ticks, and as every emitted edge is within
     /// [`crate::model::integer::EDGE_ERROR_BOUND_TICKS`] of exact time, every emitted
-    /// (integer) period is at least min_period.
+    /// (integer) period is at least min_period. (The hardware checks exactly this,
+    /// with one 31×32-bit multiply.)
     pub fn validate(&self, limits: &Limits) -> Result<(), SegmentError> {
         if self.t_ticks == 0 {
             return Err(SegmentError::TicksZero);
@@ -217,10 +225,9 @@ impl Segment {
         if v_end_t < 0 {
             return Err(SegmentError::Reverses);
         }
-        let m1 = limits.min_period_ticks as i128 + 1;
-        let one_q32 = 1i128 << RATE_FRAC_BITS;
-        let v0_too_fast = (self.v0_rate as i128) * m1 > one_q32;
-        let v_end_too_fast = v_end_t * m1 > (self.t_ticks as i128) * one_q32;
+        let rmax = limits.max_rate() as i128;
+        let v0_too_fast = self.v0_rate as i128 > rmax;
+        let v_end_too_fast = v_end_t > self.t_ticks as i128 * rmax;
         if v0_too_fast || v_end_too_fast {
             return Err(SegmentError::PeriodTooShort);
         }
