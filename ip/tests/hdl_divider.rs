@@ -75,11 +75,7 @@ fn three_ways_r<const R: usize>(ops: usize) {
             u.numerator.next = Bits::<DIV_NUM_BITS>::from(BigUint::from(row[1]));
             u.denominator.next = Bits::<DIV_DEN_BITS>::from(row[2] as u64);
         },
-        |u| {
-            let q = BigUint::from(u.quotient.val()).to_u64_digits();
-            let q = q.first().copied().unwrap_or(0) as u128 | (q.get(1).copied().unwrap_or(0) as u128) << 64;
-            vec![q, u.remainder.val().to_u64() as u128, u.valid.val() as u128, u.busy.val() as u128]
-        },
+        |u| vec![bits_to_u128(u.quotient.val()), u.remainder.val().to_u64() as u128, u.valid.val() as u128, u.busy.val() as u128],
         &spec(),
         &rows,
         &want,

@@ -19,7 +19,7 @@
 //!   is late by the wait.
 //! * `reset` (synchronous) stops the axis and clears position and `underrun`.
 
-use super::period_fifo::ENTRY_BITS;
+use super::reg_fifo::ENTRY_BITS;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock, Default)]
@@ -173,7 +173,7 @@ pub struct StepAxis<const DEPTH: usize> {
     pub active: Signal<Out, Bit>,
     pub full: Signal<Out, Bit>,
     pub level: Signal<Out, Bits<8>>,
-    fifo: super::period_fifo::PeriodFifo<DEPTH>,
+    fifo: super::reg_fifo::PeriodFifo<DEPTH>,
     gen: StepGen,
 }
 

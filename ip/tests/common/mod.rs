@@ -116,3 +116,9 @@ pub fn three_ways<B: rust_hdl::prelude::Block>(
         check(want, &got, &format!("{name}: {sim:?}"));
     }
 }
+
+/// A rust-hdl value of up to 128 bits as u128.
+pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
+    let d = num_bigint::BigUint::from(x).to_u64_digits();
+    d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
+}

@@ -1,13 +1,15 @@
-//! Per-axis period FIFO: `DEPTH` entries of 34 bits, show-ahead (the head entry is
-//! on `head` whenever `empty` is low), in registers.
+//! Register FIFO, `DEPTH` entries of `W` bits, show-ahead (the head entry is on
+//! `head` whenever `empty` is low). The per-axis period FIFO ([`PeriodFifo`]) and the
+//! per-axis segment queues are instances.
 //!
-//! Entry layout ([`pack_entry`]): bits 31..0 ticks, bit 32 step (1: the entry ends in
-//! a STEP edge; 0: a dwell), bit 33 reverse (direction of that step). `push` is
-//! ignored when full and `pop` when empty; both in one cycle is allowed. `reset`
-//! (synchronous) empties it. `level` is the number of entries held.
+//! Period entry layout ([`pack_entry`]): bits 31..0 ticks, bit 32 step (1: the entry
+//! ends in a STEP edge; 0: a dwell), bit 33 reverse (direction of that step).
+//! `push` is ignored when full and `pop` when empty; both in one cycle is allowed.
+//! `reset` (synchronous) empties it. `level` is the number of entries held.
 
 use rust_hdl::prelude::*;
 
+/// Width of a period entry.
 pub const ENTRY_BITS: usize = 34;
 
 /// Packs an entry as the FIFO stores it.
@@ -15,18 +17,21 @@ pub fn pack_entry(ticks: u32, step: bool, reverse: bool) -> u64 {
     ticks as u64 | (step as u64) << 32 | (reverse as u64) << 33
 }
 
+/// The per-axis period FIFO.
+pub type PeriodFifo<const DEPTH: usize> = RegFifo<ENTRY_BITS, DEPTH>;
+
 #[derive(LogicBlock)]
-pub struct PeriodFifo<const DEPTH: usize> {
+pub struct RegFifo<const W: usize, const DEPTH: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub push: Signal<In, Bit>,
-    pub entry_in: Signal<In, Bits<ENTRY_BITS>>,
+    pub entry_in: Signal<In, Bits<W>>,
     pub pop: Signal<In, Bit>,
-    pub head: Signal<Out, Bits<ENTRY_BITS>>,
+    pub head: Signal<Out, Bits<W>>,
     pub empty: Signal<Out, Bit>,
     pub full: Signal<Out, Bit>,
     pub level: Signal<Out, Bits<8>>,
-    mem: [DFF<Bits<ENTRY_BITS>>; DEPTH],
+    mem: [DFF<Bits<W>>; DEPTH],
     wr: DFF<Bits<8>>,
     rd: DFF<Bits<8>>,
     count: DFF<Bits<8>>,
@@ -36,10 +41,10 @@ pub struct PeriodFifo<const DEPTH: usize> {
     depth: Constant<Bits<8>>,
 }
 
-impl<const DEPTH: usize> Default for PeriodFifo<DEPTH> {
+impl<const W: usize, const DEPTH: usize> Default for RegFifo<W, DEPTH> {
     fn default() -> Self {
-        assert!((2..=64).contains(&DEPTH), "PeriodFifo<{DEPTH}>: depth outside 2..=64");
-        PeriodFifo {
+        assert!((2..=64).contains(&DEPTH), "RegFifo<{W}, {DEPTH}>: depth outside 2..=64");
+        RegFifo {
             clock: Default::default(),
             reset: Default::default(),
             push: Default::default(),
@@ -61,7 +66,7 @@ impl<const DEPTH: usize> Default for PeriodFifo<DEPTH> {
     }
 }
 
-impl<const DEPTH: usize> Logic for PeriodFifo<DEPTH> {
+impl<const W: usize, const DEPTH: usize> Logic for RegFifo<W, DEPTH> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, wr, rd, count);
