@@ -8,6 +8,9 @@
 //! | sequential multiplier, 128 × 64 → 128 bits, R bits per cycle | `mul_seq.rs` | `1 + 64/R` cycles |
 //! | divider, 128-bit numerator by 64-bit denominator, R digits per cycle | `divider.rs` | `1 + 128/R` cycles |
 
+pub mod bit_insert;
+pub mod context;
+pub mod core;
 pub mod divider;
 pub mod iterate;
 pub mod mul_seq;

@@ -6,8 +6,9 @@
 //! prints the outputs of every cycle (`$fwrite`), runs it in the chosen simulator and
 //! parses what it printed. The cycle convention is the one of a hand-written rust-hdl
 //! loop: in cycle k the inputs take row k, the outputs are sampled before the rising
-//! edge, and the rising edge then clocks row k in.
+//! edge, and the rising edge then clocks row k in. [`run_sparse`] takes input events
+//! and reports output changes only, for runs of millions of cycles.
 
 mod tb;
 
-pub use tb::{run, run_rust_hdl, Port, Simulator, TbSpec};
+pub use tb::{run, run_rust_hdl, run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};

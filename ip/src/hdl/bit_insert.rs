@@ -1,0 +1,35 @@
+//! Builds a K-bit bus from one bit per axis without a combinational self-reference.
+//!
+//! `bus_out = bus_in` with bit `index` replaced by `value`. Chained (bus_in of element i
+//! from bus_out of element i − 1), K of them assemble a bus. Assigning
+//! `x = x.replace_bit(i, ..)` in a loop instead would read `x` while writing it, which
+//! rust-hdl simulation and the exported Verilog evaluate differently.
+
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct BitInsert<const K: usize> {
+    pub bus_in: Signal<In, Bits<K>>,
+    pub value: Signal<In, Bit>,
+    pub bus_out: Signal<Out, Bits<K>>,
+    index: Constant<Bits<8>>,
+}
+
+impl<const K: usize> BitInsert<K> {
+    pub fn new(index: usize) -> Self {
+        assert!(index < K && K <= 255);
+        BitInsert {
+            bus_in: Default::default(),
+            value: Default::default(),
+            bus_out: Default::default(),
+            index: Constant::new((index as u64).into()),
+        }
+    }
+}
+
+impl<const K: usize> Logic for BitInsert<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.bus_out.next = self.bus_in.val().replace_bit(self.index.val().index(), self.value.val());
+    }
+}

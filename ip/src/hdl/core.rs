@@ -1,0 +1,770 @@
+//! The TDM core: K axes served by one shared multiply / divide / square-root unit,
+//! scheduled round robin by a Gray-coded FSM (paper Fig. 7, DESIGN.md §1).
+//!
+//! Per axis: a segment queue (`QDEPTH` × 96 bits), a context ([`AxisContext`]), and a
+//! period FIFO with its step generator ([`StepAxis`]). Shared: one [`MulSeq`], one
+//! [`Divider`] and one [`Sqrt`] (`R` bits per cycle each), and the scheduler.
+//!
+//! **Scheduler.** In `PICK` it looks at axis m: if m has an active segment and room
+//! in its period FIFO, it computes m's next period; else if m is idle and has a
+//! queued segment (and FIFO room, for a dwell), it sets that segment up; else it
+//! moves to m + 1. After each piece of work it moves to m + 1. The setup and the
+//! per-step work are exactly the reference model's (docs/model.md), which the tests
+//! hold it to period by period. The FSM lives here rather than in its own block
+//! because rust-hdl cannot pass arrays of wide ports between blocks.
+//!
+//! **Commands.** `cmd_valid` with `cmd_axis`, `cmd_v0` (Q0.32 rate), `cmd_t` (ticks)
+//! and `cmd_steps` (signed) pushes a segment into that axis's queue when
+//! `cmd_ready`. Segments are validated when the scheduler reaches them; a rejected one
+//! is dropped with its error code in the axis status and disturbs nothing else. A
+//! command to an axis ≥ K is dropped and sets the sticky `cmd_error`.
+//!
+//! **Start.** `start` with `start_mask` arms a synchronised release: the masked axes
+//! get `go` on the same clock edge once each is idle with its first period ready.
+
+use super::bit_insert::BitInsert;
+use super::context::AxisContext;
+use super::divider::Divider;
+use super::mul_seq::MulSeq;
+use super::reg_fifo::{RegFifo, ENTRY_BITS};
+use super::sqrt::Sqrt;
+use super::step_gen::StepAxis;
+use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
+use rust_hdl::prelude::*;
+
+/// Width of a queued segment: v0 (31..0), T (63..32), steps (95..64).
+pub const SEGMENT_BITS: usize = 96;
+/// Width of the FSM state register.
+pub const STATE_BITS: usize = 5;
+
+/// The scheduler's states, in the order of their Gray codes (state k has code
+/// `k ^ (k >> 1)`): consecutive states differ in one bit.
+pub const STATES: [&str; 18] = [
+    "PICK", "S_CHECK", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_P2",
+    "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP",
+];
+
+/// Gray code of state number `k`.
+pub const fn gray(k: usize) -> u64 {
+    (k ^ (k >> 1)) as u64
+}
+
+fn state(name: &str) -> Constant<Bits<STATE_BITS>> {
+    let k = STATES.iter().position(|s| *s == name).expect("state name");
+    Constant::new(gray(k).into())
+}
+
+#[derive(LogicBlock)]
+pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub cmd_valid: Signal<In, Bit>,
+    pub cmd_axis: Signal<In, Bits<8>>,
+    pub cmd_v0: Signal<In, Bits<32>>,
+    pub cmd_t: Signal<In, Bits<32>>,
+    pub cmd_steps: Signal<In, Bits<32>>,
+    pub cmd_ready: Signal<Out, Bit>,
+    pub cmd_error: Signal<Out, Bit>,
+    pub start: Signal<In, Bit>,
+    pub start_mask: Signal<In, Bits<K>>,
+    pub step: Signal<Out, Bits<K>>,
+    pub dir: Signal<Out, Bits<K>>,
+    pub underrun: Signal<Out, Bits<K>>,
+    pub active: Signal<Out, Bits<K>>,
+    pub busy: Signal<Out, Bits<K>>,
+    /// Status of axis `sel_axis`: position, last error code, queue and FIFO levels.
+    pub sel_axis: Signal<In, Bits<8>>,
+    pub sel_position: Signal<Out, Bits<32>>,
+    pub sel_error: Signal<Out, Bits<8>>,
+    pub sel_queue: Signal<Out, Bits<8>>,
+    pub sel_fifo: Signal<Out, Bits<8>>,
+    /// The scheduler's state register (Gray code), for waveforms.
+    pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
+
+    queues: [RegFifo<SEGMENT_BITS, QDEPTH>; K],
+    axes: [StepAxis<DEPTH>; K],
+    ctx: [AxisContext; K],
+    step_bus: [BitInsert<K>; K],
+    dir_bus: [BitInsert<K>; K],
+    under_bus: [BitInsert<K>; K],
+    active_bus: [BitInsert<K>; K],
+    busy_bus: [BitInsert<K>; K],
+    ready_bus: [BitInsert<K>; K],
+    mul: MulSeq<R>,
+    div: Divider<R>,
+    sqrt: Sqrt<R>,
+
+    st: DFF<Bits<STATE_BITS>>,
+    m: DFF<Bits<8>>,
+    pending: DFF<Bits<K>>,
+    cmd_err: DFF<Bit>,
+    // Working copy of axis m's context.
+    w_kind: DFF<Bits<2>>,
+    w_rev: DFF<Bit>,
+    w_n: DFF<Bits<32>>,
+    w_i: DFF<Bits<32>>,
+    w_t: DFF<Bits<32>>,
+    w_e: DFF<Bits<32>>,
+    w_p: DFF<Bits<64>>,
+    w_b: DFF<Bits<128>>,
+    w_a: DFF<Bits<128>>,
+    w_uq: DFF<Bits<32>>,
+    w_ur: DFF<Bits<32>>,
+    w_uqs: DFF<Bits<32>>,
+    w_urs: DFF<Bits<32>>,
+    // Setup temporaries.
+    s_v0: DFF<Bits<32>>,
+    s_dq: DFF<Bits<128>>,
+    s_dmag: DFF<Bits<128>>,
+    s_vend: DFF<Bits<128>>,
+    s_t2: DFF<Bits<128>>,
+    s_p2: DFF<Bits<128>>,
+    s_anew: DFF<Bits<128>>,
+    s_code: DFF<Bits<8>>,
+
+    // Axis m, through the multiplexers.
+    cur_kind: Signal<Local, Bits<2>>,
+    cur_rev: Signal<Local, Bit>,
+    cur_n: Signal<Local, Bits<32>>,
+    cur_i: Signal<Local, Bits<32>>,
+    cur_t: Signal<Local, Bits<32>>,
+    cur_e: Signal<Local, Bits<32>>,
+    cur_p: Signal<Local, Bits<64>>,
+    cur_b: Signal<Local, Bits<128>>,
+    cur_a: Signal<Local, Bits<128>>,
+    cur_uq: Signal<Local, Bits<32>>,
+    cur_ur: Signal<Local, Bits<32>>,
+    cur_uqs: Signal<Local, Bits<32>>,
+    cur_urs: Signal<Local, Bits<32>>,
+    cur_head: Signal<Local, Bits<SEGMENT_BITS>>,
+    cur_queued: Signal<Local, Bit>,
+    cur_full: Signal<Local, Bit>,
+    next_m: Signal<Local, Bits<8>>,
+    // Decoded queue head.
+    h_v0: Signal<Local, Bits<32>>,
+    h_t: Signal<Local, Bits<32>>,
+    h_steps: Signal<Local, Bits<32>>,
+    h_n: Signal<Local, Bits<32>>,
+    // Datapath.
+    dq: Signal<Local, Bits<128>>,
+    vend: Signal<Local, Bits<128>>,
+    n128: Signal<Local, Bits<128>>,
+    t128: Signal<Local, Bits<128>>,
+    p_test: Signal<Local, Bits<128>>,
+    a_step: Signal<Local, Bits<128>>,
+    tau: Signal<Local, Bits<64>>,
+    rounded: Signal<Local, Bits<32>>,
+    e_next: Signal<Local, Bits<32>>,
+    i_next: Signal<Local, Bits<32>>,
+    two_n: Signal<Local, Bits<32>>,
+    u_q1: Signal<Local, Bits<32>>,
+    u_r1: Signal<Local, Bits<32>>,
+    // Actions on axis m.
+    push_now: Signal<Local, Bit>,
+    push_entry: Signal<Local, Bits<ENTRY_BITS>>,
+    pop_now: Signal<Local, Bit>,
+    commit: Signal<Local, Bit>,
+    err_now: Signal<Local, Bit>,
+    go_all: Signal<Local, Bit>,
+    cmd_ok_axis: Signal<Local, Bit>,
+
+    c_rmax: Constant<Bits<32>>,
+    c_max_t: Constant<Bits<32>>,
+    c_max_n: Constant<Bits<32>>,
+    c_max_v0: Constant<Bits<32>>,
+    c_last_axis: Constant<Bits<8>>,
+    c_step_bit: Constant<Bits<ENTRY_BITS>>,
+    k_pick: Constant<Bits<STATE_BITS>>,
+    k_check: Constant<Bits<STATE_BITS>>,
+    k_vt: Constant<Bits<STATE_BITS>>,
+    k_tr: Constant<Bits<STATE_BITS>>,
+    k_dwell: Constant<Bits<STATE_BITS>>,
+    k_udiv: Constant<Bits<STATE_BITS>>,
+    k_t2: Constant<Bits<STATE_BITS>>,
+    k_x: Constant<Bits<STATE_BITS>>,
+    k_p: Constant<Bits<STATE_BITS>>,
+    k_b: Constant<Bits<STATE_BITS>>,
+    k_p2s: Constant<Bits<STATE_BITS>>,
+    k_nb: Constant<Bits<STATE_BITS>>,
+    k_commit_setup: Constant<Bits<STATE_BITS>>,
+    k_reject: Constant<Bits<STATE_BITS>>,
+    k_pstart: Constant<Bits<STATE_BITS>>,
+    k_pwait: Constant<Bits<STATE_BITS>>,
+    k_ustep: Constant<Bits<STATE_BITS>>,
+    k_commit_step: Constant<Bits<STATE_BITS>>,
+}
+
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
+    /// A core whose every emitted period is at least `limits.min_period_ticks`.
+    pub fn new(limits: Limits) -> Self {
+        assert!((1..=64).contains(&K), "TdmCore: K = {K} outside 1..=64");
+        TdmCore {
+            clock: Default::default(),
+            reset: Default::default(),
+            cmd_valid: Default::default(),
+            cmd_axis: Default::default(),
+            cmd_v0: Default::default(),
+            cmd_t: Default::default(),
+            cmd_steps: Default::default(),
+            cmd_ready: Default::default(),
+            cmd_error: Default::default(),
+            start: Default::default(),
+            start_mask: Default::default(),
+            step: Default::default(),
+            dir: Default::default(),
+            underrun: Default::default(),
+            active: Default::default(),
+            busy: Default::default(),
+            sel_axis: Default::default(),
+            sel_position: Default::default(),
+            sel_error: Default::default(),
+            sel_queue: Default::default(),
+            sel_fifo: Default::default(),
+            fsm_state: Default::default(),
+            queues: std::array::from_fn(|_| Default::default()),
+            axes: std::array::from_fn(|_| Default::default()),
+            ctx: std::array::from_fn(|_| Default::default()),
+            step_bus: std::array::from_fn(BitInsert::new),
+            dir_bus: std::array::from_fn(BitInsert::new),
+            under_bus: std::array::from_fn(BitInsert::new),
+            active_bus: std::array::from_fn(BitInsert::new),
+            busy_bus: std::array::from_fn(BitInsert::new),
+            ready_bus: std::array::from_fn(BitInsert::new),
+            mul: Default::default(),
+            div: Default::default(),
+            sqrt: Default::default(),
+            st: Default::default(),
+            m: Default::default(),
+            pending: Default::default(),
+            cmd_err: Default::default(),
+            w_kind: Default::default(),
+            w_rev: Default::default(),
+            w_n: Default::default(),
+            w_i: Default::default(),
+            w_t: Default::default(),
+            w_e: Default::default(),
+            w_p: Default::default(),
+            w_b: Default::default(),
+            w_a: Default::default(),
+            w_uq: Default::default(),
+            w_ur: Default::default(),
+            w_uqs: Default::default(),
+            w_urs: Default::default(),
+            s_v0: Default::default(),
+            s_dq: Default::default(),
+            s_dmag: Default::default(),
+            s_vend: Default::default(),
+            s_t2: Default::default(),
+            s_p2: Default::default(),
+            s_anew: Default::default(),
+            s_code: Default::default(),
+            cur_kind: Default::default(),
+            cur_rev: Default::default(),
+            cur_n: Default::default(),
+            cur_i: Default::default(),
+            cur_t: Default::default(),
+            cur_e: Default::default(),
+            cur_p: Default::default(),
+            cur_b: Default::default(),
+            cur_a: Default::default(),
+            cur_uq: Default::default(),
+            cur_ur: Default::default(),
+            cur_uqs: Default::default(),
+            cur_urs: Default::default(),
+            cur_head: Default::default(),
+            cur_queued: Default::default(),
+            cur_full: Default::default(),
+            next_m: Default::default(),
+            h_v0: Default::default(),
+            h_t: Default::default(),
+            h_steps: Default::default(),
+            h_n: Default::default(),
+            dq: Default::default(),
+            vend: Default::default(),
+            n128: Default::default(),
+            t128: Default::default(),
+            p_test: Default::default(),
+            a_step: Default::default(),
+            tau: Default::default(),
+            rounded: Default::default(),
+            e_next: Default::default(),
+            i_next: Default::default(),
+            two_n: Default::default(),
+            u_q1: Default::default(),
+            u_r1: Default::default(),
+            push_now: Default::default(),
+            push_entry: Default::default(),
+            pop_now: Default::default(),
+            commit: Default::default(),
+            err_now: Default::default(),
+            go_all: Default::default(),
+            cmd_ok_axis: Default::default(),
+            c_rmax: Constant::new((limits.max_rate() as u64).into()),
+            c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
+            c_max_n: Constant::new((MAX_STEPS as u64).into()),
+            c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
+            c_last_axis: Constant::new(((K - 1) as u64).into()),
+            c_step_bit: Constant::new((1u64 << 32).into()),
+            k_pick: state("PICK"),
+            k_check: state("S_CHECK"),
+            k_vt: state("S_VT"),
+            k_tr: state("S_TR"),
+            k_dwell: state("S_DWELL"),
+            k_udiv: state("S_UDIV"),
+            k_t2: state("S_T2"),
+            k_x: state("S_X"),
+            k_p: state("S_P"),
+            k_b: state("S_B"),
+            k_p2s: state("S_P2"),
+            k_nb: state("S_NB"),
+            k_commit_setup: state("S_COMMIT_SETUP"),
+            k_reject: state("S_REJECT"),
+            k_pstart: state("P_START"),
+            k_pwait: state("P_WAIT"),
+            k_ustep: state("U_STEP"),
+            k_commit_step: state("S_COMMIT_STEP"),
+        }
+    }
+}
+
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic
+    for TdmCore<K, R, DEPTH, QDEPTH>
+{
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self, clock, st, m, pending, cmd_err, w_kind, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_p2, s_anew, s_code
+        );
+        self.mul.clock.next = self.clock.val();
+        self.div.clock.next = self.clock.val();
+        self.sqrt.clock.next = self.clock.val();
+        self.mul.start.next = false;
+        self.div.start.next = false;
+        self.sqrt.start.next = false;
+        self.mul.a.next = 0.into();
+        self.mul.b.next = 0.into();
+        self.div.numerator.next = 0.into();
+        self.div.denominator.next = 0.into();
+        self.sqrt.radicand.next = self.s_anew.q.val();
+        self.push_now.next = false;
+        self.push_entry.next = 0.into();
+        self.pop_now.next = false;
+        self.commit.next = false;
+        self.err_now.next = false;
+        self.fsm_state.next = self.st.q.val();
+        self.cmd_error.next = self.cmd_err.q.val();
+
+        // ---- axis m through the multiplexers --------------------------------
+        self.cur_kind.next = 0.into();
+        self.cur_rev.next = false;
+        self.cur_n.next = 0.into();
+        self.cur_i.next = 0.into();
+        self.cur_t.next = 0.into();
+        self.cur_e.next = 0.into();
+        self.cur_p.next = 0.into();
+        self.cur_b.next = 0.into();
+        self.cur_a.next = 0.into();
+        self.cur_uq.next = 0.into();
+        self.cur_ur.next = 0.into();
+        self.cur_uqs.next = 0.into();
+        self.cur_urs.next = 0.into();
+        self.cur_head.next = 0.into();
+        self.cur_queued.next = false;
+        self.cur_full.next = true;
+        for i in 0..K {
+            if self.m.q.val().index() == i {
+                self.cur_kind.next = self.ctx[i].kind.val();
+                self.cur_rev.next = self.ctx[i].rev.val();
+                self.cur_n.next = self.ctx[i].n.val();
+                self.cur_i.next = self.ctx[i].i.val();
+                self.cur_t.next = self.ctx[i].t.val();
+                self.cur_e.next = self.ctx[i].e.val();
+                self.cur_p.next = self.ctx[i].p.val();
+                self.cur_b.next = self.ctx[i].b.val();
+                self.cur_a.next = self.ctx[i].a.val();
+                self.cur_uq.next = self.ctx[i].uq.val();
+                self.cur_ur.next = self.ctx[i].ur.val();
+                self.cur_uqs.next = self.ctx[i].uqs.val();
+                self.cur_urs.next = self.ctx[i].urs.val();
+                self.cur_head.next = self.queues[i].head.val();
+                self.cur_queued.next = !self.queues[i].empty.val();
+                self.cur_full.next = self.axes[i].full.val();
+            }
+        }
+        if self.m.q.val() == self.c_last_axis.val() {
+            self.next_m.next = 0.into();
+        } else {
+            self.next_m.next = self.m.q.val() + 1;
+        }
+
+        // ---- datapath -------------------------------------------------------
+        self.h_v0.next = self.cur_head.val().get_bits::<32>(0);
+        self.h_t.next = self.cur_head.val().get_bits::<32>(32);
+        self.h_steps.next = self.cur_head.val().get_bits::<32>(64);
+        if self.h_steps.val().get_bit(31) {
+            self.h_n.next = (!self.h_steps.val()) + 1;
+        } else {
+            self.h_n.next = self.h_steps.val();
+        }
+        self.n128.next = bit_cast::<128, 32>(self.w_n.q.val());
+        self.t128.next = bit_cast::<128, 32>(self.w_t.q.val());
+        // D·2^32 = n·2^32 − v0·T and v_end·T·2^32 = 2n·2^32 − v0·T (two's complement).
+        self.dq.next = (self.n128.val() << 32) - self.mul.product.val();
+        self.vend.next = (self.n128.val() << 33) - self.mul.product.val();
+        self.p_test.next = self.div.quotient.val() + (self.t128.val() << 5);
+        if self.w_kind.q.val() == 2 {
+            self.a_step.next = self.w_a.q.val() + self.w_b.q.val();
+        } else {
+            self.a_step.next = self.w_a.q.val() - self.w_b.q.val();
+        }
+        self.tau.next = self.sqrt.root.val() - self.w_p.q.val();
+        self.rounded.next = bit_cast::<32, 64>((self.tau.val() + 8) >> 4);
+        self.i_next.next = self.w_i.q.val() + 1;
+        if self.i_next.val() == self.w_n.q.val() {
+            self.e_next.next = self.w_t.q.val();
+        } else if self.w_kind.q.val() == 2 {
+            self.e_next.next = self.rounded.val();
+        } else {
+            self.e_next.next = self.w_t.q.val() - self.rounded.val();
+        }
+        self.two_n.next = self.w_n.q.val() << 1;
+        self.u_q1.next = self.w_uq.q.val() + self.w_uqs.q.val();
+        self.u_r1.next = self.w_ur.q.val() + self.w_urs.q.val();
+
+        // ---- the scheduler --------------------------------------------------
+        if self.st.q.val() == self.k_pick.val() {
+            self.w_kind.d.next = self.cur_kind.val();
+            self.w_rev.d.next = self.cur_rev.val();
+            self.w_n.d.next = self.cur_n.val();
+            self.w_i.d.next = self.cur_i.val();
+            self.w_t.d.next = self.cur_t.val();
+            self.w_e.d.next = self.cur_e.val();
+            self.w_p.d.next = self.cur_p.val();
+            self.w_b.d.next = self.cur_b.val();
+            self.w_a.d.next = self.cur_a.val();
+            self.w_uq.d.next = self.cur_uq.val();
+            self.w_ur.d.next = self.cur_ur.val();
+            self.w_uqs.d.next = self.cur_uqs.val();
+            self.w_urs.d.next = self.cur_urs.val();
+            if (self.cur_kind.val() != 0) & !self.cur_full.val() {
+                if self.cur_kind.val() == 1 {
+                    self.st.d.next = self.k_ustep.val();
+                } else {
+                    self.st.d.next = self.k_pstart.val();
+                }
+            } else if (self.cur_kind.val() == 0) & self.cur_queued.val() & !self.cur_full.val() {
+                self.st.d.next = self.k_check.val();
+            } else {
+                self.m.d.next = self.next_m.val();
+            }
+        } else if self.st.q.val() == self.k_check.val() {
+            // Range checks, in the model's order; then v0·T.
+            self.s_v0.d.next = self.h_v0.val();
+            self.w_t.d.next = self.h_t.val();
+            self.w_n.d.next = self.h_n.val();
+            self.w_rev.d.next = self.h_steps.val().get_bit(31);
+            if self.h_t.val() == 0 {
+                self.s_code.d.next = 1.into();
+                self.st.d.next = self.k_reject.val();
+            } else if self.h_t.val() > self.c_max_t.val() {
+                self.s_code.d.next = 4.into();
+                self.st.d.next = self.k_reject.val();
+            } else if self.h_n.val() > self.c_max_n.val() {
+                self.s_code.d.next = 5.into();
+                self.st.d.next = self.k_reject.val();
+            } else if self.h_v0.val() > self.c_max_v0.val() {
+                self.s_code.d.next = 6.into();
+                self.st.d.next = self.k_reject.val();
+            } else {
+                self.mul.a.next = bit_cast::<128, 32>(self.h_v0.val());
+                self.mul.b.next = bit_cast::<64, 32>(self.h_t.val());
+                self.mul.start.next = true;
+                self.st.d.next = self.k_vt.val();
+            }
+        } else if self.st.q.val() == self.k_vt.val() {
+            if self.mul.valid.val() {
+                self.s_dq.d.next = self.dq.val();
+                self.s_vend.d.next = self.vend.val();
+                if self.dq.val().get_bit(127) {
+                    self.s_dmag.d.next = (!self.dq.val()) + 1;
+                } else {
+                    self.s_dmag.d.next = self.dq.val();
+                }
+                if self.vend.val().get_bit(127) {
+                    self.s_code.d.next = 2.into();
+                    self.st.d.next = self.k_reject.val();
+                } else {
+                    self.mul.a.next = self.t128.val();
+                    self.mul.b.next = bit_cast::<64, 32>(self.c_rmax.val());
+                    self.mul.start.next = true;
+                    self.st.d.next = self.k_tr.val();
+                }
+            }
+        } else if self.st.q.val() == self.k_tr.val() {
+            if self.mul.valid.val() {
+                if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.mul.product.val()) {
+                    self.s_code.d.next = 3.into();
+                    self.st.d.next = self.k_reject.val();
+                } else if self.w_n.q.val() == 0 {
+                    self.st.d.next = self.k_dwell.val();
+                } else if self.s_dq.q.val() == 0 {
+                    self.div.numerator.next = self.t128.val() << 1;
+                    self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
+                    self.div.start.next = true;
+                    self.st.d.next = self.k_udiv.val();
+                } else {
+                    self.mul.a.next = self.t128.val();
+                    self.mul.b.next = bit_cast::<64, 32>(self.w_t.q.val());
+                    self.mul.start.next = true;
+                    self.st.d.next = self.k_t2.val();
+                }
+            }
+        } else if self.st.q.val() == self.k_dwell.val() {
+            self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_t.q.val());
+            self.push_now.next = true;
+            self.pop_now.next = true;
+            self.m.d.next = self.next_m.val();
+            self.st.d.next = self.k_pick.val();
+        } else if self.st.q.val() == self.k_udiv.val() {
+            if self.div.valid.val() {
+                self.w_uqs.d.next = bit_cast::<32, 128>(self.div.quotient.val());
+                self.w_urs.d.next = bit_cast::<32, 64>(self.div.remainder.val());
+                self.w_uq.d.next = 0.into();
+                self.w_ur.d.next = self.w_n.q.val();
+                self.w_kind.d.next = 1.into();
+                self.w_i.d.next = 0.into();
+                self.w_e.d.next = 0.into();
+                self.st.d.next = self.k_commit_setup.val();
+            }
+        } else if self.st.q.val() == self.k_t2.val() {
+            if self.mul.valid.val() {
+                self.s_t2.d.next = self.mul.product.val();
+                if self.s_dq.q.val().get_bit(127) {
+                    // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
+                    self.mul.a.next = self.s_vend.q.val();
+                    self.mul.b.next = bit_cast::<64, 32>(self.w_t.q.val());
+                } else {
+                    self.mul.a.next = self.mul.product.val();
+                    self.mul.b.next = bit_cast::<64, 32>(self.s_v0.q.val());
+                }
+                self.mul.start.next = true;
+                self.st.d.next = self.k_x.val();
+            }
+        } else if self.st.q.val() == self.k_x.val() {
+            if self.mul.valid.val() {
+                // P' = round(v·T²·2^4 / (2|D·2^32|))
+                self.div.numerator.next = (self.mul.product.val() << 4) + self.s_dmag.q.val();
+                self.div.denominator.next = bit_cast::<64, 128>(self.s_dmag.q.val() << 1);
+                self.div.start.next = true;
+                self.st.d.next = self.k_p.val();
+            }
+        } else if self.st.q.val() == self.k_p.val() {
+            if self.div.valid.val() {
+                if self.p_test.val().get_bits::<64>(64) != 0 {
+                    // P' + 2T' does not fit the root: the nearly-uniform fallback.
+                    self.div.numerator.next = self.t128.val() << 1;
+                    self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
+                    self.div.start.next = true;
+                    self.st.d.next = self.k_udiv.val();
+                } else {
+                    self.w_p.d.next = self.div.quotient.val().get_bits::<64>(0);
+                    // B' = round(T²·2^40 / |D·2^32|) = (T²·2^41 + |D|) / (2|D|)
+                    self.div.numerator.next = (self.s_t2.q.val() << 41) + self.s_dmag.q.val();
+                    self.div.denominator.next = bit_cast::<64, 128>(self.s_dmag.q.val() << 1);
+                    self.div.start.next = true;
+                    self.st.d.next = self.k_b.val();
+                }
+            }
+        } else if self.st.q.val() == self.k_b.val() {
+            if self.div.valid.val() {
+                self.w_b.d.next = self.div.quotient.val();
+                self.mul.a.next = bit_cast::<128, 64>(self.w_p.q.val());
+                self.mul.b.next = self.w_p.q.val();
+                self.mul.start.next = true;
+                self.st.d.next = self.k_p2s.val();
+            }
+        } else if self.st.q.val() == self.k_p2s.val() {
+            if self.mul.valid.val() {
+                self.w_i.d.next = 0.into();
+                self.w_e.d.next = 0.into();
+                if self.s_dq.q.val().get_bit(127) {
+                    self.s_p2.d.next = self.mul.product.val();
+                    self.mul.a.next = self.w_b.q.val();
+                    self.mul.b.next = bit_cast::<64, 32>(self.w_n.q.val());
+                    self.mul.start.next = true;
+                    self.st.d.next = self.k_nb.val();
+                } else {
+                    self.w_a.d.next = self.mul.product.val();
+                    self.w_kind.d.next = 2.into();
+                    self.st.d.next = self.k_commit_setup.val();
+                }
+            }
+        } else if self.st.q.val() == self.k_nb.val() {
+            if self.mul.valid.val() {
+                self.w_a.d.next = self.s_p2.q.val() + self.mul.product.val();
+                self.w_kind.d.next = 3.into();
+                self.st.d.next = self.k_commit_setup.val();
+            }
+        } else if self.st.q.val() == self.k_commit_setup.val() {
+            self.commit.next = true;
+            self.pop_now.next = true;
+            self.m.d.next = self.next_m.val();
+            self.st.d.next = self.k_pick.val();
+        } else if self.st.q.val() == self.k_reject.val() {
+            self.err_now.next = true;
+            self.pop_now.next = true;
+            self.m.d.next = self.next_m.val();
+            self.st.d.next = self.k_pick.val();
+        } else if self.st.q.val() == self.k_pstart.val() {
+            self.s_anew.d.next = self.a_step.val();
+            self.sqrt.radicand.next = self.a_step.val();
+            self.sqrt.start.next = true;
+            self.st.d.next = self.k_pwait.val();
+        } else if self.st.q.val() == self.k_pwait.val() {
+            if self.sqrt.valid.val() {
+                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                    | self.c_step_bit.val()
+                    | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
+                self.push_now.next = true;
+                self.w_a.d.next = self.s_anew.q.val();
+                self.w_e.d.next = self.e_next.val();
+                self.w_i.d.next = self.i_next.val();
+                if self.i_next.val() == self.w_n.q.val() {
+                    self.w_kind.d.next = 0.into();
+                }
+                self.st.d.next = self.k_commit_step.val();
+            }
+        } else if self.st.q.val() == self.k_ustep.val() {
+            // E_i = ⌊(2iT + n)/(2n)⌋ as a quotient and a remainder.
+            if self.u_r1.val() >= self.two_n.val() {
+                self.w_uq.d.next = self.u_q1.val() + 1;
+                self.w_ur.d.next = self.u_r1.val() - self.two_n.val();
+                self.e_next.next = self.u_q1.val() + 1;
+            } else {
+                self.w_uq.d.next = self.u_q1.val();
+                self.w_ur.d.next = self.u_r1.val();
+                self.e_next.next = self.u_q1.val();
+            }
+            if self.i_next.val() == self.w_n.q.val() {
+                self.e_next.next = self.w_t.q.val();
+                self.w_kind.d.next = 0.into();
+            }
+            self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                | self.c_step_bit.val()
+                | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
+            self.push_now.next = true;
+            self.w_e.d.next = self.e_next.val();
+            self.w_i.d.next = self.i_next.val();
+            self.st.d.next = self.k_commit_step.val();
+        } else if self.st.q.val() == self.k_commit_step.val() {
+            self.commit.next = true;
+            self.m.d.next = self.next_m.val();
+            self.st.d.next = self.k_pick.val();
+        } else {
+            self.st.d.next = self.k_pick.val();
+        }
+
+        // ---- per-axis wiring ------------------------------------------------
+        // The last element of each chain holds the whole bus (last assignment wins).
+        // Computed before the wiring below reads `go_all`: reading a local before it is
+        // written makes a combinational loop in the Verilog.
+        for i in 0..K {
+            self.step.next = self.step_bus[i].bus_out.val();
+            self.dir.next = self.dir_bus[i].bus_out.val();
+            self.underrun.next = self.under_bus[i].bus_out.val();
+            self.active.next = self.active_bus[i].bus_out.val();
+            self.busy.next = self.busy_bus[i].bus_out.val();
+            // Synchronised start: every masked axis idle with its first period ready.
+            self.go_all.next =
+                (self.pending.q.val() != 0) & (!self.pending.q.val() | self.ready_bus[i].bus_out.val()).all();
+        }
+        self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();
+        self.cmd_ready.next = true;
+        self.sel_position.next = 0.into();
+        self.sel_error.next = 0.into();
+        self.sel_queue.next = 0.into();
+        self.sel_fifo.next = 0.into();
+        for i in 0..K {
+            self.queues[i].clock.next = self.clock.val();
+            self.queues[i].reset.next = self.reset.val();
+            self.queues[i].entry_in.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
+                | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_t.val()) << 32)
+                | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
+            self.queues[i].push.next = self.cmd_valid.val() & (self.cmd_axis.val().index() == i);
+            self.queues[i].pop.next = self.pop_now.val() & (self.m.q.val().index() == i);
+            if self.cmd_axis.val().index() == i {
+                self.cmd_ready.next = !self.queues[i].full.val();
+            }
+            self.axes[i].clock.next = self.clock.val();
+            self.axes[i].reset.next = self.reset.val();
+            self.axes[i].push.next = self.push_now.val() & (self.m.q.val().index() == i);
+            self.axes[i].entry_in.next = self.push_entry.val();
+            self.axes[i].more.next = (self.ctx[i].kind.val() != 0) | !self.queues[i].empty.val();
+            self.axes[i].go.next = self.go_all.val() & self.pending.q.val().get_bit(i);
+            self.ctx[i].clock.next = self.clock.val();
+            self.ctx[i].reset.next = self.reset.val();
+            self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
+            self.ctx[i].err_we.next = self.err_now.val() & (self.m.q.val().index() == i);
+            self.ctx[i].new_kind.next = self.w_kind.q.val();
+            self.ctx[i].new_rev.next = self.w_rev.q.val();
+            self.ctx[i].new_n.next = self.w_n.q.val();
+            self.ctx[i].new_i.next = self.w_i.q.val();
+            self.ctx[i].new_t.next = self.w_t.q.val();
+            self.ctx[i].new_e.next = self.w_e.q.val();
+            self.ctx[i].new_p.next = self.w_p.q.val();
+            self.ctx[i].new_b.next = self.w_b.q.val();
+            self.ctx[i].new_a.next = self.w_a.q.val();
+            self.ctx[i].new_uq.next = self.w_uq.q.val();
+            self.ctx[i].new_ur.next = self.w_ur.q.val();
+            self.ctx[i].new_uqs.next = self.w_uqs.q.val();
+            self.ctx[i].new_urs.next = self.w_urs.q.val();
+            self.ctx[i].new_err.next = self.s_code.q.val();
+            self.step_bus[i].value.next = self.axes[i].step.val();
+            self.dir_bus[i].value.next = self.axes[i].dir.val();
+            self.under_bus[i].value.next = self.axes[i].underrun.val();
+            self.active_bus[i].value.next = self.axes[i].active.val();
+            self.busy_bus[i].value.next =
+                self.axes[i].active.val() | (self.ctx[i].kind.val() != 0) | !self.queues[i].empty.val();
+            self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
+            if self.sel_axis.val().index() == i {
+                self.sel_position.next = self.axes[i].position.val();
+                self.sel_error.next = self.ctx[i].err.val();
+                self.sel_queue.next = self.queues[i].level.val();
+                self.sel_fifo.next = self.axes[i].level.val();
+            }
+        }
+        self.step_bus[0].bus_in.next = 0.into();
+        self.dir_bus[0].bus_in.next = 0.into();
+        self.under_bus[0].bus_in.next = 0.into();
+        self.active_bus[0].bus_in.next = 0.into();
+        self.busy_bus[0].bus_in.next = 0.into();
+        self.ready_bus[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.step_bus[i].bus_in.next = self.step_bus[i - 1].bus_out.val();
+            self.dir_bus[i].bus_in.next = self.dir_bus[i - 1].bus_out.val();
+            self.under_bus[i].bus_in.next = self.under_bus[i - 1].bus_out.val();
+            self.active_bus[i].bus_in.next = self.active_bus[i - 1].bus_out.val();
+            self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
+            self.ready_bus[i].bus_in.next = self.ready_bus[i - 1].bus_out.val();
+        }
+        if !self.cmd_ok_axis.val() {
+            self.cmd_ready.next = true;
+            if self.cmd_valid.val() {
+                self.cmd_err.d.next = true;
+            }
+        }
+        if self.go_all.val() {
+            self.pending.d.next = 0.into();
+        }
+        if self.start.val() {
+            self.pending.d.next = self.start_mask.val();
+        }
+        if self.reset.val() {
+            self.st.d.next = self.k_pick.val();
+            self.m.d.next = 0.into();
+            self.pending.d.next = 0.into();
+            self.cmd_err.d.next = false;
+        }
+    }
+}

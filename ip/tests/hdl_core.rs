@@ -1,0 +1,234 @@
+//! The TDM core against the reference model, through its command port: every STEP
+//! edge of every axis at release + 1 + E_i with one release tick for all axes (0 skew),
+//! no underrun when K·t_calc is below the shortest period, final positions and error
+//! codes. rust-hdl simulation and the exported Verilog (Verilator) must produce the
+//! same trace. Also: the FSM's state constants in the Verilog are a Gray sequence.
+
+mod common;
+
+use common::*;
+use rust_hdl::prelude::*;
+use tdm_stepper::hdl::core::{TdmCore, STATES, STATE_BITS};
+use tdm_stepper::model::{planner, AxisRun, Limits, Segment};
+use tdm_stepper::verify::{run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
+
+const R: usize = 4;
+const DEPTH: usize = 4;
+const QDEPTH: usize = 16;
+
+fn plan(steps: i64, ticks: [u32; 3]) -> Vec<Segment> {
+    planner::trapezoid_by_ticks(steps, ticks, &Limits::default()).unwrap()
+}
+
+/// Per axis: rest-to-rest moves (accelerate, cruise, decelerate), an exactly uniform
+/// segment, a dwell, both directions, and rejected segments between them.
+/// Shortest period about 100 ticks.
+fn moves() -> Vec<Vec<Segment>> {
+    vec![
+        [
+            plan(100, [8000, 4000, 8000]),
+            vec![Segment::new(0, 0, 10), Segment::dwell(3000), Segment::new(1 << 25, 5120, -40)],
+            plan(-50, [5000, 0, 5000]),
+        ]
+        .concat(),
+        [
+            plan(80, [6000, 2000, 6000]),
+            vec![Segment::new(858_993, 100_000, 5), Segment::new(0, 100, 50)],
+            plan(30, [3000, 1000, 3000]),
+        ]
+        .concat(),
+    ]
+}
+
+fn spec<const K: usize>() -> TbSpec {
+    TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("cmd_valid", 1),
+            Port::new("cmd_axis", 8),
+            Port::new("cmd_v0", 32),
+            Port::new("cmd_t", 32),
+            Port::new("cmd_steps", 32),
+            Port::new("start", 1),
+            Port::new("start_mask", K),
+            Port::new("sel_axis", 8),
+        ],
+        outputs: vec![
+            Port::new("step", K),
+            Port::new("dir", K),
+            Port::new("underrun", K),
+            Port::new("busy", K),
+            Port::new("sel_position", 32),
+            Port::new("sel_error", 8),
+            Port::new("cmd_ready", 1),
+            Port::new("fsm_state", STATE_BITS),
+        ],
+    }
+}
+
+/// Reset, one command per cycle, a synchronised start of all axes, and at the end
+/// a status read of each axis.
+fn events<const K: usize>(axes: &[Vec<Segment>], cycles: u64) -> Vec<(u64, Vec<u128>)> {
+    let idle = |sel: u128| vec![0, 0, 0, 0, 0, 0, 0, 0, sel];
+    let mut ev = vec![(0u64, [vec![1], idle(0)[1..].to_vec()].concat())];
+    let mut c = 3u64;
+    ev.push((c, idle(0)));
+    for (a, segs) in axes.iter().enumerate() {
+        for s in segs {
+            c += 1;
+            ev.push((c, vec![0, 1, a as u128, s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0, 0, 0]));
+        }
+    }
+    c += 1;
+    ev.push((c, vec![0, 0, 0, 0, 0, 0, 1, (1u128 << K) - 1, 0]));
+    c += 1;
+    ev.push((c, idle(0)));
+    for a in 0..K {
+        ev.push((cycles - 2 * (K - a) as u64, idle(a as u128)));
+    }
+    ev
+}
+
+fn uut<const K: usize>() -> TdmCore<K, R, DEPTH, QDEPTH> {
+    let mut u = TdmCore::<K, R, DEPTH, QDEPTH>::new(Limits::default());
+    u.clock.connect();
+    u.reset.connect();
+    u.cmd_valid.connect();
+    u.cmd_axis.connect();
+    u.cmd_v0.connect();
+    u.cmd_t.connect();
+    u.cmd_steps.connect();
+    u.start.connect();
+    u.start_mask.connect();
+    u.sel_axis.connect();
+    u.connect_all();
+    u
+}
+
+fn rust_hdl_trace<const K: usize>(ev: &[(u64, Vec<u128>)], cycles: u64) -> Vec<Change> {
+    run_rust_hdl_sparse(
+        &mut uut::<K>(),
+        ev,
+        cycles,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.cmd_valid.next = r[1] == 1;
+            u.cmd_axis.next = (r[2] as u64).into();
+            u.cmd_v0.next = (r[3] as u64).into();
+            u.cmd_t.next = (r[4] as u64).into();
+            u.cmd_steps.next = (r[5] as u64).into();
+            u.start.next = r[6] == 1;
+            u.start_mask.next = (r[7] as u64).into();
+            u.sel_axis.next = (r[8] as u64).into();
+        },
+        |u| {
+            vec![
+                u.step.val().to_u64() as u128,
+                u.dir.val().to_u64() as u128,
+                u.underrun.val().to_u64() as u128,
+                u.busy.val().to_u64() as u128,
+                u.sel_position.val().to_u64() as u128,
+                u.sel_error.val().to_u64() as u128,
+                u.cmd_ready.val() as u128,
+                u.fsm_state.val().to_u64() as u128,
+            ]
+        },
+    )
+}
+
+/// Value of output `port` at every cycle where it changes, from cycle `from`.
+fn expand(trace: &[Change], port: usize, cycles: u64) -> Vec<u128> {
+    let mut out = Vec::with_capacity(cycles as usize);
+    let mut cur = 0;
+    let mut k = 0;
+    for c in 0..cycles {
+        while k < trace.len() && trace[k].0 == c {
+            cur = trace[k].1[port].unwrap_or(0);
+            k += 1;
+        }
+        out.push(cur);
+    }
+    out
+}
+
+fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], cycles: u64, what: &str) {
+    let limits = Limits::default();
+    let step = expand(trace, 0, cycles);
+    let under = expand(trace, 2, cycles);
+    let pos = expand(trace, 4, cycles);
+    let err = expand(trace, 5, cycles);
+    let ready = expand(trace, 6, cycles);
+    let mut release: Option<i64> = None;
+    for (a, segs) in axes.iter().enumerate() {
+        let run = AxisRun::run(segs, &limits);
+        let rises: Vec<u64> = (1..cycles).filter(|&c| (step[c as usize] >> a) & 1 == 1 && (step[c as usize - 1] >> a) & 1 == 0).collect();
+        assert_eq!(rises.len(), run.edge_ticks.len(), "{what}: axis {a} step count");
+        let l0 = rises[0] as i64 - 1 - run.edge_ticks[0] as i64;
+        assert_eq!(*release.get_or_insert(l0), l0, "{what}: axis {a} released on another tick (skew)");
+        for (i, (&r, &e)) in rises.iter().zip(&run.edge_ticks).enumerate() {
+            assert_eq!(r as i64, l0 + 1 + e as i64, "{what}: axis {a} edge {i}");
+        }
+        // Status reads at the end: position and the last error code.
+        let sel_cycle = (cycles - 2 * (K - a) as u64 + 1) as usize;
+        assert_eq!(pos[sel_cycle] as u32 as i32 as i64, run.position, "{what}: axis {a} position");
+        let last_err = run.rejected.last().map_or(0, |r| r.error.code());
+        assert_eq!(err[sel_cycle] as u8, last_err, "{what}: axis {a} error code");
+    }
+    assert!(under.iter().all(|&u| u == 0), "{what}: underrun");
+    assert!(ready.iter().skip(4).all(|&r| r == 1), "{what}: a command was refused");
+}
+
+fn cycles_for(axes: &[Vec<Segment>]) -> u64 {
+    let limits = Limits::default();
+    axes.iter().map(|s| AxisRun::run(s, &limits).end_tick).max().unwrap() + 6000
+}
+
+#[test]
+fn two_axes_match_the_model_in_rust_hdl_and_verilator() {
+    const K: usize = 2;
+    let axes = moves();
+    let cycles = cycles_for(&axes);
+    let ev = events::<K>(&axes, cycles);
+    let reference = rust_hdl_trace::<K>(&ev, cycles);
+    check_against_model::<K>(&axes, &reference, cycles, "rust-hdl");
+    let verilog = generate_verilog(&uut::<K>());
+    let got = run_sparse(Simulator::Verilator, &sim_dir("core_k2", Simulator::Verilator), &verilog, &spec::<K>(), &ev, cycles).unwrap();
+    check_against_model::<K>(&axes, &got, cycles, "Verilator");
+    let strip = |t: &[Change]| -> Vec<(u64, Vec<u128>)> { t.iter().map(|(c, v)| (*c, v.iter().map(|x| x.unwrap_or(u128::MAX)).collect())).collect() };
+    assert_eq!(strip(&got).len(), strip(&reference).len(), "Verilator and rust-hdl traces differ in length");
+    for (g, r) in strip(&got).iter().zip(strip(&reference).iter()).skip(2) {
+        assert_eq!(g, r, "Verilator and rust-hdl traces differ");
+    }
+}
+
+#[test]
+fn fsm_state_constants_are_a_gray_sequence() {
+    let verilog = generate_verilog(&uut::<2>());
+    // `localparam  k_pick = 5'b0;` ... in declaration order (the order of STATES).
+    let codes: Vec<u64> = verilog
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("localparam")?.trim().strip_prefix("k_"))
+        .map(|l| {
+            let v = l.split('=').nth(1).unwrap().trim().trim_end_matches(';');
+            let (w, rest) = v.split_once('\'').unwrap();
+            assert_eq!(w.trim(), STATE_BITS.to_string(), "state width");
+            let radix = match &rest[..1] {
+                "b" => 2,
+                "h" => 16,
+                "d" => 10,
+                other => panic!("base {other}"),
+            };
+            u64::from_str_radix(&rest[1..], radix).unwrap()
+        })
+        .collect();
+    assert_eq!(codes.len(), STATES.len(), "one constant per state");
+    for w in codes.windows(2) {
+        assert_eq!((w[0] ^ w[1]).count_ones(), 1, "{:05b} -> {:05b} is not a Gray step", w[0], w[1]);
+    }
+    let mut sorted = codes.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), codes.len(), "state codes are distinct");
+}
