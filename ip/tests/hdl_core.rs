@@ -27,7 +27,9 @@ fn moves() -> Vec<Vec<Segment>> {
     vec![
         [
             plan(100, [8000, 4000, 8000]),
+            // Exactly uniform, at 128 and at 1365⅓ ticks per step (the remainder path).
             vec![Segment::new(0, 0, 10), Segment::dwell(3000), Segment::new(1 << 25, 5120, -40)],
+            vec![Segment::new(3 << 20, 8192, 6)],
             plan(-50, [5000, 0, 5000]),
         ]
         .concat(),
@@ -91,7 +93,11 @@ fn events<const K: usize>(axes: &[Vec<Segment>], cycles: u64) -> Vec<(u64, Vec<u
 }
 
 fn uut<const K: usize>() -> TdmCore<K, R, DEPTH, QDEPTH> {
-    let mut u = TdmCore::<K, R, DEPTH, QDEPTH>::new(Limits::default());
+    uut_q::<K, QDEPTH>()
+}
+
+fn uut_q<const K: usize, const Q: usize>() -> TdmCore<K, R, DEPTH, Q> {
+    let mut u = TdmCore::<K, R, DEPTH, Q>::new(Limits::default());
     u.clock.connect();
     u.reset.connect();
     u.cmd_valid.connect();
@@ -160,6 +166,7 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
     let pos = expand(trace, 4, cycles);
     let err = expand(trace, 5, cycles);
     let ready = expand(trace, 6, cycles);
+    assert!(ready.iter().skip(4).all(|&r| r == 1), "{what}: a command was refused");
     let mut release: Option<i64> = None;
     for (a, segs) in axes.iter().enumerate() {
         let run = AxisRun::run(segs, &limits);
@@ -177,7 +184,6 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
         assert_eq!(err[sel_cycle] as u8, last_err, "{what}: axis {a} error code");
     }
     assert!(under.iter().all(|&u| u == 0), "{what}: underrun");
-    assert!(ready.iter().skip(4).all(|&r| r == 1), "{what}: a command was refused");
 }
 
 fn cycles_for(axes: &[Vec<Segment>]) -> u64 {
@@ -201,6 +207,55 @@ fn two_axes_match_the_model_in_rust_hdl_and_verilator() {
     for (g, r) in strip(&got).iter().zip(strip(&reference).iter()).skip(2) {
         assert_eq!(g, r, "Verilator and rust-hdl traces differ");
     }
+}
+
+/// Random valid segments (any kind, both directions, dwells, rejected ones), chained
+/// per axis, with periods of at least `min_period` ticks.
+fn random_moves(axes: usize, per_axis: usize, seed: u64) -> Vec<Vec<Segment>> {
+    let limits = Limits::default();
+    let mut rng = Rng(seed);
+    (0..axes)
+        .map(|_| {
+            let mut segs = Vec::new();
+            while segs.len() < per_axis {
+                let t = 200 + rng.next() % 6000;
+                let n = rng.next() % (t / 120 + 1);
+                let one = 1u64 << 32;
+                // Both end rates at most 1/100 step/tick, no reversal.
+                let hi = ((2 * n * one) / t).min(one / 100);
+                let lo = (2 * n * one).saturating_sub(t * (one / 100)).div_ceil(t);
+                let v0 = match rng.next() % 4 {
+                    _ if n == 0 => 0,
+                    0 => lo,
+                    1 => hi,
+                    2 => ((n << 32) / t).clamp(lo, hi),
+                    _ => lo + rng.next() % (hi - lo + 1).max(1),
+                };
+                let steps = if rng.next() % 2 == 0 { n as i32 } else { -(n as i32) };
+                let seg = Segment::new(v0 as u32, t as u32, steps);
+                if lo <= hi && seg.validate(&limits).is_ok() {
+                    segs.push(seg);
+                } else if rng.next() % 8 == 0 {
+                    segs.push(seg); // an invalid one now and then, as a host would send
+                }
+            }
+            segs
+        })
+        .collect()
+}
+
+/// Hundreds of random segments in Verilator: every edge against the model, so
+/// that differences in the last bits of the setup (rounding of P' and B') show up.
+#[test]
+fn random_segments_match_the_model_in_verilator() {
+    const K: usize = 2;
+    const Q: usize = 64;
+    let axes = random_moves(K, Q - 4, 0x5eed_0f_c0de);
+    let cycles = cycles_for(&axes);
+    let ev = events::<K>(&axes, cycles);
+    let verilog = generate_verilog(&uut_q::<K, Q>());
+    let got = run_sparse(Simulator::Verilator, &sim_dir("core_random", Simulator::Verilator), &verilog, &spec::<K>(), &ev, cycles).unwrap();
+    check_against_model::<K>(&axes, &got, cycles, "Verilator, random segments");
 }
 
 #[test]

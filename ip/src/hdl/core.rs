@@ -83,7 +83,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 
     queues: [RegFifo<SEGMENT_BITS, QDEPTH>; K],
     axes: [StepAxis<DEPTH>; K],
-    ctx: [AxisContext; K],
+    /// Per-axis contexts; public so that simulations can inspect them.
+    pub ctx: [AxisContext; K],
     step_bus: [BitInsert<K>; K],
     dir_bus: [BitInsert<K>; K],
     under_bus: [BitInsert<K>; K],

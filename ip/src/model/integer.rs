@@ -102,15 +102,8 @@ impl SegmentPlan {
         let d_mag = d.unsigned_abs();
         let s = TAU_FRAC_BITS;
         let t_sq = t * t;
-        // v·T² with v the slower end: v0 accelerating, v_end decelerating.
-        let v_t_sq = if d > 0 {
-            (segment.v0_rate as u128) * t_sq
-        } else {
-            (segment.v_end_t_q32() as u128) * t
-        };
-        let p = div_round(v_t_sq << s, 2 * d_mag);
-        let t_scaled = t << s;
-        if p + 2 * t_scaled >= 1u128 << ROOT_BITS {
+        let p = Self::p_unbounded(&segment);
+        if p + 2 * (t << s) >= 1u128 << ROOT_BITS {
             plan.kind = PlanKind::Uniform { nearly: true };
             return plan;
         }
@@ -118,6 +111,20 @@ impl SegmentPlan {
         plan.b_scaled = div_round(t_sq << (RATE_FRAC_BITS + 2 * s), d_mag);
         plan.kind = if d > 0 { PlanKind::Accelerate } else { PlanKind::Decelerate };
         plan
+    }
+
+    /// P' = round(v·T²·2^s / (2|D·2^32|)) before the width check, with v the slower
+    /// end (v0 accelerating, v_end decelerating). The segment must have n > 0, D ≠ 0.
+    /// The sqrt path is taken when `P' + 2T' < 2^ROOT_BITS`.
+    pub fn p_unbounded(segment: &Segment) -> u128 {
+        let t = segment.t_ticks as u128;
+        let d = segment.d_q32();
+        let v_t_sq = if d > 0 {
+            (segment.v0_rate as u128) * t * t
+        } else {
+            (segment.v_end_t_q32() as u128) * t
+        };
+        div_round(v_t_sq << TAU_FRAC_BITS, 2 * d.unsigned_abs())
     }
 
     /// Number of steps n.

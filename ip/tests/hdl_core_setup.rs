@@ -1,0 +1,162 @@
+//! The core's arithmetic state against the reference model over the full range.
+//!
+//! One segment at a time into a one-axis core without a start: the scheduler sets the
+//! segment up and computes periods until the period FIFO is full, then waits. The
+//! context it committed must then equal the model's, bit for bit: the plan kind, P',
+//! B', and after i computed steps the accumulator A_i and the edge E_i. Segments are
+//! drawn over T ∈ [1, 2^30], n ∈ [0, 2^24], including nearly uniform ones that take the
+//! fallback; no step has to be played out, so long segments cost nothing.
+//! (rust-hdl simulation; its equality with the Verilog is hdl_core.rs's subject.)
+
+mod common;
+
+use common::*;
+use rust_hdl::prelude::*;
+use tdm_stepper::hdl::core::TdmCore;
+use tdm_stepper::model::{Limits, PlanKind, Segment, SegmentPlan, MAX_STEPS, MAX_T_TICKS};
+
+const DEPTH: usize = 2;
+
+fn run_setup(seg: Segment) -> TdmCore<1, 4, DEPTH, 2> {
+    let mut u = TdmCore::<1, 4, DEPTH, 2>::new(Limits::default());
+    u.clock.connect();
+    u.reset.connect();
+    u.cmd_valid.connect();
+    u.cmd_axis.connect();
+    u.cmd_v0.connect();
+    u.cmd_t.connect();
+    u.cmd_steps.connect();
+    u.start.connect();
+    u.start_mask.connect();
+    u.sel_axis.connect();
+    u.connect_all();
+    let mut tick = |u: &mut TdmCore<1, 4, DEPTH, 2>| {
+        u.clock.next = false.into();
+        assert!(simulate(u, 100));
+        u.clock.next = true.into();
+        assert!(simulate(u, 100));
+    };
+    u.reset.next = true;
+    tick(&mut u);
+    tick(&mut u);
+    u.reset.next = false;
+    u.cmd_valid.next = true;
+    u.cmd_v0.next = (seg.v0_rate as u64).into();
+    u.cmd_t.next = (seg.t_ticks as u64).into();
+    u.cmd_steps.next = (seg.steps as u32 as u64).into();
+    tick(&mut u);
+    u.cmd_valid.next = false;
+    // Setup (~250 cycles at R = 4) plus DEPTH steps (~20 each), with margin.
+    for _ in 0..800 {
+        tick(&mut u);
+    }
+    u
+}
+
+fn check(seg: Segment) {
+    let limits = Limits::default();
+    let u = run_setup(seg);
+    let ctx = &u.ctx[0];
+    let err = ctx.err.val().to_u64() as u8;
+    match seg.validate(&limits) {
+        Err(e) => {
+            assert_eq!(err, e.code(), "{seg:?}: error code");
+            return;
+        }
+        Ok(()) => assert_eq!(err, 0, "{seg:?}: accepted segment flagged"),
+    }
+    let plan = SegmentPlan::new(seg);
+    let kind = ctx.kind.val().to_u64();
+    let i = ctx.i.val().to_u64() as u32;
+    let n = seg.n_steps();
+    // A segment of at most DEPTH steps (or a dwell) is done: the context is idle again.
+    if n as usize <= DEPTH {
+        assert_eq!(kind, 0, "{seg:?}: context should be idle after {n} steps");
+        return;
+    }
+    assert_eq!(i as usize, DEPTH, "{seg:?}: steps computed before the FIFO filled");
+    let want_kind = match plan.kind {
+        PlanKind::Uniform { .. } => 1,
+        PlanKind::Accelerate => 2,
+        PlanKind::Decelerate => 3,
+        PlanKind::Dwell => unreachable!(),
+    };
+    assert_eq!(kind, want_kind, "{seg:?}: plan kind ({:?})", plan.kind);
+    assert_eq!(ctx.e.val().to_u64(), plan.edge(i), "{seg:?}: E_{i}");
+    if want_kind != 1 {
+        assert_eq!(ctx.p.val().to_u64() as u128, plan.p_scaled, "{seg:?}: P'");
+        assert_eq!(bits_to_u128(ctx.b.val()), plan.b_scaled, "{seg:?}: B'");
+        assert_eq!(bits_to_u128(ctx.a.val()), plan.accumulator(i), "{seg:?}: A_{i}");
+    }
+}
+
+/// Random segments over the whole range, valid and not, plus nearly uniform ones.
+#[test]
+fn setup_state_equals_the_model_over_the_range() {
+    let limits = Limits::default();
+    let mut rng = Rng(0xa076_1d64_78bd_642f);
+    let mut kinds = std::collections::HashMap::new();
+    let mut checked = 0;
+    while checked < 60 {
+        let t = (((rng.next() % 31) as f64).exp2() as u64 + rng.next() % 1024).clamp(1, MAX_T_TICKS as u64);
+        let n_max = ((t as u128 * limits.max_rate() as u128) >> 32).min(MAX_STEPS as u128) as u64;
+        let n = if n_max == 0 { 0 } else { ((rng.next() % 25) as f64).exp2() as u64 % (n_max + 1) };
+        let uniform = ((n as u128) << 32) / t as u128;
+        let v0 = match rng.next() % 4 {
+            0 => 0u64,
+            1 => uniform as u64,
+            2 => (uniform as u64).saturating_add(rng.next() % 3).saturating_sub(1),
+            _ => rng.next() % (2 * uniform as u64 + 1),
+        };
+        let seg = Segment::new(v0.min(u32::MAX as u64) as u32, t as u32, if rng.next() % 2 == 0 { n as i32 } else { -(n as i32) });
+        let key = match seg.validate(&limits) {
+            Ok(()) => format!("{:?}", SegmentPlan::new(seg).kind),
+            Err(e) => format!("{e:?}"),
+        };
+        *kinds.entry(key).or_insert(0) += 1;
+        check(seg);
+        checked += 1;
+    }
+    // And the widest path: nearly uniform segments that fall back.
+    for d in [1, -1, 7] {
+        let seg = tdm_stepper::vectors::nearly_uniform_fallback(4000, d);
+        *kinds.entry(format!("{:?}", SegmentPlan::new(seg).kind)).or_insert(0) += 1;
+        check(seg);
+    }
+    // The fallback's boundary: the largest P' + 2T' that still takes the sqrt path
+    // and the smallest that falls back, from a deterministic search.
+    let (below, above) = fallback_boundary();
+    assert!(matches!(SegmentPlan::new(below).kind, PlanKind::Accelerate | PlanKind::Decelerate));
+    assert!(matches!(SegmentPlan::new(above).kind, PlanKind::Uniform { nearly: true }));
+    check(below);
+    check(above);
+    eprintln!("kinds checked: {kinds:?}");
+    for k in ["Accelerate", "Decelerate", "Uniform { nearly: true }"] {
+        assert!(kinds.contains_key(k), "no {k} segment was drawn: {kinds:?}");
+    }
+}
+
+/// Valid nearly-uniform segments closest to the sqrt path's width limit on each side.
+fn fallback_boundary() -> (Segment, Segment) {
+    let limits = Limits::default();
+    let limit = 1u128 << tdm_stepper::model::ROOT_BITS;
+    let (mut below, mut above): (Option<(u128, Segment)>, Option<(u128, Segment)>) = (None, None);
+    for half in (1u32 << 12)..(1u32 << 12) + 4000 {
+        for d in [1i64, -1, 2, -2, 3, -3, 5, -5, 9, -9, 17, -17, 33, -33] {
+            let Some(seg) = Segment::with_tiny_d(2 * half + 1, d, false) else { continue };
+            if seg.validate(&limits).is_err() {
+                continue;
+            }
+            let x = SegmentPlan::p_unbounded(&seg) + 2 * ((seg.t_ticks as u128) << tdm_stepper::model::TAU_FRAC_BITS);
+            if x < limit && below.is_none_or(|(b, _)| x > b) {
+                below = Some((x, seg));
+            }
+            if x >= limit && above.is_none_or(|(a, _)| x < a) {
+                above = Some((x, seg));
+            }
+        }
+    }
+    let (b, a) = (below.expect("a segment below the limit"), above.expect("a segment above the limit"));
+    eprintln!("boundary: below 2^64 by {}, above by {}", limit - b.0, a.0 - limit);
+    (b.1, a.1)
+}
