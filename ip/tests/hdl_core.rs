@@ -258,6 +258,41 @@ fn random_segments_match_the_model_in_verilator() {
     check_against_model::<K>(&axes, &got, cycles, "Verilator, random segments");
 }
 
+/// The paper's experiment (50 MHz, 20/10/20 ms, 2,400 and 1,800 steps), 2.5 M cycles,
+/// through the command port of a two-axis core, in Verilator.
+#[test]
+fn paper_experiment_in_verilator() {
+    const K: usize = 2;
+    let axes = tdm_stepper::vectors::paper_experiment_segments();
+    let cycles = cycles_for(&axes);
+    let ev = events::<K>(&axes, cycles);
+    let verilog = generate_verilog(&uut::<K>());
+    let started = std::time::Instant::now();
+    let got = run_sparse(Simulator::Verilator, &sim_dir("core_paper", Simulator::Verilator), &verilog, &spec::<K>(), &ev, cycles).unwrap();
+    eprintln!("paper experiment: {cycles} cycles, build and run {:.1} s", started.elapsed().as_secs_f64());
+    check_against_model::<K>(&axes, &got, cycles, "Verilator, paper experiment");
+}
+
+/// The exported Verilog for K = 2 and K = 8 passes `verilator --lint-only -Wall`
+/// with the waivers of ip/verilog/lint_waivers.vlt (each explained there).
+#[test]
+fn exported_verilog_lints_clean_for_two_and_eight_axes() {
+    let waivers = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("verilog/lint_waivers.vlt");
+    for (k, verilog) in [(2, generate_verilog(&uut::<2>())), (8, generate_verilog(&uut::<8>()))] {
+        let dir = sim_dir(&format!("lint_k{k}"), Simulator::Verilator);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("dut.v"), &verilog).unwrap();
+        let out = std::process::Command::new("verilator")
+            .args(["--lint-only", "-Wall", "--top-module", "top"])
+            .arg(&waivers)
+            .arg(dir.join("dut.v"))
+            .output()
+            .expect("verilator is installed (scripts/test.sh installs it)");
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success() && !text.contains("%Warning") && !text.contains("%Error"), "K = {k}:\n{text}");
+    }
+}
+
 #[test]
 fn fsm_state_constants_are_a_gray_sequence() {
     let verilog = generate_verilog(&uut::<2>());
