@@ -8,7 +8,7 @@ mod common;
 
 use common::*;
 use rust_hdl::prelude::*;
-use tdm_stepper::hdl::core::{TdmCore, STATES, STATE_BITS};
+use tdm_stepper::hdl::core::{t_calc_sqrt, TdmCore, STATES, STATE_BITS};
 use tdm_stepper::model::{planner, AxisRun, Limits, Segment};
 use tdm_stepper::verify::{run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
 
@@ -97,7 +97,11 @@ fn uut<const K: usize>() -> TdmCore<K, R, DEPTH, QDEPTH> {
 }
 
 fn uut_q<const K: usize, const Q: usize>() -> TdmCore<K, R, DEPTH, Q> {
-    let mut u = TdmCore::<K, R, DEPTH, Q>::new(Limits::default());
+    uut_rq::<K, R, Q>()
+}
+
+fn uut_rq<const K: usize, const RR: usize, const Q: usize>() -> TdmCore<K, RR, DEPTH, Q> {
+    let mut u = TdmCore::<K, RR, DEPTH, Q>::new(Limits::default());
     u.clock.connect();
     u.reset.connect();
     u.cmd_valid.connect();
@@ -290,6 +294,108 @@ fn exported_verilog_lints_clean_for_two_and_eight_axes() {
             .expect("verilator is installed (scripts/test.sh installs it)");
         let text = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success() && !text.contains("%Warning") && !text.contains("%Error"), "K = {k}:\n{text}");
+    }
+}
+
+/// t_calc measured: with no start, a one-axis core computes periods back to back
+/// until its FIFO is full; the square root is started once per period.
+fn measured_t_calc<const RR: usize>() -> u64 {
+    let mut u = uut_rq::<1, RR, 4>();
+    let mut tick = |u: &mut TdmCore<1, RR, DEPTH, 4>| {
+        u.clock.next = false.into();
+        assert!(simulate(u, 100));
+        u.clock.next = true.into();
+        assert!(simulate(u, 100));
+    };
+    u.reset.next = true;
+    tick(&mut u);
+    u.reset.next = false;
+    u.cmd_valid.next = true;
+    u.cmd_t.next = 1_000_000u64.into();
+    u.cmd_steps.next = 800u64.into();
+    tick(&mut u);
+    u.cmd_valid.next = false;
+    let p_start = tdm_stepper::hdl::core::gray(STATES.iter().position(|s| *s == "P_START").unwrap());
+    let mut starts = Vec::new();
+    for c in 0..2000u64 {
+        if u.fsm_state.val().to_u64() == p_start {
+            starts.push(c);
+        }
+        tick(&mut u);
+    }
+    assert!(starts.len() >= DEPTH, "only {} periods computed", starts.len());
+    let gaps: Vec<u64> = starts.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(gaps.iter().all(|&g| g == gaps[0]), "uneven: {gaps:?}");
+    gaps[0]
+}
+
+#[test]
+fn t_calc_is_what_the_constant_says() {
+    assert_eq!(measured_t_calc::<4>(), t_calc_sqrt(4) as u64);
+    assert_eq!(measured_t_calc::<8>(), t_calc_sqrt(8) as u64);
+    assert!(t_calc_sqrt(8) <= 16, "the <= 16-cycle target at R = 8");
+}
+
+/// K axes, each running segments with constant periods Δ on the square-root path
+/// (v0 = round(2^32/Δ), T = n·Δ: nearly uniform, so P' is large but fits the root).
+fn constant_period_moves(k: usize, delta: u32, n: u32) -> Vec<Vec<Segment>> {
+    let v0 = ((1u64 << 32) as f64 / delta as f64).round() as u32;
+    let seg = Segment::new(v0, n * delta, n as i32);
+    let plan = tdm_stepper::model::SegmentPlan::new(seg);
+    assert!(matches!(plan.kind, tdm_stepper::model::PlanKind::Accelerate | tdm_stepper::model::PlanKind::Decelerate));
+    assert!(plan.periods().all(|p| p == delta), "periods not all {delta}");
+    vec![vec![seg]; k]
+}
+
+fn underruns<const K: usize>(delta: u32) -> bool {
+    let axes = constant_period_moves(K, delta, 400);
+    let cycles = cycles_for(&axes);
+    let ev = events::<K>(&axes, cycles);
+    let verilog = generate_verilog(&uut::<K>());
+    let dir = sim_dir(&format!("underrun_k{K}_d{delta}"), Simulator::Verilator);
+    let got = run_sparse(Simulator::Verilator, &dir, &verilog, &spec::<K>(), &ev, cycles).unwrap();
+    let under = expand(&got, 2, cycles);
+    let step = expand(&got, 0, cycles);
+    // No step is lost either way.
+    for a in 0..K {
+        let rises = (1..cycles as usize).filter(|&c| (step[c] >> a) & 1 == 1 && (step[c - 1] >> a) & 1 == 0).count();
+        assert_eq!(rises, 400, "axis {a}, delta {delta}: steps");
+    }
+    under.iter().any(|&u| u != 0)
+}
+
+/// Underrun is flagged exactly when K·t_calc exceeds the (constant) period.
+#[test]
+fn underrun_exactly_when_k_t_calc_exceeds_the_period() {
+    let edge2 = (2 * t_calc_sqrt(R)) as u32;
+    assert!(!underruns::<2>(edge2), "K = 2, period = K·t_calc: no underrun expected");
+    assert!(underruns::<2>(edge2 - 1), "K = 2, period = K·t_calc − 1: underrun expected");
+    let edge4 = (4 * t_calc_sqrt(R)) as u32;
+    assert!(!underruns::<4>(edge4), "K = 4, period = K·t_calc: no underrun expected");
+    assert!(underruns::<4>(edge4 - 1), "K = 4, period = K·t_calc − 1: underrun expected");
+}
+
+/// The exported Verilog for K = 2 and K = 8 synthesises with yosys `synth_xilinx`
+/// without errors (about 40 s and 130 s). The resource figures are the sweep's job.
+#[test]
+fn exported_verilog_synthesises_for_two_and_eight_axes() {
+    for (k, verilog) in [(2, generate_verilog(&uut::<2>())), (8, generate_verilog(&uut::<8>()))] {
+        let dir = sim_dir(&format!("synth_k{k}"), Simulator::Verilator);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("dut.v"), &verilog).unwrap();
+        let out = std::process::Command::new("yosys")
+            .current_dir(&dir)
+            .args(["-q", "-l", "yosys.log", "-p", "read_verilog dut.v; synth_xilinx -flatten -top top; tee -q -o stat.txt stat"])
+            .output()
+            .expect("yosys is installed (scripts/test.sh installs it)");
+        assert!(out.status.success(), "K = {k}: yosys failed, see {}", dir.join("yosys.log").display());
+        let stat = std::fs::read_to_string(dir.join("stat.txt")).unwrap();
+        let luts: u64 = stat
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("LUT").and_then(|r| r.split_whitespace().nth(1)))
+            .map(|n| n.parse::<u64>().unwrap())
+            .sum();
+        assert!(luts > 1000, "K = {k}: only {luts} LUTs, was the core optimised away?");
     }
 }
 

@@ -17,8 +17,8 @@ use tdm_stepper::model::{Limits, PlanKind, Segment, SegmentPlan, MAX_STEPS, MAX_
 
 const DEPTH: usize = 2;
 
-fn run_setup(seg: Segment) -> TdmCore<1, 4, DEPTH, 2> {
-    let mut u = TdmCore::<1, 4, DEPTH, 2>::new(Limits::default());
+fn run_setup<const R: usize>(seg: Segment) -> TdmCore<1, R, DEPTH, 2> {
+    let mut u = TdmCore::<1, R, DEPTH, 2>::new(Limits::default());
     u.clock.connect();
     u.reset.connect();
     u.cmd_valid.connect();
@@ -30,7 +30,7 @@ fn run_setup(seg: Segment) -> TdmCore<1, 4, DEPTH, 2> {
     u.start_mask.connect();
     u.sel_axis.connect();
     u.connect_all();
-    let mut tick = |u: &mut TdmCore<1, 4, DEPTH, 2>| {
+    let mut tick = |u: &mut TdmCore<1, R, DEPTH, 2>| {
         u.clock.next = false.into();
         assert!(simulate(u, 100));
         u.clock.next = true.into();
@@ -54,8 +54,14 @@ fn run_setup(seg: Segment) -> TdmCore<1, 4, DEPTH, 2> {
 }
 
 fn check(seg: Segment) {
+    check_r::<4>(seg);
+    check_r::<8>(seg);
+}
+
+/// At R digits per cycle (the configurations the docs name: 4, and 8 for t_calc ≤ 16).
+fn check_r<const R: usize>(seg: Segment) {
     let limits = Limits::default();
-    let u = run_setup(seg);
+    let u = run_setup::<R>(seg);
     let ctx = &u.ctx[0];
     let err = ctx.err.val().to_u64() as u8;
     match seg.validate(&limits) {

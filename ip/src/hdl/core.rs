@@ -27,10 +27,20 @@ use super::context::AxisContext;
 use super::divider::Divider;
 use super::mul_seq::MulSeq;
 use super::reg_fifo::{RegFifo, ENTRY_BITS};
-use super::sqrt::Sqrt;
+use super::sqrt::{sqrt_latency, Sqrt};
 use super::step_gen::StepAxis;
 use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
 use rust_hdl::prelude::*;
+
+/// Cycles the scheduler spends per period on the square-root paths (accelerating and
+/// decelerating segments): PICK, P_START, the square root ([`sqrt_latency`]) and the
+/// commit. 20 at R = 4, 12 at R = 8. Measured by tests/hdl_core.rs.
+pub const fn t_calc_sqrt(r: usize) -> usize {
+    3 + sqrt_latency(r)
+}
+
+/// Cycles per period on the uniform path: PICK, U_STEP, commit.
+pub const T_CALC_UNIFORM: usize = 3;
 
 /// Width of a queued segment: v0 (31..0), T (63..32), steps (95..64).
 pub const SEGMENT_BITS: usize = 96;
