@@ -8,9 +8,65 @@ mod common;
 
 use common::*;
 use rust_hdl::prelude::*;
+use tdm_stepper::hdl::baseline::Baseline;
 use tdm_stepper::hdl::core::{t_calc_sqrt, TdmCore, STATES, STATE_BITS};
 use tdm_stepper::model::{planner, AxisRun, Limits, Segment};
 use tdm_stepper::verify::{run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
+
+/// The rust-hdl trace of any core with these ports (TdmCore and Baseline).
+macro_rules! rust_hdl_trace {
+    ($uut:expr, $ev:expr, $cycles:expr) => {
+        run_rust_hdl_sparse(
+            &mut $uut,
+            $ev,
+            $cycles,
+            |u, c| u.clock.next = Clock::from(c),
+            |u, r| {
+                u.reset.next = r[0] == 1;
+                u.cmd_valid.next = r[1] == 1;
+                u.cmd_axis.next = (r[2] as u64).into();
+                u.cmd_v0.next = (r[3] as u64).into();
+                u.cmd_t.next = (r[4] as u64).into();
+                u.cmd_steps.next = (r[5] as u64).into();
+                u.start.next = r[6] == 1;
+                u.start_mask.next = (r[7] as u64).into();
+                u.sel_axis.next = (r[8] as u64).into();
+                u.ext_go.next = (r[9] as u64).into();
+            },
+            |u| {
+                vec![
+                    u.step.val().to_u64() as u128,
+                    u.dir.val().to_u64() as u128,
+                    u.underrun.val().to_u64() as u128,
+                    u.busy.val().to_u64() as u128,
+                    u.sel_position.val().to_u64() as u128,
+                    u.sel_error.val().to_u64() as u128,
+                    u.cmd_ready.val() as u128,
+                    u.fsm_state.val().to_u64() as u128,
+                ]
+            },
+        )
+    };
+}
+
+macro_rules! connect_core {
+    ($u:expr) => {{
+        let mut u = $u;
+        u.clock.connect();
+        u.reset.connect();
+        u.cmd_valid.connect();
+        u.cmd_axis.connect();
+        u.cmd_v0.connect();
+        u.cmd_t.connect();
+        u.cmd_steps.connect();
+        u.start.connect();
+        u.start_mask.connect();
+        u.sel_axis.connect();
+        u.ext_go.connect();
+        u.connect_all();
+        u
+    }};
+}
 
 const R: usize = 4;
 const DEPTH: usize = 4;
@@ -55,6 +111,7 @@ fn spec<const K: usize>() -> TbSpec {
             Port::new("start", 1),
             Port::new("start_mask", K),
             Port::new("sel_axis", 8),
+            Port::new("ext_go", K),
         ],
         outputs: vec![
             Port::new("step", K),
@@ -72,18 +129,18 @@ fn spec<const K: usize>() -> TbSpec {
 /// Reset, one command per cycle, a synchronised start of all axes, and at the end
 /// a status read of each axis.
 fn events<const K: usize>(axes: &[Vec<Segment>], cycles: u64) -> Vec<(u64, Vec<u128>)> {
-    let idle = |sel: u128| vec![0, 0, 0, 0, 0, 0, 0, 0, sel];
+    let idle = |sel: u128| vec![0, 0, 0, 0, 0, 0, 0, 0, sel, 0];
     let mut ev = vec![(0u64, [vec![1], idle(0)[1..].to_vec()].concat())];
     let mut c = 3u64;
     ev.push((c, idle(0)));
     for (a, segs) in axes.iter().enumerate() {
         for s in segs {
             c += 1;
-            ev.push((c, vec![0, 1, a as u128, s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0, 0, 0]));
+            ev.push((c, vec![0, 1, a as u128, s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0, 0, 0, 0]));
         }
     }
     c += 1;
-    ev.push((c, vec![0, 0, 0, 0, 0, 0, 1, (1u128 << K) - 1, 0]));
+    ev.push((c, vec![0, 0, 0, 0, 0, 0, 1, (1u128 << K) - 1, 0, 0]));
     c += 1;
     ev.push((c, idle(0)));
     for a in 0..K {
@@ -101,51 +158,26 @@ fn uut_q<const K: usize, const Q: usize>() -> TdmCore<K, R, DEPTH, Q> {
 }
 
 fn uut_rq<const K: usize, const RR: usize, const Q: usize>() -> TdmCore<K, RR, DEPTH, Q> {
-    let mut u = TdmCore::<K, RR, DEPTH, Q>::new(Limits::default());
-    u.clock.connect();
-    u.reset.connect();
-    u.cmd_valid.connect();
-    u.cmd_axis.connect();
-    u.cmd_v0.connect();
-    u.cmd_t.connect();
-    u.cmd_steps.connect();
-    u.start.connect();
-    u.start_mask.connect();
-    u.sel_axis.connect();
-    u.connect_all();
-    u
+    connect_core!(TdmCore::<K, RR, DEPTH, Q>::new(Limits::default()))
 }
 
-fn rust_hdl_trace<const K: usize>(ev: &[(u64, Vec<u128>)], cycles: u64) -> Vec<Change> {
-    run_rust_hdl_sparse(
-        &mut uut::<K>(),
-        ev,
-        cycles,
-        |u, c| u.clock.next = Clock::from(c),
-        |u, r| {
-            u.reset.next = r[0] == 1;
-            u.cmd_valid.next = r[1] == 1;
-            u.cmd_axis.next = (r[2] as u64).into();
-            u.cmd_v0.next = (r[3] as u64).into();
-            u.cmd_t.next = (r[4] as u64).into();
-            u.cmd_steps.next = (r[5] as u64).into();
-            u.start.next = r[6] == 1;
-            u.start_mask.next = (r[7] as u64).into();
-            u.sel_axis.next = (r[8] as u64).into();
-        },
-        |u| {
-            vec![
-                u.step.val().to_u64() as u128,
-                u.dir.val().to_u64() as u128,
-                u.underrun.val().to_u64() as u128,
-                u.busy.val().to_u64() as u128,
-                u.sel_position.val().to_u64() as u128,
-                u.sel_error.val().to_u64() as u128,
-                u.cmd_ready.val() as u128,
-                u.fsm_state.val().to_u64() as u128,
-            ]
-        },
-    )
+fn baseline<const K: usize>() -> Baseline<K, R, DEPTH, QDEPTH> {
+    connect_core!(Baseline::<K, R, DEPTH, QDEPTH>::new(Limits::default()))
+}
+
+/// Runs `axes` in Verilator on the given Verilog and checks them against the model.
+fn verilator_run<const K: usize>(name: &str, verilog: &str, axes: &[Vec<Segment>]) -> Vec<Change> {
+    let cycles = cycles_for(axes);
+    let ev = events::<K>(axes, cycles);
+    let got = run_sparse(Simulator::Verilator, &sim_dir(name, Simulator::Verilator), verilog, &spec::<K>(), &ev, cycles).unwrap();
+    check_against_model::<K>(axes, &got, cycles, name);
+    got
+}
+
+/// rust-hdl and Verilator traces are the same, change for change (after reset).
+fn same_traces(a: &[Change], b: &[Change], what: &str) {
+    let strip = |t: &[Change]| -> Vec<(u64, Vec<u128>)> { t.iter().skip(2).map(|(c, v)| (*c, v.iter().map(|x| x.unwrap_or(u128::MAX)).collect())).collect() };
+    assert_eq!(strip(a), strip(b), "{what}: Verilator and rust-hdl traces differ");
 }
 
 /// Value of output `port` at every cycle where it changes, from cycle `from`.
@@ -200,16 +232,47 @@ fn two_axes_match_the_model_in_rust_hdl_and_verilator() {
     const K: usize = 2;
     let axes = moves();
     let cycles = cycles_for(&axes);
-    let ev = events::<K>(&axes, cycles);
-    let reference = rust_hdl_trace::<K>(&ev, cycles);
+    let reference = rust_hdl_trace!(uut::<K>(), &events::<K>(&axes, cycles), cycles);
     check_against_model::<K>(&axes, &reference, cycles, "rust-hdl");
-    let verilog = generate_verilog(&uut::<K>());
-    let got = run_sparse(Simulator::Verilator, &sim_dir("core_k2", Simulator::Verilator), &verilog, &spec::<K>(), &ev, cycles).unwrap();
-    check_against_model::<K>(&axes, &got, cycles, "Verilator");
-    let strip = |t: &[Change]| -> Vec<(u64, Vec<u128>)> { t.iter().map(|(c, v)| (*c, v.iter().map(|x| x.unwrap_or(u128::MAX)).collect())).collect() };
-    assert_eq!(strip(&got).len(), strip(&reference).len(), "Verilator and rust-hdl traces differ in length");
-    for (g, r) in strip(&got).iter().zip(strip(&reference).iter()).skip(2) {
-        assert_eq!(g, r, "Verilator and rust-hdl traces differ");
+    let got = verilator_run::<K>("core_k2", &generate_verilog(&uut::<K>()), &axes);
+    same_traces(&got, &reference, "TDM core");
+}
+
+/// The non-TDM baseline does the same thing with K schedulers and K math units.
+#[test]
+fn baseline_matches_the_model_in_rust_hdl_and_verilator() {
+    const K: usize = 2;
+    let axes = moves();
+    let cycles = cycles_for(&axes);
+    let reference = rust_hdl_trace!(baseline::<K>(), &events::<K>(&axes, cycles), cycles);
+    check_against_model::<K>(&axes, &reference, cycles, "baseline, rust-hdl");
+    let got = verilator_run::<K>("baseline_k2", &generate_verilog(&baseline::<K>()), &axes);
+    same_traces(&got, &reference, "baseline");
+}
+
+/// K = 1, 4 and 8 on the paper's experiment (its two axes' moves repeated over K).
+#[test]
+fn one_four_and_eight_axes_run_the_paper_experiment() {
+    let paper = tdm_stepper::vectors::paper_experiment_segments();
+    let cycled = |k: usize| (0..k).map(|a| paper[a % 2].clone()).collect::<Vec<_>>();
+    verilator_run::<1>("core_k1_paper", &generate_verilog(&uut::<1>()), &cycled(1));
+    verilator_run::<4>("core_k4_paper", &generate_verilog(&uut::<4>()), &cycled(4));
+    verilator_run::<8>("core_k8_paper", &generate_verilog(&uut::<8>()), &cycled(8));
+}
+
+/// Identical commands on sync-started axes: identical STEP and DIR on every cycle.
+/// (The paper's moves: four simultaneous setups fit in the FIFO's slack at their
+/// segment boundaries; see docs/architecture.md, "Setup at segment boundaries".)
+#[test]
+fn identical_commands_give_zero_skew() {
+    const K: usize = 4;
+    let axes = vec![tdm_stepper::vectors::paper_experiment_segments()[0].clone(); K];
+    let got = verilator_run::<K>("core_k4_same", &generate_verilog(&uut::<K>()), &axes);
+    let cycles = cycles_for(&axes);
+    for port in [0, 1] {
+        let bus = expand(&got, port, cycles);
+        assert!(bus.iter().all(|&b| b == 0 || b == (1 << K) - 1), "port {port}: axes differ on some cycle");
+        assert!(bus.iter().any(|&b| b != 0) || port == 1, "no steps at all");
     }
 }
 
@@ -255,53 +318,14 @@ fn random_segments_match_the_model_in_verilator() {
     const K: usize = 2;
     const Q: usize = 64;
     let axes = random_moves(K, Q - 4, 0x5eed_0f_c0de);
-    let cycles = cycles_for(&axes);
-    let ev = events::<K>(&axes, cycles);
-    let verilog = generate_verilog(&uut_q::<K, Q>());
-    let got = run_sparse(Simulator::Verilator, &sim_dir("core_random", Simulator::Verilator), &verilog, &spec::<K>(), &ev, cycles).unwrap();
-    check_against_model::<K>(&axes, &got, cycles, "Verilator, random segments");
-}
-
-/// The paper's experiment (50 MHz, 20/10/20 ms, 2,400 and 1,800 steps), 2.5 M cycles,
-/// through the command port of a two-axis core, in Verilator.
-#[test]
-fn paper_experiment_in_verilator() {
-    const K: usize = 2;
-    let axes = tdm_stepper::vectors::paper_experiment_segments();
-    let cycles = cycles_for(&axes);
-    let ev = events::<K>(&axes, cycles);
-    let verilog = generate_verilog(&uut::<K>());
-    let started = std::time::Instant::now();
-    let got = run_sparse(Simulator::Verilator, &sim_dir("core_paper", Simulator::Verilator), &verilog, &spec::<K>(), &ev, cycles).unwrap();
-    eprintln!("paper experiment: {cycles} cycles, build and run {:.1} s", started.elapsed().as_secs_f64());
-    check_against_model::<K>(&axes, &got, cycles, "Verilator, paper experiment");
-}
-
-/// The exported Verilog for K = 2 and K = 8 passes `verilator --lint-only -Wall`
-/// with the waivers of ip/verilog/lint_waivers.vlt (each explained there).
-#[test]
-fn exported_verilog_lints_clean_for_two_and_eight_axes() {
-    let waivers = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("verilog/lint_waivers.vlt");
-    for (k, verilog) in [(2, generate_verilog(&uut::<2>())), (8, generate_verilog(&uut::<8>()))] {
-        let dir = sim_dir(&format!("lint_k{k}"), Simulator::Verilator);
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("dut.v"), &verilog).unwrap();
-        let out = std::process::Command::new("verilator")
-            .args(["--lint-only", "-Wall", "--top-module", "top"])
-            .arg(&waivers)
-            .arg(dir.join("dut.v"))
-            .output()
-            .expect("verilator is installed (scripts/test.sh installs it)");
-        let text = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success() && !text.contains("%Warning") && !text.contains("%Error"), "K = {k}:\n{text}");
-    }
+    verilator_run::<K>("core_random", &generate_verilog(&uut_q::<K, Q>()), &axes);
 }
 
 /// t_calc measured: with no start, a one-axis core computes periods back to back
 /// until its FIFO is full; the square root is started once per period.
 fn measured_t_calc<const RR: usize>() -> u64 {
     let mut u = uut_rq::<1, RR, 4>();
-    let mut tick = |u: &mut TdmCore<1, RR, DEPTH, 4>| {
+    let tick = |u: &mut TdmCore<1, RR, DEPTH, 4>| {
         u.clock.next = false.into();
         assert!(simulate(u, 100));
         u.clock.next = true.into();
@@ -327,6 +351,51 @@ fn measured_t_calc<const RR: usize>() -> u64 {
     let gaps: Vec<u64> = starts.windows(2).map(|w| w[1] - w[0]).collect();
     assert!(gaps.iter().all(|&g| g == gaps[0]), "uneven: {gaps:?}");
     gaps[0]
+}
+
+/// Cycles from S_CHECK to the commit of a segment's setup (one-axis core, no start).
+fn measured_t_setup<const RR: usize>(seg: Segment) -> u64 {
+    let mut u = uut_rq::<1, RR, 4>();
+    let tick = |u: &mut TdmCore<1, RR, DEPTH, 4>| {
+        u.clock.next = false.into();
+        assert!(simulate(u, 100));
+        u.clock.next = true.into();
+        assert!(simulate(u, 100));
+    };
+    u.reset.next = true;
+    tick(&mut u);
+    u.reset.next = false;
+    u.cmd_valid.next = true;
+    u.cmd_v0.next = (seg.v0_rate as u64).into();
+    u.cmd_t.next = (seg.t_ticks as u64).into();
+    u.cmd_steps.next = (seg.steps as u32 as u64).into();
+    tick(&mut u);
+    u.cmd_valid.next = false;
+    let code = |name: &str| tdm_stepper::hdl::core::gray(STATES.iter().position(|s| *s == name).unwrap());
+    let (check, commit) = (code("S_CHECK"), code("S_COMMIT_SETUP"));
+    let mut first = None;
+    for c in 0..2000u64 {
+        let st = u.fsm_state.val().to_u64();
+        if st == check && first.is_none() {
+            first = Some(c);
+        }
+        if st == commit {
+            return c - first.unwrap() + 1;
+        }
+        tick(&mut u);
+    }
+    panic!("no setup commit");
+}
+
+#[test]
+fn t_setup_is_what_the_constant_says() {
+    use tdm_stepper::hdl::core::t_setup;
+    let accel = Segment::new(0, 1_000_000, 800);
+    let decel = Segment::new(6_871_947, 1_000_000, 800);
+    for (seg, decelerating) in [(accel, false), (decel, true)] {
+        assert_eq!(measured_t_setup::<4>(seg), t_setup(4, decelerating) as u64, "{seg:?} at R = 4");
+        assert_eq!(measured_t_setup::<8>(seg), t_setup(8, decelerating) as u64, "{seg:?} at R = 8");
+    }
 }
 
 #[test]

@@ -29,6 +29,7 @@ fn run_setup<const R: usize>(seg: Segment) -> TdmCore<1, R, DEPTH, 2> {
     u.start.connect();
     u.start_mask.connect();
     u.sel_axis.connect();
+    u.ext_go.connect();
     u.connect_all();
     let mut tick = |u: &mut TdmCore<1, R, DEPTH, 2>| {
         u.clock.next = false.into();

@@ -33,3 +33,27 @@ impl<const K: usize> Logic for BitInsert<K> {
         self.bus_out.next = self.bus_in.val().replace_bit(self.index.val().index(), self.value.val());
     }
 }
+
+/// Picks bit `index` of a K-bit bus as an OR-reduction of the bus under a one-hot
+/// constant mask. `bus[i]` would be illegal Verilog when K = 1: rust-hdl declares a
+/// 1-bit signal without a range.
+#[derive(LogicBlock)]
+pub struct BitPick<const K: usize> {
+    pub bus: Signal<In, Bits<K>>,
+    pub value: Signal<Out, Bit>,
+    mask: Constant<Bits<K>>,
+}
+
+impl<const K: usize> BitPick<K> {
+    pub fn new(index: usize) -> Self {
+        assert!(index < K && K <= 64);
+        BitPick { bus: Default::default(), value: Default::default(), mask: Constant::new((1u64 << index).into()) }
+    }
+}
+
+impl<const K: usize> Logic for BitPick<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.value.next = (self.bus.val() & self.mask.val()).any();
+    }
+}

@@ -19,16 +19,19 @@
 //! is dropped with its error code in the axis status and disturbs nothing else. A
 //! command to an axis ≥ K is dropped and sets the sticky `cmd_error`.
 //!
-//! **Start.** `start` with `start_mask` arms a synchronised release: the masked axes
-//! get `go` on the same clock edge once each is idle with its first period ready.
+//! **Start.** `start` with `start_mask` arms a synchronised release ([`SyncStart`]):
+//! the masked axes get `go` on the same clock edge once each is idle with its first
+//! period ready. `ext_go` releases axes directly (the non-TDM baseline uses it to
+//! release its one-axis cores together); `ready` says which axes could be released.
 
-use super::bit_insert::BitInsert;
+use super::bit_insert::{BitInsert, BitPick};
 use super::context::AxisContext;
-use super::divider::Divider;
-use super::mul_seq::MulSeq;
+use super::divider::{div_latency, Divider};
+use super::mul_seq::{mul_seq_latency, MulSeq};
 use super::reg_fifo::{RegFifo, ENTRY_BITS};
 use super::sqrt::{sqrt_latency, Sqrt};
 use super::step_gen::StepAxis;
+use super::sync_start::SyncStart;
 use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
 use rust_hdl::prelude::*;
 
@@ -41,6 +44,15 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 
 /// Cycles per period on the uniform path: PICK, U_STEP, commit.
 pub const T_CALC_UNIFORM: usize = 3;
+
+/// Cycles the shared unit spends setting up an accelerating or decelerating
+/// segment, from S_CHECK to its commit: five multiplies (v0·T, T·RMAX, T², v·T², P'²)
+/// and two divides (P', B'), plus n·B' when decelerating, each issued in the cycle its
+/// operand arrives. Measured by tests/hdl_core.rs.
+pub const fn t_setup(r: usize, decelerating: bool) -> usize {
+    let muls = if decelerating { 6 } else { 5 };
+    2 + muls * mul_seq_latency(r) + 2 * div_latency(r)
+}
 
 /// Width of a queued segment: v0 (31..0), T (63..32), steps (95..64).
 pub const SEGMENT_BITS: usize = 96;
@@ -77,6 +89,10 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub cmd_error: Signal<Out, Bit>,
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
+    /// Axes idle with their first period ready (what the start waits for).
+    pub ready: Signal<Out, Bits<K>>,
+    /// Releases axes directly (the baseline's shared start drives it; else 0).
+    pub ext_go: Signal<In, Bits<K>>,
     pub step: Signal<Out, Bits<K>>,
     pub dir: Signal<Out, Bits<K>>,
     pub underrun: Signal<Out, Bits<K>>,
@@ -101,13 +117,14 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     active_bus: [BitInsert<K>; K],
     busy_bus: [BitInsert<K>; K],
     ready_bus: [BitInsert<K>; K],
+    go_pick: [BitPick<K>; K],
+    sync: SyncStart<K>,
     mul: MulSeq<R>,
     div: Divider<R>,
     sqrt: Sqrt<R>,
 
     st: DFF<Bits<STATE_BITS>>,
     m: DFF<Bits<8>>,
-    pending: DFF<Bits<K>>,
     cmd_err: DFF<Bit>,
     // Working copy of axis m's context.
     w_kind: DFF<Bits<2>>,
@@ -176,7 +193,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pop_now: Signal<Local, Bit>,
     commit: Signal<Local, Bit>,
     err_now: Signal<Local, Bit>,
-    go_all: Signal<Local, Bit>,
     cmd_ok_axis: Signal<Local, Bit>,
 
     c_rmax: Constant<Bits<32>>,
@@ -221,6 +237,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cmd_error: Default::default(),
             start: Default::default(),
             start_mask: Default::default(),
+            ready: Default::default(),
+            ext_go: Default::default(),
             step: Default::default(),
             dir: Default::default(),
             underrun: Default::default(),
@@ -241,12 +259,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             active_bus: std::array::from_fn(BitInsert::new),
             busy_bus: std::array::from_fn(BitInsert::new),
             ready_bus: std::array::from_fn(BitInsert::new),
+            go_pick: std::array::from_fn(BitPick::new),
+            sync: Default::default(),
             mul: Default::default(),
             div: Default::default(),
             sqrt: Default::default(),
             st: Default::default(),
             m: Default::default(),
-            pending: Default::default(),
             cmd_err: Default::default(),
             w_kind: Default::default(),
             w_rev: Default::default(),
@@ -308,7 +327,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             pop_now: Default::default(),
             commit: Default::default(),
             err_now: Default::default(),
-            go_all: Default::default(),
             cmd_ok_axis: Default::default(),
             c_rmax: Constant::new((limits.max_rate() as u64).into()),
             c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
@@ -344,7 +362,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, st, m, pending, cmd_err, w_kind, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
+            self, clock, st, m, cmd_err, w_kind, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_p2, s_anew, s_code
         );
         self.mul.clock.next = self.clock.val();
@@ -678,17 +696,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
 
         // ---- per-axis wiring ------------------------------------------------
         // The last element of each chain holds the whole bus (last assignment wins).
-        // Computed before the wiring below reads `go_all`: reading a local before it is
-        // written makes a combinational loop in the Verilog.
         for i in 0..K {
             self.step.next = self.step_bus[i].bus_out.val();
             self.dir.next = self.dir_bus[i].bus_out.val();
             self.underrun.next = self.under_bus[i].bus_out.val();
             self.active.next = self.active_bus[i].bus_out.val();
             self.busy.next = self.busy_bus[i].bus_out.val();
-            // Synchronised start: every masked axis idle with its first period ready.
-            self.go_all.next =
-                (self.pending.q.val() != 0) & (!self.pending.q.val() | self.ready_bus[i].bus_out.val()).all();
+            self.sync.ready.next = self.ready_bus[i].bus_out.val();
+            self.ready.next = self.ready_bus[i].bus_out.val();
         }
         self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();
         self.cmd_ready.next = true;
@@ -712,7 +727,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.axes[i].push.next = self.push_now.val() & (self.m.q.val().index() == i);
             self.axes[i].entry_in.next = self.push_entry.val();
             self.axes[i].more.next = (self.ctx[i].kind.val() != 0) | !self.queues[i].empty.val();
-            self.axes[i].go.next = self.go_all.val() & self.pending.q.val().get_bit(i);
+            self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
+            self.axes[i].go.next = self.go_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
             self.ctx[i].reset.next = self.reset.val();
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
@@ -765,16 +781,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.cmd_err.d.next = true;
             }
         }
-        if self.go_all.val() {
-            self.pending.d.next = 0.into();
-        }
-        if self.start.val() {
-            self.pending.d.next = self.start_mask.val();
-        }
+        self.sync.clock.next = self.clock.val();
+        self.sync.reset.next = self.reset.val();
+        self.sync.start.next = self.start.val();
+        self.sync.start_mask.next = self.start_mask.val();
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
-            self.pending.d.next = 0.into();
             self.cmd_err.d.next = false;
         }
     }

@@ -8,6 +8,7 @@
 //! | sequential multiplier, 128 × 64 → 128 bits, R bits per cycle | `mul_seq.rs` | `1 + 64/R` cycles |
 //! | divider, 128-bit numerator by 64-bit denominator, R digits per cycle | `divider.rs` | `1 + 128/R` cycles |
 
+pub mod baseline;
 pub mod bit_insert;
 pub mod context;
 pub mod core;
@@ -18,3 +19,4 @@ pub mod mul_wide;
 pub mod reg_fifo;
 pub mod sqrt;
 pub mod step_gen;
+pub mod sync_start;

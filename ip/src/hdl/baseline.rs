@@ -1,0 +1,176 @@
+//! The non-TDM baseline: K one-axis cores, each with its own scheduler and its own
+//! multiply / divide / square-root unit, behind the same ports as [`TdmCore`].
+//!
+//! It exists only to measure what time-division multiplexing saves (the sweep), so
+//! it reuses the TDM core itself rather than a copy: each axis is a `TdmCore<1, ..>`.
+//! Commands are routed by `cmd_axis`; one [`SyncStart`] releases the masked axes on
+//! the same edge through each core's `ext_go`, exactly as the TDM core's own does.
+//! `fsm_state` shows axis 0's scheduler.
+
+use super::bit_insert::{BitInsert, BitPick};
+use super::core::{TdmCore, STATE_BITS};
+use super::sync_start::SyncStart;
+use crate::model::Limits;
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub cmd_valid: Signal<In, Bit>,
+    pub cmd_axis: Signal<In, Bits<8>>,
+    pub cmd_v0: Signal<In, Bits<32>>,
+    pub cmd_t: Signal<In, Bits<32>>,
+    pub cmd_steps: Signal<In, Bits<32>>,
+    pub cmd_ready: Signal<Out, Bit>,
+    pub cmd_error: Signal<Out, Bit>,
+    pub start: Signal<In, Bit>,
+    pub start_mask: Signal<In, Bits<K>>,
+    pub ready: Signal<Out, Bits<K>>,
+    pub ext_go: Signal<In, Bits<K>>,
+    pub step: Signal<Out, Bits<K>>,
+    pub dir: Signal<Out, Bits<K>>,
+    pub underrun: Signal<Out, Bits<K>>,
+    pub active: Signal<Out, Bits<K>>,
+    pub busy: Signal<Out, Bits<K>>,
+    pub sel_axis: Signal<In, Bits<8>>,
+    pub sel_position: Signal<Out, Bits<32>>,
+    pub sel_error: Signal<Out, Bits<8>>,
+    pub sel_queue: Signal<Out, Bits<8>>,
+    pub sel_fifo: Signal<Out, Bits<8>>,
+    pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
+    cores: [TdmCore<1, R, DEPTH, QDEPTH>; K],
+    sync: SyncStart<K>,
+    step_bus: [BitInsert<K>; K],
+    dir_bus: [BitInsert<K>; K],
+    under_bus: [BitInsert<K>; K],
+    active_bus: [BitInsert<K>; K],
+    busy_bus: [BitInsert<K>; K],
+    ready_bus: [BitInsert<K>; K],
+    go_pick: [BitPick<K>; K],
+    cmd_err: DFF<Bit>,
+    c_last_axis: Constant<Bits<8>>,
+}
+
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Baseline<K, R, DEPTH, QDEPTH> {
+    pub fn new(limits: Limits) -> Self {
+        assert!((1..=64).contains(&K), "Baseline: K = {K} outside 1..=64");
+        Baseline {
+            clock: Default::default(),
+            reset: Default::default(),
+            cmd_valid: Default::default(),
+            cmd_axis: Default::default(),
+            cmd_v0: Default::default(),
+            cmd_t: Default::default(),
+            cmd_steps: Default::default(),
+            cmd_ready: Default::default(),
+            cmd_error: Default::default(),
+            start: Default::default(),
+            start_mask: Default::default(),
+            ready: Default::default(),
+            ext_go: Default::default(),
+            step: Default::default(),
+            dir: Default::default(),
+            underrun: Default::default(),
+            active: Default::default(),
+            busy: Default::default(),
+            sel_axis: Default::default(),
+            sel_position: Default::default(),
+            sel_error: Default::default(),
+            sel_queue: Default::default(),
+            sel_fifo: Default::default(),
+            fsm_state: Default::default(),
+            cores: std::array::from_fn(|_| TdmCore::new(limits)),
+            sync: Default::default(),
+            step_bus: std::array::from_fn(BitInsert::new),
+            dir_bus: std::array::from_fn(BitInsert::new),
+            under_bus: std::array::from_fn(BitInsert::new),
+            active_bus: std::array::from_fn(BitInsert::new),
+            busy_bus: std::array::from_fn(BitInsert::new),
+            ready_bus: std::array::from_fn(BitInsert::new),
+            go_pick: std::array::from_fn(BitPick::new),
+            cmd_err: Default::default(),
+            c_last_axis: Constant::new(((K - 1) as u64).into()),
+        }
+    }
+}
+
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for Baseline<K, R, DEPTH, QDEPTH> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, cmd_err);
+        self.sync.clock.next = self.clock.val();
+        self.sync.reset.next = self.reset.val();
+        self.sync.start.next = self.start.val();
+        self.sync.start_mask.next = self.start_mask.val();
+        self.cmd_ready.next = true;
+        self.cmd_error.next = self.cmd_err.q.val();
+        self.fsm_state.next = self.cores[0].fsm_state.val();
+        self.sel_position.next = 0.into();
+        self.sel_error.next = 0.into();
+        self.sel_queue.next = 0.into();
+        self.sel_fifo.next = 0.into();
+        for i in 0..K {
+            self.cores[i].clock.next = self.clock.val();
+            self.cores[i].reset.next = self.reset.val();
+            self.cores[i].cmd_valid.next = self.cmd_valid.val() & (self.cmd_axis.val().index() == i);
+            self.cores[i].cmd_axis.next = 0.into();
+            self.cores[i].cmd_v0.next = self.cmd_v0.val();
+            self.cores[i].cmd_t.next = self.cmd_t.val();
+            self.cores[i].cmd_steps.next = self.cmd_steps.val();
+            self.cores[i].start.next = false;
+            self.cores[i].start_mask.next = 0.into();
+            self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
+            self.cores[i].ext_go.next = self.go_pick[i].value.val().into();
+            self.cores[i].sel_axis.next = 0.into();
+            if self.cmd_axis.val().index() == i {
+                self.cmd_ready.next = self.cores[i].cmd_ready.val();
+            }
+            if self.sel_axis.val().index() == i {
+                self.sel_position.next = self.cores[i].sel_position.val();
+                self.sel_error.next = self.cores[i].sel_error.val();
+                self.sel_queue.next = self.cores[i].sel_queue.val();
+                self.sel_fifo.next = self.cores[i].sel_fifo.val();
+            }
+            self.step_bus[i].value.next = self.cores[i].step.val().any();
+            self.dir_bus[i].value.next = self.cores[i].dir.val().any();
+            self.under_bus[i].value.next = self.cores[i].underrun.val().any();
+            self.active_bus[i].value.next = self.cores[i].active.val().any();
+            self.busy_bus[i].value.next = self.cores[i].busy.val().any();
+            self.ready_bus[i].value.next = self.cores[i].ready.val().any();
+        }
+        self.step_bus[0].bus_in.next = 0.into();
+        self.dir_bus[0].bus_in.next = 0.into();
+        self.under_bus[0].bus_in.next = 0.into();
+        self.active_bus[0].bus_in.next = 0.into();
+        self.busy_bus[0].bus_in.next = 0.into();
+        self.ready_bus[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.step_bus[i].bus_in.next = self.step_bus[i - 1].bus_out.val();
+            self.dir_bus[i].bus_in.next = self.dir_bus[i - 1].bus_out.val();
+            self.under_bus[i].bus_in.next = self.under_bus[i - 1].bus_out.val();
+            self.active_bus[i].bus_in.next = self.active_bus[i - 1].bus_out.val();
+            self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
+            self.ready_bus[i].bus_in.next = self.ready_bus[i - 1].bus_out.val();
+        }
+        // The last element of each chain holds the whole bus (last assignment wins).
+        for i in 0..K {
+            self.step.next = self.step_bus[i].bus_out.val();
+            self.dir.next = self.dir_bus[i].bus_out.val();
+            self.underrun.next = self.under_bus[i].bus_out.val();
+            self.active.next = self.active_bus[i].bus_out.val();
+            self.busy.next = self.busy_bus[i].bus_out.val();
+            self.ready.next = self.ready_bus[i].bus_out.val();
+            self.sync.ready.next = self.ready_bus[i].bus_out.val();
+        }
+        if self.cmd_axis.val() > self.c_last_axis.val() {
+            self.cmd_ready.next = true;
+            if self.cmd_valid.val() {
+                self.cmd_err.d.next = true;
+            }
+        }
+        if self.reset.val() {
+            self.cmd_err.d.next = false;
+        }
+    }
+}

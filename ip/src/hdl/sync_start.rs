@@ -1,0 +1,37 @@
+//! Synchronised start: `start` with `start_mask` arms a release; the masked axes get
+//! `go` on the same clock edge once every one of them reports `ready` (idle with its
+//! first period in its FIFO). Then the mask clears. A new `start` re-arms it.
+//! Used by the TDM core and by the non-TDM baseline, so both release alike.
+
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock, Default)]
+pub struct SyncStart<const K: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub start: Signal<In, Bit>,
+    pub start_mask: Signal<In, Bits<K>>,
+    pub ready: Signal<In, Bits<K>>,
+    pub go: Signal<Out, Bits<K>>,
+    pending: DFF<Bits<K>>,
+    fire: Signal<Local, Bit>,
+}
+
+impl<const K: usize> Logic for SyncStart<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, pending);
+        self.fire.next = (self.pending.q.val() != 0) & (!self.pending.q.val() | self.ready.val()).all();
+        self.go.next = 0.into();
+        if self.fire.val() {
+            self.go.next = self.pending.q.val();
+            self.pending.d.next = 0.into();
+        }
+        if self.start.val() {
+            self.pending.d.next = self.start_mask.val();
+        }
+        if self.reset.val() {
+            self.pending.d.next = 0.into();
+        }
+    }
+}
