@@ -28,6 +28,7 @@ use super::bit_insert::{BitInsert, BitPick};
 use super::context::AxisContext;
 use super::divider::{div_latency, Divider};
 use super::mul_seq::{mul_seq_latency, MulSeq};
+use super::mul_wide::{MulReg, MUL_REG_LATENCY};
 use super::reg_fifo::{RegFifo, ENTRY_BITS};
 use super::sqrt::{sqrt_latency, Sqrt};
 use super::step_gen::StepAxis;
@@ -46,12 +47,13 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 pub const T_CALC_UNIFORM: usize = 3;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
-/// segment, from S_CHECK to its commit: five multiplies (v0·T, T·RMAX, T², v·T², P'²)
-/// and two divides (P', B'), plus n·B' when decelerating, each issued in the cycle its
-/// operand arrives. Measured by tests/hdl_core.rs.
+/// segment, from S_CHECK to its commit: three 32×32 products on the registered
+/// wide-multiplier leaf (v0·T, T·RMAX, T²), two on the sequential multiplier (v·T², P'²;
+/// three with n·B' when decelerating) and two divides (P', B'), each issued in the
+/// cycle its operand arrives. Measured by tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
-    let muls = if decelerating { 6 } else { 5 };
-    2 + muls * mul_seq_latency(r) + 2 * div_latency(r)
+    let wide = if decelerating { 3 } else { 2 };
+    2 + 3 * MUL_REG_LATENCY + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
 
 /// Width of a queued segment: v0 (31..0), T (63..32), steps (95..64).
@@ -119,6 +121,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     ready_bus: [BitInsert<K>; K],
     go_pick: [BitPick<K>; K],
     sync: SyncStart<K>,
+    mulw: MulReg<32, 32, 64>,
     mul: MulSeq<R>,
     div: Divider<R>,
     sqrt: Sqrt<R>,
@@ -177,6 +180,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     dq: Signal<Local, Bits<128>>,
     vend: Signal<Local, Bits<128>>,
     n128: Signal<Local, Bits<128>>,
+    narrow: Signal<Local, Bits<128>>,
     t128: Signal<Local, Bits<128>>,
     p_test: Signal<Local, Bits<128>>,
     a_step: Signal<Local, Bits<128>>,
@@ -261,6 +265,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             ready_bus: std::array::from_fn(BitInsert::new),
             go_pick: std::array::from_fn(BitPick::new),
             sync: Default::default(),
+            mulw: Default::default(),
             mul: Default::default(),
             div: Default::default(),
             sqrt: Default::default(),
@@ -312,6 +317,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             dq: Default::default(),
             vend: Default::default(),
             n128: Default::default(),
+            narrow: Default::default(),
             t128: Default::default(),
             p_test: Default::default(),
             a_step: Default::default(),
@@ -365,6 +371,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self, clock, st, m, cmd_err, w_kind, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_p2, s_anew, s_code
         );
+        self.mulw.clock.next = self.clock.val();
+        self.mulw.a.next = 0.into();
+        self.mulw.b.next = 0.into();
         self.mul.clock.next = self.clock.val();
         self.div.clock.next = self.clock.val();
         self.sqrt.clock.next = self.clock.val();
@@ -438,9 +447,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         }
         self.n128.next = bit_cast::<128, 32>(self.w_n.q.val());
         self.t128.next = bit_cast::<128, 32>(self.w_t.q.val());
+        // The registered 32×32 product (v0·T, T·RMAX, T²), one cycle after its operands.
+        self.narrow.next = bit_cast::<128, 64>(self.mulw.p.val());
         // D·2^32 = n·2^32 − v0·T and v_end·T·2^32 = 2n·2^32 − v0·T (two's complement).
-        self.dq.next = (self.n128.val() << 32) - self.mul.product.val();
-        self.vend.next = (self.n128.val() << 33) - self.mul.product.val();
+        self.dq.next = (self.n128.val() << 32) - self.narrow.val();
+        self.vend.next = (self.n128.val() << 33) - self.narrow.val();
         self.p_test.next = self.div.quotient.val() + (self.t128.val() << 5);
         if self.w_kind.q.val() == 2 {
             self.a_step.next = self.w_a.q.val() + self.w_b.q.val();
@@ -506,48 +517,43 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.s_code.d.next = 6.into();
                 self.st.d.next = self.k_reject.val();
             } else {
-                self.mul.a.next = bit_cast::<128, 32>(self.h_v0.val());
-                self.mul.b.next = bit_cast::<64, 32>(self.h_t.val());
-                self.mul.start.next = true;
+                self.mulw.a.next = self.h_v0.val();
+                self.mulw.b.next = self.h_t.val();
                 self.st.d.next = self.k_vt.val();
             }
         } else if self.st.q.val() == self.k_vt.val() {
-            if self.mul.valid.val() {
-                self.s_dq.d.next = self.dq.val();
-                self.s_vend.d.next = self.vend.val();
-                if self.dq.val().get_bit(127) {
-                    self.s_dmag.d.next = (!self.dq.val()) + 1;
-                } else {
-                    self.s_dmag.d.next = self.dq.val();
-                }
-                if self.vend.val().get_bit(127) {
-                    self.s_code.d.next = 2.into();
-                    self.st.d.next = self.k_reject.val();
-                } else {
-                    self.mul.a.next = self.t128.val();
-                    self.mul.b.next = bit_cast::<64, 32>(self.c_rmax.val());
-                    self.mul.start.next = true;
-                    self.st.d.next = self.k_tr.val();
-                }
+            // v0·T arrived (MulReg, one cycle).
+            self.s_dq.d.next = self.dq.val();
+            self.s_vend.d.next = self.vend.val();
+            if self.dq.val().get_bit(127) {
+                self.s_dmag.d.next = (!self.dq.val()) + 1;
+            } else {
+                self.s_dmag.d.next = self.dq.val();
+            }
+            if self.vend.val().get_bit(127) {
+                self.s_code.d.next = 2.into();
+                self.st.d.next = self.k_reject.val();
+            } else {
+                self.mulw.a.next = self.w_t.q.val();
+                self.mulw.b.next = self.c_rmax.val();
+                self.st.d.next = self.k_tr.val();
             }
         } else if self.st.q.val() == self.k_tr.val() {
-            if self.mul.valid.val() {
-                if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.mul.product.val()) {
-                    self.s_code.d.next = 3.into();
-                    self.st.d.next = self.k_reject.val();
-                } else if self.w_n.q.val() == 0 {
-                    self.st.d.next = self.k_dwell.val();
-                } else if self.s_dq.q.val() == 0 {
-                    self.div.numerator.next = self.t128.val() << 1;
-                    self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
-                    self.div.start.next = true;
-                    self.st.d.next = self.k_udiv.val();
-                } else {
-                    self.mul.a.next = self.t128.val();
-                    self.mul.b.next = bit_cast::<64, 32>(self.w_t.q.val());
-                    self.mul.start.next = true;
-                    self.st.d.next = self.k_t2.val();
-                }
+            // T·RMAX arrived.
+            if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.narrow.val()) {
+                self.s_code.d.next = 3.into();
+                self.st.d.next = self.k_reject.val();
+            } else if self.w_n.q.val() == 0 {
+                self.st.d.next = self.k_dwell.val();
+            } else if self.s_dq.q.val() == 0 {
+                self.div.numerator.next = self.t128.val() << 1;
+                self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
+                self.div.start.next = true;
+                self.st.d.next = self.k_udiv.val();
+            } else {
+                self.mulw.a.next = self.w_t.q.val();
+                self.mulw.b.next = self.w_t.q.val();
+                self.st.d.next = self.k_t2.val();
             }
         } else if self.st.q.val() == self.k_dwell.val() {
             self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_t.q.val());
@@ -567,19 +573,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_commit_setup.val();
             }
         } else if self.st.q.val() == self.k_t2.val() {
-            if self.mul.valid.val() {
-                self.s_t2.d.next = self.mul.product.val();
-                if self.s_dq.q.val().get_bit(127) {
-                    // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
-                    self.mul.a.next = self.s_vend.q.val();
-                    self.mul.b.next = bit_cast::<64, 32>(self.w_t.q.val());
-                } else {
-                    self.mul.a.next = self.mul.product.val();
-                    self.mul.b.next = bit_cast::<64, 32>(self.s_v0.q.val());
-                }
-                self.mul.start.next = true;
-                self.st.d.next = self.k_x.val();
+            // T² arrived; v·T² needs the wide multiplier.
+            self.s_t2.d.next = self.narrow.val();
+            if self.s_dq.q.val().get_bit(127) {
+                // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
+                self.mul.a.next = self.s_vend.q.val();
+                self.mul.b.next = bit_cast::<64, 32>(self.w_t.q.val());
+            } else {
+                self.mul.a.next = self.narrow.val();
+                self.mul.b.next = bit_cast::<64, 32>(self.s_v0.q.val());
             }
+            self.mul.start.next = true;
+            self.st.d.next = self.k_x.val();
         } else if self.st.q.val() == self.k_x.val() {
             if self.mul.valid.val() {
                 // P' = round(v·T²·2^4 / (2|D·2^32|))
