@@ -279,6 +279,15 @@ fn one_four_and_eight_axes_run_the_paper_experiment() {
     verilator_run::<8>("core_k8_paper", &generate_verilog(&uut::<8>()), &cycled(8));
 }
 
+/// Four axes reaching segment boundaries together, with 100-tick periods there: the
+/// next segments are set up ahead of time, so no FIFO runs dry at the boundaries.
+#[test]
+fn simultaneous_segment_boundaries_do_not_underrun() {
+    const K: usize = 4;
+    let axes = vec![moves()[0].clone(); K];
+    verilator_run::<K>("core_k4_boundaries", &generate_verilog(&uut::<K>()), &axes);
+}
+
 /// Identical commands on sync-started axes: identical STEP and DIR on every cycle.
 /// (The paper's moves: four simultaneous setups fit in the FIFO's slack at their
 /// segment boundaries; see docs/architecture.md, "Setup at segment boundaries".)

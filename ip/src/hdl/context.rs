@@ -1,9 +1,12 @@
 //! Per-axis context of the scheduler: the state of the axis's current segment.
 //!
-//! Held in registers, one set per axis (579 bits). The scheduler reads the set of
-//! the axis it serves through a multiplexer and writes it back whole (`we`), from
-//! its working copy. `err` is written separately (`err_we`). `reset` makes the axis
-//! idle (kind 0) and clears its error.
+//! Held in registers, one set per axis. The scheduler reads the set of the axis it
+//! serves through a multiplexer and writes it back whole (`we`), from its working
+//! copy. A second, *next* slot holds the following segment, set up ahead of time
+//! (`nwe` writes it from the same inputs; `new_dwell` marks a dwell); `promote` moves
+//! it into the current slot with i = 0, E = 0 and the uniform counters reset, or, for a
+//! dwell, only clears it (the scheduler pushes the dwell's FIFO entry). `err` is
+//! written separately (`err_we`). `reset` empties both slots and clears the error.
 //!
 //! | field | bits | meaning |
 //! |---|---|---|
@@ -24,6 +27,9 @@ pub struct AxisContext {
     pub reset: Signal<In, Bit>,
     pub we: Signal<In, Bit>,
     pub err_we: Signal<In, Bit>,
+    pub nwe: Signal<In, Bit>,
+    pub promote: Signal<In, Bit>,
+    pub new_dwell: Signal<In, Bit>,
     pub new_kind: Signal<In, Bits<2>>,
     pub new_rev: Signal<In, Bit>,
     pub new_n: Signal<In, Bits<32>>,
@@ -52,6 +58,10 @@ pub struct AxisContext {
     pub uqs: Signal<Out, Bits<32>>,
     pub urs: Signal<Out, Bits<32>>,
     pub err: Signal<Out, Bits<8>>,
+    /// The next slot holds a segment (a set-up segment or a dwell).
+    pub next_valid: Signal<Out, Bit>,
+    pub next_dwell: Signal<Out, Bit>,
+    pub next_t: Signal<Out, Bits<32>>,
     r_kind: DFF<Bits<2>>,
     r_rev: DFF<Bit>,
     r_n: DFF<Bits<32>>,
@@ -66,12 +76,25 @@ pub struct AxisContext {
     r_uqs: DFF<Bits<32>>,
     r_urs: DFF<Bits<32>>,
     r_err: DFF<Bits<8>>,
+    x_kind: DFF<Bits<2>>,
+    x_dwell: DFF<Bit>,
+    x_rev: DFF<Bit>,
+    x_n: DFF<Bits<32>>,
+    x_t: DFF<Bits<32>>,
+    x_p: DFF<Bits<64>>,
+    x_b: DFF<Bits<128>>,
+    x_a: DFF<Bits<128>>,
+    x_uqs: DFF<Bits<32>>,
+    x_urs: DFF<Bits<32>>,
 }
 
 impl Logic for AxisContext {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, r_kind, r_rev, r_n, r_i, r_t, r_e, r_p, r_b, r_a, r_uq, r_ur, r_uqs, r_urs, r_err);
+        dff_setup!(
+            self, clock, r_kind, r_rev, r_n, r_i, r_t, r_e, r_p, r_b, r_a, r_uq, r_ur, r_uqs, r_urs, r_err, x_kind,
+            x_dwell, x_rev, x_n, x_t, x_p, x_b, x_a, x_uqs, x_urs
+        );
         self.kind.next = self.r_kind.q.val();
         self.rev.next = self.r_rev.q.val();
         self.n.next = self.r_n.q.val();
@@ -86,6 +109,9 @@ impl Logic for AxisContext {
         self.uqs.next = self.r_uqs.q.val();
         self.urs.next = self.r_urs.q.val();
         self.err.next = self.r_err.q.val();
+        self.next_valid.next = (self.x_kind.q.val() != 0) | self.x_dwell.q.val();
+        self.next_dwell.next = self.x_dwell.q.val();
+        self.next_t.next = self.x_t.q.val();
         if self.we.val() {
             self.r_kind.d.next = self.new_kind.val();
             self.r_rev.d.next = self.new_rev.val();
@@ -104,9 +130,42 @@ impl Logic for AxisContext {
         if self.err_we.val() {
             self.r_err.d.next = self.new_err.val();
         }
+        if self.nwe.val() {
+            self.x_kind.d.next = self.new_kind.val();
+            self.x_dwell.d.next = self.new_dwell.val();
+            self.x_rev.d.next = self.new_rev.val();
+            self.x_n.d.next = self.new_n.val();
+            self.x_t.d.next = self.new_t.val();
+            self.x_p.d.next = self.new_p.val();
+            self.x_b.d.next = self.new_b.val();
+            self.x_a.d.next = self.new_a.val();
+            self.x_uqs.d.next = self.new_uqs.val();
+            self.x_urs.d.next = self.new_urs.val();
+        }
+        if self.promote.val() {
+            if !self.x_dwell.q.val() {
+                self.r_kind.d.next = self.x_kind.q.val();
+                self.r_rev.d.next = self.x_rev.q.val();
+                self.r_n.d.next = self.x_n.q.val();
+                self.r_i.d.next = 0.into();
+                self.r_t.d.next = self.x_t.q.val();
+                self.r_e.d.next = 0.into();
+                self.r_p.d.next = self.x_p.q.val();
+                self.r_b.d.next = self.x_b.q.val();
+                self.r_a.d.next = self.x_a.q.val();
+                self.r_uq.d.next = 0.into();
+                self.r_ur.d.next = self.x_n.q.val();
+                self.r_uqs.d.next = self.x_uqs.q.val();
+                self.r_urs.d.next = self.x_urs.q.val();
+            }
+            self.x_kind.d.next = 0.into();
+            self.x_dwell.d.next = false;
+        }
         if self.reset.val() {
             self.r_kind.d.next = 0.into();
             self.r_err.d.next = 0.into();
+            self.x_kind.d.next = 0.into();
+            self.x_dwell.d.next = false;
         }
     }
 }

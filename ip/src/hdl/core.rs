@@ -6,9 +6,10 @@
 //! [`Divider`] and one [`Sqrt`] (`R` bits per cycle each), and the scheduler.
 //!
 //! **Scheduler.** In `PICK` it looks at axis m: if m has an active segment and room
-//! in its period FIFO, it computes m's next period; else if m is idle and has a
-//! queued segment (and FIFO room, for a dwell), it sets that segment up; else it
-//! moves to m + 1. After each piece of work it moves to m + 1. The setup and the
+//! in its period FIFO, it computes m's next period; else if m's segment is done and the
+//! next is set up, it promotes it; else if m has a queued segment and no next one, it
+//! sets it up into m's next slot (at once if m is idle, else ahead of time while every
+//! axis's FIFO is full); else it moves to m + 1. After each piece of work it moves on. The setup and the
 //! per-step work are exactly the reference model's (docs/model.md), which the tests
 //! hold it to period by period. The FSM lives here rather than in its own block
 //! because rust-hdl cannot pass arrays of wide ports between blocks.
@@ -63,9 +64,9 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 18] = [
+pub const STATES: [&str; 19] = [
     "PICK", "S_CHECK", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_P2",
-    "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP",
+    "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
 ];
 
 /// Gray code of state number `k`.
@@ -119,6 +120,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     active_bus: [BitInsert<K>; K],
     busy_bus: [BitInsert<K>; K],
     ready_bus: [BitInsert<K>; K],
+    sat_bus: [BitInsert<K>; K],
     go_pick: [BitPick<K>; K],
     sync: SyncStart<K>,
     mulw: MulReg<32, 32, 64>,
@@ -131,6 +133,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cmd_err: DFF<Bit>,
     // Working copy of axis m's context.
     w_kind: DFF<Bits<2>>,
+    w_dwell: DFF<Bit>,
     w_rev: DFF<Bit>,
     w_n: DFF<Bits<32>>,
     w_i: DFF<Bits<32>>,
@@ -170,6 +173,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cur_head: Signal<Local, Bits<SEGMENT_BITS>>,
     cur_queued: Signal<Local, Bit>,
     cur_full: Signal<Local, Bit>,
+    cur_next_valid: Signal<Local, Bit>,
+    cur_next_dwell: Signal<Local, Bit>,
+    cur_next_t: Signal<Local, Bits<32>>,
+    all_sat: Signal<Local, Bit>,
+    promote_now: Signal<Local, Bit>,
+    nwe_now: Signal<Local, Bit>,
     next_m: Signal<Local, Bits<8>>,
     // Decoded queue head.
     h_v0: Signal<Local, Bits<32>>,
@@ -223,6 +232,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_pwait: Constant<Bits<STATE_BITS>>,
     k_ustep: Constant<Bits<STATE_BITS>>,
     k_commit_step: Constant<Bits<STATE_BITS>>,
+    k_promote: Constant<Bits<STATE_BITS>>,
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
@@ -263,6 +273,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             active_bus: std::array::from_fn(BitInsert::new),
             busy_bus: std::array::from_fn(BitInsert::new),
             ready_bus: std::array::from_fn(BitInsert::new),
+            sat_bus: std::array::from_fn(BitInsert::new),
             go_pick: std::array::from_fn(BitPick::new),
             sync: Default::default(),
             mulw: Default::default(),
@@ -273,6 +284,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             m: Default::default(),
             cmd_err: Default::default(),
             w_kind: Default::default(),
+            w_dwell: Default::default(),
             w_rev: Default::default(),
             w_n: Default::default(),
             w_i: Default::default(),
@@ -309,6 +321,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cur_head: Default::default(),
             cur_queued: Default::default(),
             cur_full: Default::default(),
+            cur_next_valid: Default::default(),
+            cur_next_dwell: Default::default(),
+            cur_next_t: Default::default(),
+            all_sat: Default::default(),
+            promote_now: Default::default(),
+            nwe_now: Default::default(),
             next_m: Default::default(),
             h_v0: Default::default(),
             h_t: Default::default(),
@@ -358,6 +376,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_pwait: state("P_WAIT"),
             k_ustep: state("U_STEP"),
             k_commit_step: state("S_COMMIT_STEP"),
+            k_promote: state("S_PROMOTE"),
         }
     }
 }
@@ -368,7 +387,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, st, m, cmd_err, w_kind, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
+            self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_p2, s_anew, s_code
         );
         self.mulw.clock.next = self.clock.val();
@@ -389,6 +408,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.push_entry.next = 0.into();
         self.pop_now.next = false;
         self.commit.next = false;
+        self.promote_now.next = false;
+        self.nwe_now.next = false;
         self.err_now.next = false;
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
@@ -410,6 +431,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.cur_head.next = 0.into();
         self.cur_queued.next = false;
         self.cur_full.next = true;
+        self.cur_next_valid.next = false;
+        self.cur_next_dwell.next = false;
+        self.cur_next_t.next = 0.into();
         for i in 0..K {
             if self.m.q.val().index() == i {
                 self.cur_kind.next = self.ctx[i].kind.val();
@@ -428,6 +452,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.cur_head.next = self.queues[i].head.val();
                 self.cur_queued.next = !self.queues[i].empty.val();
                 self.cur_full.next = self.axes[i].full.val();
+                self.cur_next_valid.next = self.ctx[i].next_valid.val();
+                self.cur_next_dwell.next = self.ctx[i].next_dwell.val();
+                self.cur_next_t.next = self.ctx[i].next_t.val();
             }
         }
         if self.m.q.val() == self.c_last_axis.val() {
@@ -472,6 +499,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.u_q1.next = self.w_uq.q.val() + self.w_uqs.q.val();
         self.u_r1.next = self.w_ur.q.val() + self.w_urs.q.val();
 
+        // Every axis satisfied (the last element of the chain holds the whole bus). Read
+        // by PICK below, so written here first: a local read before it is written is a
+        // combinational loop in the Verilog.
+        for i in 0..K {
+            self.all_sat.next = self.sat_bus[i].bus_out.val().all();
+        }
+
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
             self.w_kind.d.next = self.cur_kind.val();
@@ -488,12 +522,22 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_uqs.d.next = self.cur_uqs.val();
             self.w_urs.d.next = self.cur_urs.val();
             if (self.cur_kind.val() != 0) & !self.cur_full.val() {
+                // Axis m's next period.
                 if self.cur_kind.val() == 1 {
                     self.st.d.next = self.k_ustep.val();
                 } else {
                     self.st.d.next = self.k_pstart.val();
                 }
-            } else if (self.cur_kind.val() == 0) & self.cur_queued.val() & !self.cur_full.val() {
+            } else if (self.cur_kind.val() == 0) & self.cur_next_valid.val() & !self.cur_full.val() {
+                // Its current segment is done and the next one is set up.
+                self.st.d.next = self.k_promote.val();
+            } else if !self.cur_next_valid.val()
+                & self.cur_queued.val()
+                & ((self.cur_kind.val() == 0) | self.all_sat.val())
+            {
+                // Set up its next segment: at once if it is idle, else ahead of time while
+                // every axis has a full FIFO (or nothing to do), so the setup takes only
+                // spare time and no FIFO runs dry behind it.
                 self.st.d.next = self.k_check.val();
             } else {
                 self.m.d.next = self.next_m.val();
@@ -501,6 +545,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_check.val() {
             // Range checks, in the model's order; then v0·T.
             self.s_v0.d.next = self.h_v0.val();
+            self.w_dwell.d.next = false;
             self.w_t.d.next = self.h_t.val();
             self.w_n.d.next = self.h_n.val();
             self.w_rev.d.next = self.h_steps.val().get_bit(31);
@@ -556,11 +601,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_t2.val();
             }
         } else if self.st.q.val() == self.k_dwell.val() {
-            self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_t.q.val());
-            self.push_now.next = true;
-            self.pop_now.next = true;
-            self.m.d.next = self.next_m.val();
-            self.st.d.next = self.k_pick.val();
+            // A dwell goes into the next slot like any segment; its FIFO entry is pushed
+            // when it is promoted, so the FIFO stays in segment order.
+            self.w_dwell.d.next = true;
+            self.w_kind.d.next = 0.into();
+            self.st.d.next = self.k_commit_setup.val();
         } else if self.st.q.val() == self.k_udiv.val() {
             if self.div.valid.val() {
                 self.w_uqs.d.next = bit_cast::<32, 128>(self.div.quotient.val());
@@ -641,8 +686,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_commit_setup.val();
             }
         } else if self.st.q.val() == self.k_commit_setup.val() {
-            self.commit.next = true;
+            self.nwe_now.next = true;
             self.pop_now.next = true;
+            self.m.d.next = self.next_m.val();
+            self.st.d.next = self.k_pick.val();
+        } else if self.st.q.val() == self.k_promote.val() {
+            self.promote_now.next = true;
+            if self.cur_next_dwell.val() {
+                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.cur_next_t.val());
+                self.push_now.next = true;
+            }
             self.m.d.next = self.next_m.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_reject.val() {
@@ -731,13 +784,17 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.axes[i].reset.next = self.reset.val();
             self.axes[i].push.next = self.push_now.val() & (self.m.q.val().index() == i);
             self.axes[i].entry_in.next = self.push_entry.val();
-            self.axes[i].more.next = (self.ctx[i].kind.val() != 0) | !self.queues[i].empty.val();
+            self.axes[i].more.next =
+                (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | !self.queues[i].empty.val();
             self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
             self.axes[i].go.next = self.go_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
             self.ctx[i].reset.next = self.reset.val();
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
             self.ctx[i].err_we.next = self.err_now.val() & (self.m.q.val().index() == i);
+            self.ctx[i].nwe.next = self.nwe_now.val() & (self.m.q.val().index() == i);
+            self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
+            self.ctx[i].new_dwell.next = self.w_dwell.q.val();
             self.ctx[i].new_kind.next = self.w_kind.q.val();
             self.ctx[i].new_rev.next = self.w_rev.q.val();
             self.ctx[i].new_n.next = self.w_n.q.val();
@@ -756,8 +813,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.dir_bus[i].value.next = self.axes[i].dir.val();
             self.under_bus[i].value.next = self.axes[i].underrun.val();
             self.active_bus[i].value.next = self.axes[i].active.val();
-            self.busy_bus[i].value.next =
-                self.axes[i].active.val() | (self.ctx[i].kind.val() != 0) | !self.queues[i].empty.val();
+            self.busy_bus[i].value.next = self.axes[i].active.val()
+                | (self.ctx[i].kind.val() != 0)
+                | self.ctx[i].next_valid.val()
+                | !self.queues[i].empty.val();
+            // Satisfied: a full FIFO, or nothing to compute.
+            self.sat_bus[i].value.next = self.axes[i].full.val()
+                | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & self.queues[i].empty.val());
             self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
             if self.sel_axis.val().index() == i {
                 self.sel_position.next = self.axes[i].position.val();
@@ -772,6 +834,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.active_bus[0].bus_in.next = 0.into();
         self.busy_bus[0].bus_in.next = 0.into();
         self.ready_bus[0].bus_in.next = 0.into();
+        self.sat_bus[0].bus_in.next = 0.into();
         for i in 1..K {
             self.step_bus[i].bus_in.next = self.step_bus[i - 1].bus_out.val();
             self.dir_bus[i].bus_in.next = self.dir_bus[i - 1].bus_out.val();
@@ -779,6 +842,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.active_bus[i].bus_in.next = self.active_bus[i - 1].bus_out.val();
             self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
             self.ready_bus[i].bus_in.next = self.ready_bus[i - 1].bus_out.val();
+            self.sat_bus[i].bus_in.next = self.sat_bus[i - 1].bus_out.val();
         }
         if !self.cmd_ok_axis.val() {
             self.cmd_ready.next = true;
