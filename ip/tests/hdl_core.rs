@@ -352,28 +352,14 @@ fn random_segments_match_the_model_in_verilator() {
 /// t_calc measured: with no start, a one-axis core computes periods back to back
 /// until its FIFO is full; the square root is started once per period.
 fn measured_t_calc<const RR: usize>() -> u64 {
-    let mut u = uut_rq::<1, RR, 4>();
-    let tick = |u: &mut TdmCore<1, RR, DEPTH, 4>| {
-        u.clock.next = false.into();
-        assert!(simulate(u, 100));
-        u.clock.next = true.into();
-        assert!(simulate(u, 100));
-    };
-    u.reset.next = true;
-    tick(&mut u);
-    u.reset.next = false;
-    u.cmd_valid.next = true;
-    u.cmd_t.next = 1_000_000u64.into();
-    u.cmd_steps.next = 800u64.into();
-    tick(&mut u);
-    u.cmd_valid.next = false;
+    let mut u = one_segment_core::<RR, DEPTH, 4>(Segment::new(0, 1_000_000, 800));
     let p_start = tdm_stepper::hdl::core::gray(STATES.iter().position(|s| *s == "P_START").unwrap());
     let mut starts = Vec::new();
     for c in 0..2000u64 {
         if u.fsm_state.val().to_u64() == p_start {
             starts.push(c);
         }
-        tick(&mut u);
+        tick_core(&mut u);
     }
     assert!(starts.len() >= DEPTH, "only {} periods computed", starts.len());
     let gaps: Vec<u64> = starts.windows(2).map(|w| w[1] - w[0]).collect();
@@ -383,22 +369,7 @@ fn measured_t_calc<const RR: usize>() -> u64 {
 
 /// Cycles from S_CHECK to the commit of a segment's setup (one-axis core, no start).
 fn measured_t_setup<const RR: usize>(seg: Segment) -> u64 {
-    let mut u = uut_rq::<1, RR, 4>();
-    let tick = |u: &mut TdmCore<1, RR, DEPTH, 4>| {
-        u.clock.next = false.into();
-        assert!(simulate(u, 100));
-        u.clock.next = true.into();
-        assert!(simulate(u, 100));
-    };
-    u.reset.next = true;
-    tick(&mut u);
-    u.reset.next = false;
-    u.cmd_valid.next = true;
-    u.cmd_v0.next = (seg.v0_rate as u64).into();
-    u.cmd_t.next = (seg.t_ticks as u64).into();
-    u.cmd_steps.next = (seg.steps as u32 as u64).into();
-    tick(&mut u);
-    u.cmd_valid.next = false;
+    let mut u = one_segment_core::<RR, DEPTH, 4>(seg);
     let code = |name: &str| tdm_stepper::hdl::core::gray(STATES.iter().position(|s| *s == name).unwrap());
     let (check, commit) = (code("S_CHECK"), code("S_COMMIT_SETUP"));
     let mut first = None;
@@ -410,7 +381,7 @@ fn measured_t_setup<const RR: usize>(seg: Segment) -> u64 {
         if st == commit {
             return c - first.unwrap() + 1;
         }
-        tick(&mut u);
+        tick_core(&mut u);
     }
     panic!("no setup commit");
 }

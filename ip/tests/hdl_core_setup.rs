@@ -11,45 +11,16 @@
 mod common;
 
 use common::*;
-use rust_hdl::prelude::*;
 use tdm_stepper::hdl::core::TdmCore;
 use tdm_stepper::model::{Limits, PlanKind, Segment, SegmentPlan, MAX_STEPS, MAX_T_TICKS};
 
 const DEPTH: usize = 2;
 
 fn run_setup<const R: usize>(seg: Segment) -> TdmCore<1, R, DEPTH, 2> {
-    let mut u = TdmCore::<1, R, DEPTH, 2>::new(Limits::default());
-    u.clock.connect();
-    u.reset.connect();
-    u.cmd_valid.connect();
-    u.cmd_axis.connect();
-    u.cmd_v0.connect();
-    u.cmd_t.connect();
-    u.cmd_steps.connect();
-    u.start.connect();
-    u.start_mask.connect();
-    u.sel_axis.connect();
-    u.ext_go.connect();
-    u.connect_all();
-    let mut tick = |u: &mut TdmCore<1, R, DEPTH, 2>| {
-        u.clock.next = false.into();
-        assert!(simulate(u, 100));
-        u.clock.next = true.into();
-        assert!(simulate(u, 100));
-    };
-    u.reset.next = true;
-    tick(&mut u);
-    tick(&mut u);
-    u.reset.next = false;
-    u.cmd_valid.next = true;
-    u.cmd_v0.next = (seg.v0_rate as u64).into();
-    u.cmd_t.next = (seg.t_ticks as u64).into();
-    u.cmd_steps.next = (seg.steps as u32 as u64).into();
-    tick(&mut u);
-    u.cmd_valid.next = false;
-    // Setup (~250 cycles at R = 4) plus DEPTH steps (~20 each), with margin.
+    let mut u = one_segment_core::<R, DEPTH, 2>(seg);
+    // Setup (~100 cycles at R = 4) plus DEPTH steps (~20 each), with margin.
     for _ in 0..800 {
-        tick(&mut u);
+        tick_core(&mut u);
     }
     u
 }

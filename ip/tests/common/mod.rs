@@ -122,3 +122,44 @@ pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
     let d = num_bigint::BigUint::from(x).to_u64_digits();
     d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
 }
+
+/// One clock cycle of a rust-hdl block with a `clock` input, by a hand-written loop.
+pub fn tick_core<const R: usize, const D: usize, const Q: usize>(u: &mut tdm_stepper::hdl::core::TdmCore<1, R, D, Q>) {
+    use rust_hdl::prelude::*;
+    u.clock.next = false.into();
+    assert!(simulate(u, 100), "rust-hdl simulation did not settle");
+    u.clock.next = true.into();
+    assert!(simulate(u, 100), "rust-hdl simulation did not settle");
+}
+
+/// A one-axis core, reset, with `seg` pushed into its queue and no start: the
+/// scheduler sets it up and fills the period FIFO, then waits.
+pub fn one_segment_core<const R: usize, const D: usize, const Q: usize>(
+    seg: tdm_stepper::model::Segment,
+) -> tdm_stepper::hdl::core::TdmCore<1, R, D, Q> {
+    use rust_hdl::prelude::*;
+    let mut u = tdm_stepper::hdl::core::TdmCore::<1, R, D, Q>::new(tdm_stepper::model::Limits::default());
+    u.clock.connect();
+    u.reset.connect();
+    u.cmd_valid.connect();
+    u.cmd_axis.connect();
+    u.cmd_v0.connect();
+    u.cmd_t.connect();
+    u.cmd_steps.connect();
+    u.start.connect();
+    u.start_mask.connect();
+    u.sel_axis.connect();
+    u.ext_go.connect();
+    u.connect_all();
+    u.reset.next = true;
+    tick_core(&mut u);
+    tick_core(&mut u);
+    u.reset.next = false;
+    u.cmd_valid.next = true;
+    u.cmd_v0.next = (seg.v0_rate as u64).into();
+    u.cmd_t.next = (seg.t_ticks as u64).into();
+    u.cmd_steps.next = (seg.steps as u32 as u64).into();
+    tick_core(&mut u);
+    u.cmd_valid.next = false;
+    u
+}
