@@ -4,6 +4,7 @@
 //! codes. rust-hdl simulation and the exported Verilog (Verilator) must produce the
 //! same trace. Also: the FSM's state constants in the Verilog are a Gray sequence.
 
+#[macro_use]
 mod common;
 
 use common::*;
@@ -47,25 +48,6 @@ macro_rules! rust_hdl_trace {
             },
         )
     };
-}
-
-macro_rules! connect_core {
-    ($u:expr) => {{
-        let mut u = $u;
-        u.clock.connect();
-        u.reset.connect();
-        u.cmd_valid.connect();
-        u.cmd_axis.connect();
-        u.cmd_v0.connect();
-        u.cmd_t.connect();
-        u.cmd_steps.connect();
-        u.start.connect();
-        u.start_mask.connect();
-        u.sel_axis.connect();
-        u.ext_go.connect();
-        u.connect_all();
-        u
-    }};
 }
 
 const R: usize = 4;

@@ -3,6 +3,26 @@
 //! `busy` in between, `start` while busy ignored), and pseudo-random numbers.
 #![allow(dead_code)]
 
+/// Connects every input of a core (TdmCore or Baseline: the same ports) and wires it up.
+macro_rules! connect_core {
+    ($u:expr) => {{
+        let mut u = $u;
+        u.clock.connect();
+        u.reset.connect();
+        u.cmd_valid.connect();
+        u.cmd_axis.connect();
+        u.cmd_v0.connect();
+        u.cmd_t.connect();
+        u.cmd_steps.connect();
+        u.start.connect();
+        u.start_mask.connect();
+        u.sel_axis.connect();
+        u.ext_go.connect();
+        u.connect_all();
+        u
+    }};
+}
+
 use tdm_stepper::verify::Simulator;
 
 /// xorshift64: deterministic pseudo-random numbers for stimulus.
@@ -138,19 +158,7 @@ pub fn one_segment_core<const R: usize, const D: usize, const Q: usize>(
     seg: tdm_stepper::model::Segment,
 ) -> tdm_stepper::hdl::core::TdmCore<1, R, D, Q> {
     use rust_hdl::prelude::*;
-    let mut u = tdm_stepper::hdl::core::TdmCore::<1, R, D, Q>::new(tdm_stepper::model::Limits::default());
-    u.clock.connect();
-    u.reset.connect();
-    u.cmd_valid.connect();
-    u.cmd_axis.connect();
-    u.cmd_v0.connect();
-    u.cmd_t.connect();
-    u.cmd_steps.connect();
-    u.start.connect();
-    u.start_mask.connect();
-    u.sel_axis.connect();
-    u.ext_go.connect();
-    u.connect_all();
+    let mut u = connect_core!(tdm_stepper::hdl::core::TdmCore::<1, R, D, Q>::new(tdm_stepper::model::Limits::default()));
     u.reset.next = true;
     tick_core(&mut u);
     tick_core(&mut u);
