@@ -10,7 +10,7 @@
 //! kind and its periods; then the absolute tick of every STEP rising edge from the
 //! axis release, the final position and the tick at which the last segment ends.
 
-use crate::model::{exact, planner, AxisRun, Limits, PlanKind, Segment, SegmentPlan};
+use crate::model::{planner, AxisRun, Limits, PlanKind, Segment, SegmentPlan};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -272,16 +272,4 @@ pub fn write_all(dir: &Path) -> std::io::Result<Vec<std::path::PathBuf>> {
         paths.push(path);
     }
     Ok(paths)
-}
-
-/// Exact times of an axis vector's edges (for checkers of HDL output).
-pub fn exact_edge_ticks(axis: &AxisVector) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut start = 0u64;
-    for sv in axis.segments.iter().filter(|s| s.error.is_none()) {
-        let seg = sv.segment();
-        out.extend(exact::step_times(&seg).into_iter().map(|t| start as f64 + t));
-        start += seg.t_ticks as u64;
-    }
-    out
 }

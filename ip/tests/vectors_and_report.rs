@@ -177,6 +177,7 @@ fn planner_by_limits_keeps_steps_and_rests() {
 fn unit_helpers_round_and_refuse() {
     assert_eq!(steps_per_s_to_rate(80_000.0, 50_000_000), Ok(6_871_948));
     assert_eq!(seconds_to_ticks(0.020, 50_000_000), Ok(1_000_000));
+    assert_eq!(ticks_to_seconds(1_000_000, 50_000_000), 0.020);
     assert!(matches!(steps_per_s_to_rate(30e6, 50_000_000), Err(UnitError::RateRange(_))));
     assert!(matches!(steps_per_s_to_rate(-1.0, 50_000_000), Err(UnitError::Negative(..))));
     assert!(matches!(steps_per_s_to_rate(f64::NAN, 50_000_000), Err(UnitError::NotFinite(_))));
