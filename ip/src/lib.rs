@@ -5,5 +5,6 @@
 pub mod accuracy;
 pub mod hdl;
 pub mod model;
+pub mod regs;
 pub mod vectors;
 pub mod verify;

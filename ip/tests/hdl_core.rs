@@ -33,6 +33,7 @@ macro_rules! rust_hdl_trace {
                 u.start_mask.next = (r[7] as u64).into();
                 u.sel_axis.next = (r[8] as u64).into();
                 u.ext_go.next = (r[9] as u64).into();
+                u.abort.next = r[10] == 1;
             },
             |u| {
                 vec![
@@ -44,6 +45,9 @@ macro_rules! rust_hdl_trace {
                     u.sel_error.val().to_u64() as u128,
                     u.cmd_ready.val() as u128,
                     u.fsm_state.val().to_u64() as u128,
+                    u.sel_taken.val().to_u64() as u128,
+                    u.sel_rejected.val().to_u64() as u128,
+                    u.sel_done.val().to_u64() as u128,
                 ]
             },
         )
@@ -94,6 +98,7 @@ fn spec<const K: usize>() -> TbSpec {
             Port::new("start_mask", K),
             Port::new("sel_axis", 8),
             Port::new("ext_go", K),
+            Port::new("abort", 1),
         ],
         outputs: vec![
             Port::new("step", K),
@@ -104,6 +109,9 @@ fn spec<const K: usize>() -> TbSpec {
             Port::new("sel_error", 8),
             Port::new("cmd_ready", 1),
             Port::new("fsm_state", STATE_BITS),
+            Port::new("sel_taken", 8),
+            Port::new("sel_rejected", 8),
+            Port::new("sel_done", 8),
         ],
     }
 }
@@ -127,6 +135,10 @@ fn events<const K: usize>(axes: &[Vec<Segment>], cycles: u64) -> Vec<(u64, Vec<u
     ev.push((c, idle(0)));
     for a in 0..K {
         ev.push((cycles - 2 * (K - a) as u64, idle(a as u128)));
+    }
+    // No abort.
+    for e in &mut ev {
+        e.1.push(0);
     }
     ev
 }
@@ -202,6 +214,12 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
         assert_eq!(pos[sel_cycle] as u32 as i32 as i64, run.position, "{what}: axis {a} position");
         let last_err = run.rejected.last().map_or(0, |r| r.error.code());
         assert_eq!(err[sel_cycle] as u8, last_err, "{what}: axis {a} error code");
+        let taken = expand(trace, 8, cycles)[sel_cycle];
+        let rejected = expand(trace, 9, cycles)[sel_cycle];
+        let done = expand(trace, 10, cycles)[sel_cycle];
+        assert_eq!(taken, segs.len() as u128 % 256, "{what}: axis {a} segments taken");
+        assert_eq!(rejected, run.rejected.len() as u128 % 256, "{what}: axis {a} segments rejected");
+        assert_eq!(done, (segs.len() - run.rejected.len()) as u128 % 256, "{what}: axis {a} segments done");
     }
     assert!(under.iter().all(|&u| u == 0), "{what}: underrun");
 }

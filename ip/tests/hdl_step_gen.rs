@@ -2,7 +2,8 @@
 //! every STEP rising edge at release + 1 + E_i, pulse widths, DIR setup and hold,
 //! the final position, and underrun exactly when the FIFO is starved. The rust-hdl
 //! simulation and the exported Verilog (Verilator, Icarus) must also produce the
-//! same trace, bit for bit.
+//! same trace, bit for bit. Segment-done and underrun counters, and an abort in
+//! the middle of a move (no edge after it, the pulse in flight keeps its high time).
 
 mod common;
 
@@ -22,6 +23,7 @@ struct Entry {
     ticks: u32,
     step: bool,
     reverse: bool,
+    last: bool,
 }
 
 /// The FIFO stream of one vector axis, and its expected edges (ticks from release).
@@ -32,10 +34,10 @@ fn axis_entries(file: &str, axis: usize) -> (Vec<Entry>, Vec<u64>, i64) {
     let mut entries = Vec::new();
     for s in a.segments.iter().filter(|s| s.error.is_none()) {
         if s.steps == 0 {
-            entries.push(Entry { ticks: s.t_ticks, step: false, reverse: false });
+            entries.push(Entry { ticks: s.t_ticks, step: false, reverse: false, last: true });
         }
-        for &p in &s.periods {
-            entries.push(Entry { ticks: p, step: true, reverse: s.steps < 0 });
+        for (k, &p) in s.periods.iter().enumerate() {
+            entries.push(Entry { ticks: p, step: true, reverse: s.steps < 0, last: k + 1 == s.periods.len() });
         }
     }
     (entries, a.edge_ticks.clone(), a.final_position)
@@ -50,7 +52,7 @@ struct Scenario {
 /// `starve_at`), releases once the first entry is in, and says `more` while entries
 /// are still to be pushed. Pops are predicted from the reference edges, which the
 /// generator must meet for the prediction (and the test) to hold.
-fn scenario(entries: &[Entry], starve_at: Option<(usize, usize)>) -> Scenario {
+fn scenario(entries: &[Entry], starve_at: Option<(usize, usize)>, abort_row: Option<usize>) -> Scenario {
     let n = entries.len();
     // pop_rows[k]: the row in which entry k is loaded (its pop takes effect at that
     // row's edge). Entry 0 loads on release; entry k + 1 when entry k ends, or the
@@ -79,12 +81,13 @@ fn scenario(entries: &[Entry], starve_at: Option<(usize, usize)>) -> Scenario {
         let push = next_push < n && pushes[next_push] == r;
         let entry = if push {
             let e = entries[next_push];
-            pack_entry(e.ticks, e.step, e.reverse) as u128
+            pack_entry(e.ticks, e.step, e.reverse, e.last) as u128
         } else {
             0
         };
         let more = (next_push < n) as u128;
-        rows.push(vec![(r < RESET_ROWS) as u128, push as u128, entry, (r == release_row) as u128, more]);
+        let abort = abort_row == Some(r);
+        rows.push(vec![(r < RESET_ROWS) as u128, push as u128, entry, (r == release_row) as u128, more, abort as u128]);
         next_push += push as usize;
     }
     Scenario { rows, release_row }
@@ -98,6 +101,7 @@ fn uut() -> StepAxis<DEPTH> {
     u.entry_in.connect();
     u.go.connect();
     u.more.connect();
+    u.abort.connect();
     u.connect_all();
     u
 }
@@ -107,7 +111,7 @@ fn spec() -> TbSpec {
         clock: "clock".into(),
         inputs: ["reset", "push"].iter().map(|n| Port::new(n, 1))
             .chain([Port::new("entry_in", ENTRY_BITS)])
-            .chain(["go", "more"].iter().map(|n| Port::new(n, 1)))
+            .chain(["go", "more", "abort"].iter().map(|n| Port::new(n, 1)))
             .collect(),
         outputs: vec![
             Port::new("step", 1),
@@ -116,6 +120,8 @@ fn spec() -> TbSpec {
             Port::new("underrun", 1),
             Port::new("active", 1),
             Port::new("level", 8),
+            Port::new("done_count", 8),
+            Port::new("under_count", 8),
         ],
     }
 }
@@ -131,6 +137,7 @@ fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
             u.entry_in.next = Bits::<ENTRY_BITS>::from(r[2] as u64);
             u.go.next = r[3] == 1;
             u.more.next = r[4] == 1;
+            u.abort.next = r[5] == 1;
         },
         |u| {
             vec![
@@ -140,6 +147,8 @@ fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
                 u.underrun.val() as u128,
                 u.active.val() as u128,
                 u.level.val().to_u64() as u128,
+                u.done_count.val().to_u64() as u128,
+                u.under_count.val().to_u64() as u128,
             ]
         },
     );
@@ -148,7 +157,7 @@ fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
         let got = run(sim, &sim_dir(name, sim), &verilog, &spec(), rows).unwrap();
         for (k, (g, r)) in got.iter().zip(&reference).enumerate().skip(RESET_ROWS) {
             let g: Vec<u128> = g.iter().map(|v| v.unwrap_or_else(|| panic!("{name} {sim:?}: x at row {k}"))).collect();
-            assert_eq!(&g, r, "{name}: {sim:?} differs from rust-hdl at row {k} (step, dir, position, underrun, active, level)");
+            assert_eq!(&g, r, "{name}: {sim:?} differs from rust-hdl at row {k} (step, dir, position, underrun, active, level, done, underruns)");
         }
     }
     reference
@@ -171,6 +180,10 @@ fn check_trace(name: &str, entries: &[Entry], edges: &[u64], position: i64, sc: 
         }
     }
     assert_eq!(trace.last().unwrap()[2] as u32 as i32 as i64, position, "{name}: final position");
+    let segments = entries.iter().filter(|e| e.last).count() as u128;
+    assert_eq!(trace.last().unwrap()[6], segments % 256, "{name}: segments done");
+    let underruns = (1..trace.len()).filter(|&r| trace[r][3] == 1 && trace[r - 1][3] == 0).count() as u128;
+    assert_eq!(trace.last().unwrap()[7], underruns, "{name}: underrun count");
     // Pulse widths: max(1, ⌊next entry/2⌋), or half the last period at the end.
     let mut k_entry = 0usize;
     for (i, &r) in rises.iter().enumerate() {
@@ -198,7 +211,7 @@ fn check_trace(name: &str, entries: &[Entry], edges: &[u64], position: i64, sc: 
 fn run_vector(file: &str, axis: usize) {
     let name = format!("step_{}_{axis}", file.trim_end_matches(".json"));
     let (entries, edges, position) = axis_entries(file, axis);
-    let sc = scenario(&entries, None);
+    let sc = scenario(&entries, None, None);
     let trace = simulate_all(&name, &sc.rows);
     check_trace(&name, &entries, &edges, position, &sc, &trace, false);
 }
@@ -217,7 +230,38 @@ fn near_limit_two_tick_periods() {
 #[test]
 fn starved_fifo_flags_underrun_and_loses_no_step() {
     let (entries, edges, position) = axis_entries("short_segments.json", 1);
-    let sc = scenario(&entries, Some((5, 7)));
+    let sc = scenario(&entries, Some((5, 7)), None);
     let trace = simulate_all("step_starved", &sc.rows);
     check_trace("step_starved", &entries, &edges, position, &sc, &trace, true);
+}
+
+/// Abort mid-move, once with STEP low and once just after an edge: no edge rises
+/// after the abort, a pulse already high keeps its full high time, the position is
+/// exactly the edges emitted, and the FIFO is empty.
+#[test]
+fn abort_stops_at_once_with_an_exact_position() {
+    let (entries, edges, _) = axis_entries("short_segments.json", 0);
+    let plain = scenario(&entries, None, None);
+    let edge_rows: Vec<usize> = edges.iter().map(|&e| plain.release_row + 1 + e as usize).collect();
+    let k = edges.len() / 2;
+    for (label, abort_row) in [("low", edge_rows[k] - 2), ("high", edge_rows[k])] {
+        let name = format!("step_abort_{label}");
+        let sc = scenario(&entries, None, Some(abort_row));
+        let trace = simulate_all(&name, &sc.rows);
+        let rises: Vec<usize> = (1..trace.len()).filter(|&r| trace[r][0] == 1 && trace[r - 1][0] == 0).collect();
+        // An edge that rises at the abort's own clock edge (row abort_row + 1) is emitted.
+        assert!(rises.iter().all(|&r| r <= abort_row + 1), "{name}: edge after the abort: {rises:?}");
+        assert_eq!(&rises[..], &edge_rows[..rises.len()], "{name}: edges before the abort moved");
+        let expected = if label == "low" { k } else { k + 1 };
+        assert_eq!(rises.len(), expected, "{name}: edges emitted");
+        let last = trace.last().unwrap();
+        assert_eq!(last[2] as u32 as i32 as i64, rises.len() as i64, "{name}: position");
+        assert_eq!(last[4], 0, "{name}: still active");
+        assert_eq!(last[5], 0, "{name}: FIFO not flushed");
+        let r = *rises.last().unwrap();
+        let high = (r..trace.len()).take_while(|&q| trace[q][0] == 1).count();
+        let step_entries: Vec<&Entry> = entries.iter().filter(|e| e.step).collect();
+        let next = step_entries.get(rises.len()).map_or(0, |e| e.ticks);
+        assert_eq!(high as u32, (next / 2).max(1), "{name}: pulse in flight cut short");
+    }
 }

@@ -24,6 +24,7 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub cmd_steps: Signal<In, Bits<32>>,
     pub cmd_ready: Signal<Out, Bit>,
     pub cmd_error: Signal<Out, Bit>,
+    pub abort: Signal<In, Bit>,
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     pub ready: Signal<Out, Bits<K>>,
@@ -38,6 +39,11 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub sel_error: Signal<Out, Bits<8>>,
     pub sel_queue: Signal<Out, Bits<8>>,
     pub sel_fifo: Signal<Out, Bits<8>>,
+    pub sel_taken: Signal<Out, Bits<8>>,
+    pub sel_rejected: Signal<Out, Bits<8>>,
+    pub sel_done: Signal<Out, Bits<8>>,
+    pub sel_underruns: Signal<Out, Bits<8>>,
+    pub sel_busy: Signal<Out, Bit>,
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
     cores: [TdmCore<1, R, DEPTH, QDEPTH>; K],
     sync: SyncStart<K>,
@@ -65,6 +71,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             cmd_steps: Default::default(),
             cmd_ready: Default::default(),
             cmd_error: Default::default(),
+            abort: Default::default(),
             start: Default::default(),
             start_mask: Default::default(),
             ready: Default::default(),
@@ -79,6 +86,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             sel_error: Default::default(),
             sel_queue: Default::default(),
             sel_fifo: Default::default(),
+            sel_taken: Default::default(),
+            sel_rejected: Default::default(),
+            sel_done: Default::default(),
+            sel_underruns: Default::default(),
+            sel_busy: Default::default(),
             fsm_state: Default::default(),
             cores: std::array::from_fn(|_| TdmCore::new(limits)),
             sync: Default::default(),
@@ -100,7 +112,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(self, clock, cmd_err);
         self.sync.clock.next = self.clock.val();
-        self.sync.reset.next = self.reset.val();
+        self.sync.reset.next = self.reset.val() | self.abort.val();
         self.sync.start.next = self.start.val();
         self.sync.start_mask.next = self.start_mask.val();
         self.cmd_ready.next = true;
@@ -110,7 +122,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sel_error.next = 0.into();
         self.sel_queue.next = 0.into();
         self.sel_fifo.next = 0.into();
+        self.sel_taken.next = 0.into();
+        self.sel_rejected.next = 0.into();
+        self.sel_done.next = 0.into();
+        self.sel_underruns.next = 0.into();
+        self.sel_busy.next = false;
         for i in 0..K {
+            self.cores[i].abort.next = self.abort.val();
             self.cores[i].clock.next = self.clock.val();
             self.cores[i].reset.next = self.reset.val();
             self.cores[i].cmd_valid.next = self.cmd_valid.val() & (self.cmd_axis.val().index() == i);
@@ -131,6 +149,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.sel_error.next = self.cores[i].sel_error.val();
                 self.sel_queue.next = self.cores[i].sel_queue.val();
                 self.sel_fifo.next = self.cores[i].sel_fifo.val();
+                self.sel_taken.next = self.cores[i].sel_taken.val();
+                self.sel_rejected.next = self.cores[i].sel_rejected.val();
+                self.sel_done.next = self.cores[i].sel_done.val();
+                self.sel_underruns.next = self.cores[i].sel_underruns.val();
+                self.sel_busy.next = self.cores[i].sel_busy.val();
             }
             self.step_bus[i].value.next = self.cores[i].step.val().any();
             self.dir_bus[i].value.next = self.cores[i].dir.val().any();

@@ -24,6 +24,16 @@
 //! the masked axes get `go` on the same clock edge once each is idle with its first
 //! period ready. `ext_go` releases axes directly (the non-TDM baseline uses it to
 //! release its one-axis cores together); `ready` says which axes could be released.
+//!
+//! **Abort.** `abort` (one cycle) is a hard stop of every axis: the segment queues,
+//! next slots and period FIFOs empty, no further STEP edge rises (a pulse already high
+//! keeps its high time), positions stay exact, and the scheduler waits in `S_DRAIN`
+//! until the shared unit is idle before it takes new work.
+//!
+//! **Counters** for the register bus (8 bits each, wrapping, per axis, read through
+//! `sel_axis`): segments taken from the queue (`sel_taken`, counting the ones an abort
+//! flushes), rejected (`sel_rejected`), done (`sel_done`: their last period ended) and
+//! underruns begun (`sel_underruns`).
 
 use super::bit_insert::{BitInsert, BitPick};
 use super::context::AxisContext;
@@ -64,9 +74,10 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 19] = [
+pub const STATES: [&str; 20] = [
     "PICK", "S_CHECK", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_P2",
     "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
+    "S_DRAIN",
 ];
 
 /// Gray code of state number `k`.
@@ -90,6 +101,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub cmd_steps: Signal<In, Bits<32>>,
     pub cmd_ready: Signal<Out, Bit>,
     pub cmd_error: Signal<Out, Bit>,
+    /// Hard stop of every axis (one cycle); see the module docs.
+    pub abort: Signal<In, Bit>,
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     /// Axes idle with their first period ready (what the start waits for).
@@ -107,6 +120,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub sel_error: Signal<Out, Bits<8>>,
     pub sel_queue: Signal<Out, Bits<8>>,
     pub sel_fifo: Signal<Out, Bits<8>>,
+    pub sel_taken: Signal<Out, Bits<8>>,
+    pub sel_rejected: Signal<Out, Bits<8>>,
+    pub sel_done: Signal<Out, Bits<8>>,
+    pub sel_underruns: Signal<Out, Bits<8>>,
+    pub sel_busy: Signal<Out, Bit>,
     /// The scheduler's state register (Gray code), for waveforms.
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
 
@@ -122,6 +140,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     ready_bus: [BitInsert<K>; K],
     sat_bus: [BitInsert<K>; K],
     go_pick: [BitPick<K>; K],
+    taken: [DFF<Bits<8>>; K],
+    rejected: [DFF<Bits<8>>; K],
     sync: SyncStart<K>,
     mulw: MulReg<32, 32, 64>,
     mul: MulSeq<R>,
@@ -214,6 +234,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     c_max_v0: Constant<Bits<32>>,
     c_last_axis: Constant<Bits<8>>,
     c_step_bit: Constant<Bits<ENTRY_BITS>>,
+    c_last_bit: Constant<Bits<ENTRY_BITS>>,
+    flush: Signal<Local, Bit>,
     k_pick: Constant<Bits<STATE_BITS>>,
     k_check: Constant<Bits<STATE_BITS>>,
     k_vt: Constant<Bits<STATE_BITS>>,
@@ -233,6 +255,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_ustep: Constant<Bits<STATE_BITS>>,
     k_commit_step: Constant<Bits<STATE_BITS>>,
     k_promote: Constant<Bits<STATE_BITS>>,
+    k_drain: Constant<Bits<STATE_BITS>>,
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
@@ -249,6 +272,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cmd_steps: Default::default(),
             cmd_ready: Default::default(),
             cmd_error: Default::default(),
+            abort: Default::default(),
             start: Default::default(),
             start_mask: Default::default(),
             ready: Default::default(),
@@ -263,6 +287,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             sel_error: Default::default(),
             sel_queue: Default::default(),
             sel_fifo: Default::default(),
+            sel_taken: Default::default(),
+            sel_rejected: Default::default(),
+            sel_done: Default::default(),
+            sel_underruns: Default::default(),
+            sel_busy: Default::default(),
             fsm_state: Default::default(),
             queues: std::array::from_fn(|_| Default::default()),
             axes: std::array::from_fn(|_| Default::default()),
@@ -275,6 +304,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             ready_bus: std::array::from_fn(BitInsert::new),
             sat_bus: std::array::from_fn(BitInsert::new),
             go_pick: std::array::from_fn(BitPick::new),
+            taken: std::array::from_fn(|_| Default::default()),
+            rejected: std::array::from_fn(|_| Default::default()),
             sync: Default::default(),
             mulw: Default::default(),
             mul: Default::default(),
@@ -358,6 +389,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
             c_step_bit: Constant::new((1u64 << 32).into()),
+            c_last_bit: Constant::new((1u64 << 34).into()),
+            flush: Default::default(),
             k_pick: state("PICK"),
             k_check: state("S_CHECK"),
             k_vt: state("S_VT"),
@@ -377,6 +410,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_ustep: state("U_STEP"),
             k_commit_step: state("S_COMMIT_STEP"),
             k_promote: state("S_PROMOTE"),
+            k_drain: state("S_DRAIN"),
         }
     }
 }
@@ -693,7 +727,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
             if self.cur_next_dwell.val() {
-                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.cur_next_t.val());
+                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.cur_next_t.val()) | self.c_last_bit.val();
                 self.push_now.next = true;
             }
             self.m.d.next = self.next_m.val();
@@ -719,6 +753,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_i.d.next = self.i_next.val();
                 if self.i_next.val() == self.w_n.q.val() {
                     self.w_kind.d.next = 0.into();
+                    self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                        | self.c_step_bit.val()
+                        | self.c_last_bit.val()
+                        | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
                 }
                 self.st.d.next = self.k_commit_step.val();
             }
@@ -740,6 +778,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
                 | self.c_step_bit.val()
                 | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
+            if self.i_next.val() == self.w_n.q.val() {
+                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                    | self.c_step_bit.val()
+                    | self.c_last_bit.val()
+                    | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
+            }
             self.push_now.next = true;
             self.w_e.d.next = self.e_next.val();
             self.w_i.d.next = self.i_next.val();
@@ -748,6 +792,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.commit.next = true;
             self.m.d.next = self.next_m.val();
             self.st.d.next = self.k_pick.val();
+        } else if self.st.q.val() == self.k_drain.val() {
+            // After an abort: wait until no unit still runs an abandoned operation.
+            if !(self.mul.busy.val() | self.div.busy.val() | self.sqrt.busy.val()) {
+                self.st.d.next = self.k_pick.val();
+            }
         } else {
             self.st.d.next = self.k_pick.val();
         }
@@ -769,9 +818,31 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sel_error.next = 0.into();
         self.sel_queue.next = 0.into();
         self.sel_fifo.next = 0.into();
+        self.sel_taken.next = 0.into();
+        self.sel_rejected.next = 0.into();
+        self.sel_done.next = 0.into();
+        self.sel_underruns.next = 0.into();
+        self.sel_busy.next = false;
+        self.flush.next = self.reset.val() | self.abort.val();
         for i in 0..K {
+            self.taken[i].clock.next = self.clock.val();
+            self.rejected[i].clock.next = self.clock.val();
+            self.taken[i].d.next = self.taken[i].q.val();
+            self.rejected[i].d.next = self.rejected[i].q.val();
+            if self.abort.val() {
+                self.taken[i].d.next = self.taken[i].q.val() + self.queues[i].level.val();
+            } else if self.pop_now.val() & (self.m.q.val().index() == i) {
+                self.taken[i].d.next = self.taken[i].q.val() + 1;
+            }
+            if self.err_now.val() & (self.m.q.val().index() == i) {
+                self.rejected[i].d.next = self.rejected[i].q.val() + 1;
+            }
+            if self.reset.val() {
+                self.taken[i].d.next = 0.into();
+                self.rejected[i].d.next = 0.into();
+            }
             self.queues[i].clock.next = self.clock.val();
-            self.queues[i].reset.next = self.reset.val();
+            self.queues[i].reset.next = self.flush.val();
             self.queues[i].entry_in.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
                 | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_t.val()) << 32)
                 | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
@@ -782,6 +853,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
+            self.axes[i].abort.next = self.abort.val();
             self.axes[i].push.next = self.push_now.val() & (self.m.q.val().index() == i);
             self.axes[i].entry_in.next = self.push_entry.val();
             self.axes[i].more.next =
@@ -789,7 +861,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
             self.axes[i].go.next = self.go_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
-            self.ctx[i].reset.next = self.reset.val();
+            self.ctx[i].reset.next = self.flush.val();
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
             self.ctx[i].err_we.next = self.err_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].nwe.next = self.nwe_now.val() & (self.m.q.val().index() == i);
@@ -826,6 +898,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.sel_error.next = self.ctx[i].err.val();
                 self.sel_queue.next = self.queues[i].level.val();
                 self.sel_fifo.next = self.axes[i].level.val();
+                self.sel_taken.next = self.taken[i].q.val();
+                self.sel_rejected.next = self.rejected[i].q.val();
+                self.sel_done.next = self.axes[i].done_count.val();
+                self.sel_underruns.next = self.axes[i].under_count.val();
+                self.sel_busy.next = self.busy_bus[i].value.val();
             }
         }
         self.step_bus[0].bus_in.next = 0.into();
@@ -851,9 +928,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
         }
         self.sync.clock.next = self.clock.val();
-        self.sync.reset.next = self.reset.val();
+        self.sync.reset.next = self.flush.val();
         self.sync.start.next = self.start.val();
         self.sync.start_mask.next = self.start_mask.val();
+        if self.abort.val() {
+            self.st.d.next = self.k_drain.val();
+        }
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();

@@ -14,18 +14,28 @@
 //! | K-bit bus assembly and bit selection | `bit_insert.rs` | 0 |
 //! | the TDM core: queues, contexts, step axes, shared units, scheduler | `core.rs` | `t_calc_sqrt(R)`, `t_setup(R, _)` |
 //! | the non-TDM baseline: K one-axis cores | `baseline.rs` | as the core |
+//! | 2-FF bit synchroniser and 4-deep Gray-pointer async FIFO | `cdc.rs` | 2 edges / 2–3 edges |
+//! | EXMC/FSMC async SRAM slave, 16-bit | `exmc.rs` | write commits ≤ 4 bus clocks after NWE rises; read data ≤ 4 after NOE falls |
+//! | status handshake, core clock to bus clock, one axis per copy | `status_sync.rs` | ~3 + 3 cycles per axis |
+//! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
+//! | the whole IP core, `tdm_stepper` (and its baseline form) | `top.rs` | — |
 //!
 //! Timing conventions, latencies, sizes and what each test proves: docs/architecture.md.
 
 pub mod baseline;
 pub mod bit_insert;
+pub mod cdc;
 pub mod context;
 pub mod core;
 pub mod divider;
+pub mod exmc;
 pub mod iterate;
 pub mod mul_seq;
 pub mod mul_wide;
 pub mod reg_fifo;
+pub mod regfile;
 pub mod sqrt;
+pub mod status_sync;
 pub mod step_gen;
 pub mod sync_start;
+pub mod top;

@@ -3,18 +3,19 @@
 //! per-axis segment queues are instances.
 //!
 //! Period entry layout ([`pack_entry`]): bits 31..0 ticks, bit 32 step (1: the entry
-//! ends in a STEP edge; 0: a dwell), bit 33 reverse (direction of that step).
+//! ends in a STEP edge; 0: a dwell), bit 33 reverse (direction of that step), bit 34
+//! last (the entry ends its segment; the step generator counts segments done on it).
 //! `push` is ignored when full and `pop` when empty; both in one cycle is allowed.
 //! `reset` (synchronous) empties it. `level` is the number of entries held.
 
 use rust_hdl::prelude::*;
 
 /// Width of a period entry.
-pub const ENTRY_BITS: usize = 34;
+pub const ENTRY_BITS: usize = 35;
 
 /// Packs an entry as the FIFO stores it.
-pub fn pack_entry(ticks: u32, step: bool, reverse: bool) -> u64 {
-    ticks as u64 | (step as u64) << 32 | (reverse as u64) << 33
+pub fn pack_entry(ticks: u32, step: bool, reverse: bool, last: bool) -> u64 {
+    ticks as u64 | (step as u64) << 32 | (reverse as u64) << 33 | (last as u64) << 34
 }
 
 /// The per-axis period FIFO.

@@ -17,7 +17,13 @@
 //!   come. The generator waits with STEP held (the pulse stretches), sets the sticky
 //!   `underrun`, and continues when the entry arrives. No step is lost; the next edge
 //!   is late by the wait.
-//! * `reset` (synchronous) stops the axis and clears position and `underrun`.
+//! * `abort` (one cycle) is a hard stop: no further edge rises, the FIFO's entries are
+//!   left for the owner to flush, and a pulse already high keeps its high time, so
+//!   the position counts exactly the edges emitted.
+//! * Counters (8 bits, wrapping): `done_count` counts entries flagged last that
+//!   ended (segments done), `under_count` counts underruns begun.
+//! * `reset` (synchronous) stops the axis and clears position, `underrun` and the
+//!   counters.
 
 use super::reg_fifo::ENTRY_BITS;
 use rust_hdl::prelude::*;
@@ -27,6 +33,7 @@ pub struct StepGen {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub go: Signal<In, Bit>,
+    pub abort: Signal<In, Bit>,
     /// More entries are coming for this axis (the scheduler still has steps).
     pub more: Signal<In, Bit>,
     /// The FIFO's head entry and whether it is there.
@@ -38,6 +45,8 @@ pub struct StepGen {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
+    pub done_count: Signal<Out, Bits<8>>,
+    pub under_count: Signal<Out, Bits<8>>,
     running: DFF<Bit>,
     waiting: DFF<Bit>,
     count: DFF<Bits<32>>,
@@ -49,6 +58,9 @@ pub struct StepGen {
     dir_q: DFF<Bit>,
     pos: DFF<Bits<32>>,
     under: DFF<Bit>,
+    cur_last: DFF<Bit>,
+    done_cnt: DFF<Bits<8>>,
+    under_cnt: DFF<Bits<8>>,
     head_ticks: Signal<Local, Bits<32>>,
     head_half: Signal<Local, Bits<32>>,
     last_half: Signal<Local, Bits<32>>,
@@ -58,7 +70,10 @@ pub struct StepGen {
 impl Logic for StepGen {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, running, waiting, count, cur_ticks, cur_step, cur_rev, high, step_q, dir_q, pos, under);
+        dff_setup!(
+            self, clock, running, waiting, count, cur_ticks, cur_step, cur_rev, high, step_q, dir_q, pos, under, cur_last,
+            done_cnt, under_cnt
+        );
         self.head_ticks.next = self.head.val().get_bits::<32>(0);
         self.head_half.next = self.head_ticks.val() >> 1;
         if self.head_ticks.val() < 2 {
@@ -74,6 +89,8 @@ impl Logic for StepGen {
         self.position.next = self.pos.q.val();
         self.underrun.next = self.under.q.val();
         self.active.next = self.running.q.val();
+        self.done_count.next = self.done_cnt.q.val();
+        self.under_count.next = self.under_cnt.q.val();
         self.pop.next = false;
 
         // DIR follows the current step's direction while STEP is low.
@@ -92,6 +109,9 @@ impl Logic for StepGen {
             self.count.d.next = self.count.q.val() - 1;
         }
         if self.ends.val() {
+            if self.cur_last.q.val() {
+                self.done_cnt.d.next = self.done_cnt.q.val() + 1;
+            }
             if self.cur_step.q.val() {
                 self.step_q.d.next = true;
                 if self.cur_rev.q.val() {
@@ -106,12 +126,14 @@ impl Logic for StepGen {
                 self.cur_ticks.d.next = self.head_ticks.val();
                 self.cur_step.d.next = self.head.val().get_bit(32);
                 self.cur_rev.d.next = self.head.val().get_bit(33);
+            self.cur_last.d.next = self.head.val().get_bit(34);
                 if self.cur_step.q.val() {
                     self.high.d.next = self.head_half.val();
                 }
             } else if self.more.val() {
                 self.waiting.d.next = true;
                 self.under.d.next = true;
+                self.under_cnt.d.next = self.under_cnt.q.val() + 1;
                 if self.cur_step.q.val() {
                     self.high.d.next = self.last_half.val();
                 }
@@ -130,6 +152,7 @@ impl Logic for StepGen {
             self.cur_ticks.d.next = self.head_ticks.val();
             self.cur_step.d.next = self.head.val().get_bit(32);
             self.cur_rev.d.next = self.head.val().get_bit(33);
+            self.cur_last.d.next = self.head.val().get_bit(34);
             if self.step_q.q.val() {
                 self.high.d.next = self.head_half.val();
             }
@@ -142,8 +165,16 @@ impl Logic for StepGen {
             self.cur_ticks.d.next = self.head_ticks.val();
             self.cur_step.d.next = self.head.val().get_bit(32);
             self.cur_rev.d.next = self.head.val().get_bit(33);
+            self.cur_last.d.next = self.head.val().get_bit(34);
+        }
+        if self.abort.val() {
+            self.running.d.next = false;
+            self.waiting.d.next = false;
+            self.count.d.next = 0.into();
         }
         if self.reset.val() {
+            self.done_cnt.d.next = 0.into();
+            self.under_cnt.d.next = 0.into();
             self.running.d.next = false;
             self.waiting.d.next = false;
             self.high.d.next = 0.into();
@@ -165,12 +196,15 @@ pub struct StepAxis<const DEPTH: usize> {
     pub push: Signal<In, Bit>,
     pub entry_in: Signal<In, Bits<ENTRY_BITS>>,
     pub go: Signal<In, Bit>,
+    pub abort: Signal<In, Bit>,
     pub more: Signal<In, Bit>,
     pub step: Signal<Out, Bit>,
     pub dir: Signal<Out, Bit>,
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
+    pub done_count: Signal<Out, Bits<8>>,
+    pub under_count: Signal<Out, Bits<8>>,
     pub full: Signal<Out, Bit>,
     pub level: Signal<Out, Bits<8>>,
     fifo: super::reg_fifo::PeriodFifo<DEPTH>,
@@ -182,7 +216,8 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
     fn update(&mut self) {
         self.fifo.clock.next = self.clock.val();
         self.gen.clock.next = self.clock.val();
-        self.fifo.reset.next = self.reset.val();
+        self.fifo.reset.next = self.reset.val() | self.abort.val();
+        self.gen.abort.next = self.abort.val();
         self.gen.reset.next = self.reset.val();
         self.fifo.push.next = self.push.val();
         self.fifo.entry_in.next = self.entry_in.val();
@@ -196,6 +231,8 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
         self.position.next = self.gen.position.val();
         self.underrun.next = self.gen.underrun.val();
         self.active.next = self.gen.active.val();
+        self.done_count.next = self.gen.done_count.val();
+        self.under_count.next = self.gen.under_count.val();
         self.full.next = self.fifo.full.val();
         self.level.next = self.fifo.level.val();
     }

@@ -9,6 +9,8 @@
 //! edge, and the rising edge then clocks row k in. [`run_sparse`] takes input events
 //! and reports output changes only, for runs of millions of cycles.
 
-mod tb;
+pub(crate) mod tb;
 
 pub use tb::{run, run_rust_hdl, run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
+pub mod system;
+pub mod bus;

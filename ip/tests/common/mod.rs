@@ -18,6 +18,7 @@ macro_rules! connect_core {
         u.start_mask.connect();
         u.sel_axis.connect();
         u.ext_go.connect();
+        u.abort.connect();
         u.connect_all();
         u
     }};

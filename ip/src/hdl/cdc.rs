@@ -1,0 +1,155 @@
+//! Clock-domain crossing: a two-flip-flop bit synchroniser and a small asynchronous
+//! FIFO with Gray-coded pointers.
+//!
+//! [`BitSync`]: `sig_out` is `sig_in` two `clock` edges later (the first stage may go
+//! metastable; the second has a cycle to settle). Used for resets, the enable and the
+//! handshake flags.
+//!
+//! [`AsyncFifo`]: `W`-bit entries, 4 deep, written in `wclock`, read in `rclock`
+//! (unrelated clocks). Show-ahead: `data_out` is the head entry whenever `empty` is
+//! low; `read` pops it. `write` is ignored while `full`. Each side keeps a binary
+//! and a Gray pointer (3 bits: 2 of address, 1 of wrap); only the Gray pointer
+//! crosses, through two flip-flops, so a pointer is seen either before or after one
+//! increment, never torn. Hence `full` and `empty` are conservative: an entry is
+//! visible to the reader 2–3 `rclock` edges after its write, and a slot is free for
+//! the writer 2–3 `wclock` edges after its read. The entries are registers written
+//! in `wclock` and read through a multiplexer in `rclock`; a slot is never read until
+//! its write is two synchroniser stages old. `wreset` and `rreset` (synchronous, each
+//! in its own domain) must be asserted together, as the top level's reset is.
+
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock, Default)]
+pub struct BitSync {
+    pub clock: Signal<In, Clock>,
+    pub sig_in: Signal<In, Bit>,
+    pub sig_out: Signal<Out, Bit>,
+    s1: DFF<Bit>,
+    s2: DFF<Bit>,
+}
+
+impl Logic for BitSync {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, s1, s2);
+        self.s1.d.next = self.sig_in.val();
+        self.s2.d.next = self.s1.q.val();
+        self.sig_out.next = self.s2.q.val();
+    }
+}
+
+/// Entries of the [`AsyncFifo`].
+pub const ASYNC_FIFO_DEPTH: usize = 4;
+
+#[derive(LogicBlock)]
+pub struct AsyncFifo<const W: usize> {
+    pub wclock: Signal<In, Clock>,
+    pub wreset: Signal<In, Bit>,
+    pub write: Signal<In, Bit>,
+    pub data_in: Signal<In, Bits<W>>,
+    pub full: Signal<Out, Bit>,
+    pub rclock: Signal<In, Clock>,
+    pub rreset: Signal<In, Bit>,
+    pub read: Signal<In, Bit>,
+    pub data_out: Signal<Out, Bits<W>>,
+    pub empty: Signal<Out, Bit>,
+    mem: [DFF<Bits<W>>; 4],
+    wbin: DFF<Bits<3>>,
+    wgray: DFF<Bits<3>>,
+    rgray_w1: DFF<Bits<3>>,
+    rgray_w2: DFF<Bits<3>>,
+    rbin: DFF<Bits<3>>,
+    rgray: DFF<Bits<3>>,
+    wgray_r1: DFF<Bits<3>>,
+    wgray_r2: DFF<Bits<3>>,
+    wbin_inc: Signal<Local, Bits<3>>,
+    rbin_inc: Signal<Local, Bits<3>>,
+    is_full: Signal<Local, Bit>,
+    is_empty: Signal<Local, Bit>,
+    c_full: Constant<Bits<3>>,
+}
+
+impl<const W: usize> Default for AsyncFifo<W> {
+    fn default() -> Self {
+        AsyncFifo {
+            wclock: Default::default(),
+            wreset: Default::default(),
+            write: Default::default(),
+            data_in: Default::default(),
+            full: Default::default(),
+            rclock: Default::default(),
+            rreset: Default::default(),
+            read: Default::default(),
+            data_out: Default::default(),
+            empty: Default::default(),
+            mem: std::array::from_fn(|_| Default::default()),
+            wbin: Default::default(),
+            wgray: Default::default(),
+            rgray_w1: Default::default(),
+            rgray_w2: Default::default(),
+            rbin: Default::default(),
+            rgray: Default::default(),
+            wgray_r1: Default::default(),
+            wgray_r2: Default::default(),
+            wbin_inc: Default::default(),
+            rbin_inc: Default::default(),
+            is_full: Default::default(),
+            is_empty: Default::default(),
+            // Full: the Gray pointers differ in exactly their two top bits.
+            c_full: Constant::new(6u64.into()),
+        }
+    }
+}
+
+impl<const W: usize> Logic for AsyncFifo<W> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, wclock, wbin, wgray, rgray_w1, rgray_w2);
+        dff_setup!(self, rclock, rbin, rgray, wgray_r1, wgray_r2);
+        // Write side.
+        self.rgray_w1.d.next = self.rgray.q.val();
+        self.rgray_w2.d.next = self.rgray_w1.q.val();
+        self.is_full.next = (self.wgray.q.val() ^ self.rgray_w2.q.val()) == self.c_full.val();
+        self.full.next = self.is_full.val();
+        self.wbin_inc.next = self.wbin.q.val() + 1;
+        for i in 0..4 {
+            self.mem[i].clock.next = self.wclock.val();
+            self.mem[i].d.next = self.mem[i].q.val();
+            if self.write.val() & !self.is_full.val() & (self.wbin.q.val().get_bits::<2>(0).index() == i) {
+                self.mem[i].d.next = self.data_in.val();
+            }
+        }
+        if self.write.val() & !self.is_full.val() {
+            self.wbin.d.next = self.wbin_inc.val();
+            self.wgray.d.next = self.wbin_inc.val() ^ (self.wbin_inc.val() >> 1);
+        }
+        if self.wreset.val() {
+            self.wbin.d.next = 0.into();
+            self.wgray.d.next = 0.into();
+            self.rgray_w1.d.next = 0.into();
+            self.rgray_w2.d.next = 0.into();
+        }
+        // Read side.
+        self.wgray_r1.d.next = self.wgray.q.val();
+        self.wgray_r2.d.next = self.wgray_r1.q.val();
+        self.is_empty.next = self.rgray.q.val() == self.wgray_r2.q.val();
+        self.empty.next = self.is_empty.val();
+        self.rbin_inc.next = self.rbin.q.val() + 1;
+        self.data_out.next = 0.into();
+        for i in 0..4 {
+            if self.rbin.q.val().get_bits::<2>(0).index() == i {
+                self.data_out.next = self.mem[i].q.val();
+            }
+        }
+        if self.read.val() & !self.is_empty.val() {
+            self.rbin.d.next = self.rbin_inc.val();
+            self.rgray.d.next = self.rbin_inc.val() ^ (self.rbin_inc.val() >> 1);
+        }
+        if self.rreset.val() {
+            self.rbin.d.next = 0.into();
+            self.rgray.d.next = 0.into();
+            self.wgray_r1.d.next = 0.into();
+            self.wgray_r2.d.next = 0.into();
+        }
+    }
+}

@@ -1,0 +1,767 @@
+//! The register file, in the bus clock: the decoder of the register table
+//! ([`crate::regs`]), the per-axis staging registers, the mirror of each axis's
+//! status, the sticky flags and the IRQ logic. Every address, identity value and
+//! reset value comes from the table through a `Constant`.
+//!
+//! **Writes** (`wr` from [`super::exmc::ExmcSlave`]) act at once: staging and control
+//! registers load, W1C bits clear, and START, ABORT and STEPS_HI put a command on
+//! `cmd_data` with `cmd_write` for the command FIFO (layout: [`CMD_BITS`]).
+//! **Reads** are combinational on `rd_addr` (`rd_data`); the slave latches them. A
+//! read of POS_LO latches the position's high half for POS_HI.
+//!
+//! **Status** arrives one axis at a time (`st_valid`, `st_axis`, `st_word`, layout
+//! [`STATUS_BITS`](super::status_sync::STATUS_BITS), see the `W_*` constants) and is
+//! kept in a mirror. Comparing a new word with the mirror makes the events: a change
+//! of the done, rejected or underrun counters sets IRQ_DONE, STATUS.ERROR (with the
+//! code) and STATUS.UNDERRUN; a change of the taken counter with LEVEL now ≤
+//! QLOW_LEVEL sets IRQ_QLOW. LEVEL is `pushed − taken` (8-bit counters), so a push
+//! counts at once and a push is refused (OVERFLOW) when LEVEL has reached the queue
+//! depth: the core's queue can never overflow and nothing queued is lost.
+//!
+//! **Enable.** While CTRL.ENABLE is 0 the core is held in reset and this side clears
+//! its push counters, sticky flags and IRQ status. GSTATUS.ENABLED follows the core's
+//! own view, taken from the status word of the last axis, so it says 1 only after a
+//! whole round of status words from the running core; commands are accepted only
+//! while ENABLE and ENABLED are both 1 (else GSTATUS.REFUSED).
+
+use super::bit_insert::BitInsert;
+use super::status_sync::STATUS_BITS;
+use crate::regs::{self, CoreParams, ADDR_BITS};
+use rust_hdl::prelude::*;
+
+/// Width of a command in the command FIFO: v0 (31..0), T (63..32), steps (95..64),
+/// axis (103..96), kind (105..104: 0 push, 1 start with the mask in 15..0, 2 abort).
+pub const CMD_BITS: usize = 106;
+/// Status word fields (bit offsets): position (32 bits), segments taken, done,
+/// rejected, underruns (8 bits each), last error code (4), busy, core enabled.
+pub const W_POS: usize = 0;
+pub const W_TAKEN: usize = 32;
+pub const W_DONE: usize = 40;
+pub const W_REJECTED: usize = 48;
+pub const W_UNDERRUNS: usize = 56;
+pub const W_ERROR: usize = 64;
+pub const W_BUSY: usize = 68;
+pub const W_ENABLED: usize = 69;
+// (The decoder below writes these offsets as literals: rust-hdl would print a Rust
+// constant's name into the Verilog. tests/system.rs reads every field back.)
+
+fn c9(name: &str) -> Constant<Bits<ADDR_BITS>> {
+    Constant::new((regs::addr(name) as u64).into())
+}
+
+fn c4(name: &str) -> Constant<Bits<4>> {
+    let r = regs::register(name);
+    assert!(r.per_axis);
+    Constant::new((r.offset as u64).into())
+}
+
+fn c16(v: u16) -> Constant<Bits<16>> {
+    Constant::new((v as u64).into())
+}
+
+#[derive(LogicBlock)]
+pub struct RegFile<const K: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub wr: Signal<In, Bit>,
+    pub wr_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub wr_data: Signal<In, Bits<16>>,
+    pub rd: Signal<In, Bit>,
+    pub rd_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub rd_data: Signal<Out, Bits<16>>,
+    pub st_valid: Signal<In, Bit>,
+    pub st_axis: Signal<In, Bits<8>>,
+    pub st_word: Signal<In, Bits<STATUS_BITS>>,
+    pub cmd_full: Signal<In, Bit>,
+    pub cmd_write: Signal<Out, Bit>,
+    pub cmd_data: Signal<Out, Bits<CMD_BITS>>,
+    /// CTRL.ENABLE.
+    pub enable: Signal<Out, Bit>,
+    pub irq: Signal<Out, Bit>,
+
+    st_v0: [DFF<Bits<32>>; K],
+    st_t: [DFF<Bits<32>>; K],
+    st_steps: [DFF<Bits<32>>; K],
+    pushed: [DFF<Bits<8>>; K],
+    m_pos: [DFF<Bits<32>>; K],
+    m_taken: [DFF<Bits<8>>; K],
+    m_done: [DFF<Bits<8>>; K],
+    m_rej: [DFF<Bits<8>>; K],
+    m_under: [DFF<Bits<8>>; K],
+    m_busy: [DFF<Bit>; K],
+    f_under: [DFF<Bit>; K],
+    f_over: [DFF<Bit>; K],
+    f_err: [DFF<Bit>; K],
+    f_code: [DFF<Bits<4>>; K],
+    busy_bus: [BitInsert<16>; K],
+    ctrl_en: DFF<Bit>,
+    core_en: DFF<Bit>,
+    refused: DFF<Bit>,
+    irq_done: DFF<Bits<16>>,
+    irq_qlow: DFF<Bits<16>>,
+    irq_err: DFF<Bits<16>>,
+    mask_done: DFF<Bits<16>>,
+    mask_qlow: DFF<Bits<16>>,
+    mask_err: DFF<Bits<16>>,
+    qlow: DFF<Bits<5>>,
+    pos_latch: DFF<Bits<16>>,
+    irq_q: DFF<Bit>,
+
+    accepting: Signal<Local, Bit>,
+    w_glob: Signal<Local, Bit>,
+    w_ax: Signal<Local, Bit>,
+    w_axis: Signal<Local, Bits<4>>,
+    w_off: Signal<Local, Bits<4>>,
+    w_level: Signal<Local, Bits<8>>,
+    w_data32: Signal<Local, Bits<32>>,
+    r_ax: Signal<Local, Bit>,
+    r_axis: Signal<Local, Bits<4>>,
+    r_off: Signal<Local, Bits<4>>,
+    s_pos: Signal<Local, Bits<32>>,
+    s_taken: Signal<Local, Bits<8>>,
+    s_done: Signal<Local, Bits<8>>,
+    s_rej: Signal<Local, Bits<8>>,
+    s_under: Signal<Local, Bits<8>>,
+    s_err: Signal<Local, Bits<4>>,
+    s_busy: Signal<Local, Bit>,
+    s_en: Signal<Local, Bit>,
+    o_taken: Signal<Local, Bits<8>>,
+    o_done: Signal<Local, Bits<8>>,
+    o_rej: Signal<Local, Bits<8>>,
+    o_under: Signal<Local, Bits<8>>,
+    o_pushed: Signal<Local, Bits<8>>,
+    s_onehot: Signal<Local, Bits<16>>,
+    w_onehot: Signal<Local, Bits<16>>,
+    ev_done: Signal<Local, Bits<16>>,
+    ev_qlow: Signal<Local, Bits<16>>,
+    ev_err: Signal<Local, Bits<16>>,
+    push_ok: Signal<Local, Bit>,
+    x_v0: Signal<Local, Bits<32>>,
+    x_t: Signal<Local, Bits<32>>,
+    x_steps: Signal<Local, Bits<32>>,
+    r_sel: Signal<Local, Bit>,
+    r_v0: Signal<Local, Bits<32>>,
+    r_t: Signal<Local, Bits<32>>,
+    r_steps: Signal<Local, Bits<32>>,
+    r_level: Signal<Local, Bits<8>>,
+    r_busy: Signal<Local, Bit>,
+    r_fu: Signal<Local, Bit>,
+    r_fo: Signal<Local, Bit>,
+    r_fe: Signal<Local, Bit>,
+    r_code: Signal<Local, Bits<4>>,
+    r_pos: Signal<Local, Bits<32>>,
+    r_done: Signal<Local, Bits<8>>,
+
+    c_one: Constant<Bits<16>>,
+    c_lo16: Constant<Bits<32>>,
+    c_hi16: Constant<Bits<32>>,
+    c_qdepth: Constant<Bits<8>>,
+    c_last_axis: Constant<Bits<8>>,
+    v_magic: Constant<Bits<16>>,
+    v_version: Constant<Bits<16>>,
+    v_axes: Constant<Bits<16>>,
+    v_qdepth: Constant<Bits<16>>,
+    v_fdepth: Constant<Bits<16>>,
+    v_tcalc: Constant<Bits<16>>,
+    v_clk_lo: Constant<Bits<16>>,
+    v_clk_hi: Constant<Bits<16>>,
+    a_magic: Constant<Bits<ADDR_BITS>>,
+    a_version: Constant<Bits<ADDR_BITS>>,
+    a_axes: Constant<Bits<ADDR_BITS>>,
+    a_qdepth: Constant<Bits<ADDR_BITS>>,
+    a_fdepth: Constant<Bits<ADDR_BITS>>,
+    a_tcalc: Constant<Bits<ADDR_BITS>>,
+    a_clk_lo: Constant<Bits<ADDR_BITS>>,
+    a_clk_hi: Constant<Bits<ADDR_BITS>>,
+    a_ctrl: Constant<Bits<ADDR_BITS>>,
+    a_start: Constant<Bits<ADDR_BITS>>,
+    a_abort: Constant<Bits<ADDR_BITS>>,
+    a_irq_done: Constant<Bits<ADDR_BITS>>,
+    a_irq_qlow: Constant<Bits<ADDR_BITS>>,
+    a_irq_err: Constant<Bits<ADDR_BITS>>,
+    a_mask_done: Constant<Bits<ADDR_BITS>>,
+    a_mask_qlow: Constant<Bits<ADDR_BITS>>,
+    a_mask_err: Constant<Bits<ADDR_BITS>>,
+    a_qlow: Constant<Bits<ADDR_BITS>>,
+    a_gstatus: Constant<Bits<ADDR_BITS>>,
+    a_busy: Constant<Bits<ADDR_BITS>>,
+    o_v0_lo: Constant<Bits<4>>,
+    o_v0_hi: Constant<Bits<4>>,
+    o_t_lo: Constant<Bits<4>>,
+    o_t_hi: Constant<Bits<4>>,
+    o_steps_lo: Constant<Bits<4>>,
+    o_steps_hi: Constant<Bits<4>>,
+    o_status: Constant<Bits<4>>,
+    o_pos_lo: Constant<Bits<4>>,
+    o_pos_hi: Constant<Bits<4>>,
+    o_done_count: Constant<Bits<4>>,
+}
+
+impl<const K: usize> RegFile<K> {
+    pub fn new(p: CoreParams) -> Self {
+        assert_eq!(p.axes, K, "RegFile: parameters for another K");
+        assert!((1..=regs::MAX_AXES).contains(&K), "RegFile: K = {K} outside 1..={}", regs::MAX_AXES);
+        assert!((1..=regs::MAX_QUEUE_DEPTH).contains(&p.queue_depth), "RegFile: queue depth {} outside 1..=16", p.queue_depth);
+        let v = |name: &str| c16(regs::register(name).reset_value(&p));
+        RegFile {
+            clock: Default::default(),
+            reset: Default::default(),
+            wr: Default::default(),
+            wr_addr: Default::default(),
+            wr_data: Default::default(),
+            rd: Default::default(),
+            rd_addr: Default::default(),
+            rd_data: Default::default(),
+            st_valid: Default::default(),
+            st_axis: Default::default(),
+            st_word: Default::default(),
+            cmd_full: Default::default(),
+            cmd_write: Default::default(),
+            cmd_data: Default::default(),
+            enable: Default::default(),
+            irq: Default::default(),
+            st_v0: std::array::from_fn(|_| Default::default()),
+            st_t: std::array::from_fn(|_| Default::default()),
+            st_steps: std::array::from_fn(|_| Default::default()),
+            pushed: std::array::from_fn(|_| Default::default()),
+            m_pos: std::array::from_fn(|_| Default::default()),
+            m_taken: std::array::from_fn(|_| Default::default()),
+            m_done: std::array::from_fn(|_| Default::default()),
+            m_rej: std::array::from_fn(|_| Default::default()),
+            m_under: std::array::from_fn(|_| Default::default()),
+            m_busy: std::array::from_fn(|_| Default::default()),
+            f_under: std::array::from_fn(|_| Default::default()),
+            f_over: std::array::from_fn(|_| Default::default()),
+            f_err: std::array::from_fn(|_| Default::default()),
+            f_code: std::array::from_fn(|_| Default::default()),
+            busy_bus: std::array::from_fn(BitInsert::new),
+            ctrl_en: Default::default(),
+            core_en: Default::default(),
+            refused: Default::default(),
+            irq_done: Default::default(),
+            irq_qlow: Default::default(),
+            irq_err: Default::default(),
+            mask_done: Default::default(),
+            mask_qlow: Default::default(),
+            mask_err: Default::default(),
+            qlow: Default::default(),
+            pos_latch: Default::default(),
+            irq_q: Default::default(),
+            accepting: Default::default(),
+            w_glob: Default::default(),
+            w_ax: Default::default(),
+            w_axis: Default::default(),
+            w_off: Default::default(),
+            w_level: Default::default(),
+            w_data32: Default::default(),
+            r_ax: Default::default(),
+            r_axis: Default::default(),
+            r_off: Default::default(),
+            s_pos: Default::default(),
+            s_taken: Default::default(),
+            s_done: Default::default(),
+            s_rej: Default::default(),
+            s_under: Default::default(),
+            s_err: Default::default(),
+            s_busy: Default::default(),
+            s_en: Default::default(),
+            o_taken: Default::default(),
+            o_done: Default::default(),
+            o_rej: Default::default(),
+            o_under: Default::default(),
+            o_pushed: Default::default(),
+            s_onehot: Default::default(),
+            w_onehot: Default::default(),
+            ev_done: Default::default(),
+            ev_qlow: Default::default(),
+            ev_err: Default::default(),
+            push_ok: Default::default(),
+            x_v0: Default::default(),
+            x_t: Default::default(),
+            x_steps: Default::default(),
+            r_sel: Default::default(),
+            r_v0: Default::default(),
+            r_t: Default::default(),
+            r_steps: Default::default(),
+            r_level: Default::default(),
+            r_busy: Default::default(),
+            r_fu: Default::default(),
+            r_fo: Default::default(),
+            r_fe: Default::default(),
+            r_code: Default::default(),
+            r_pos: Default::default(),
+            r_done: Default::default(),
+            c_one: c16(1),
+            c_lo16: Constant::new(0xFFFFu64.into()),
+            c_hi16: Constant::new(0xFFFF_0000u64.into()),
+            c_qdepth: Constant::new((p.queue_depth as u64).into()),
+            c_last_axis: Constant::new(((K - 1) as u64).into()),
+            v_magic: v("ID_MAGIC"),
+            v_version: v("ID_VERSION"),
+            v_axes: v("ID_AXES"),
+            v_qdepth: v("ID_QUEUE_DEPTH"),
+            v_fdepth: v("ID_FIFO_DEPTH"),
+            v_tcalc: v("ID_T_CALC"),
+            v_clk_lo: v("ID_CLOCK_HZ_LO"),
+            v_clk_hi: v("ID_CLOCK_HZ_HI"),
+            a_magic: c9("ID_MAGIC"),
+            a_version: c9("ID_VERSION"),
+            a_axes: c9("ID_AXES"),
+            a_qdepth: c9("ID_QUEUE_DEPTH"),
+            a_fdepth: c9("ID_FIFO_DEPTH"),
+            a_tcalc: c9("ID_T_CALC"),
+            a_clk_lo: c9("ID_CLOCK_HZ_LO"),
+            a_clk_hi: c9("ID_CLOCK_HZ_HI"),
+            a_ctrl: c9("CTRL"),
+            a_start: c9("START"),
+            a_abort: c9("ABORT"),
+            a_irq_done: c9("IRQ_DONE"),
+            a_irq_qlow: c9("IRQ_QLOW"),
+            a_irq_err: c9("IRQ_ERROR"),
+            a_mask_done: c9("IRQ_MASK_DONE"),
+            a_mask_qlow: c9("IRQ_MASK_QLOW"),
+            a_mask_err: c9("IRQ_MASK_ERROR"),
+            a_qlow: c9("QLOW_LEVEL"),
+            a_gstatus: c9("GSTATUS"),
+            a_busy: c9("BUSY"),
+            o_v0_lo: c4("V0_LO"),
+            o_v0_hi: c4("V0_HI"),
+            o_t_lo: c4("T_LO"),
+            o_t_hi: c4("T_HI"),
+            o_steps_lo: c4("STEPS_LO"),
+            o_steps_hi: c4("STEPS_HI"),
+            o_status: c4("STATUS"),
+            o_pos_lo: c4("POS_LO"),
+            o_pos_hi: c4("POS_HI"),
+            o_done_count: c4("DONE_COUNT"),
+        }
+    }
+}
+
+impl<const K: usize> Logic for RegFile<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(
+            self, clock, ctrl_en, core_en, refused, irq_done, irq_qlow, irq_err, mask_done, mask_qlow, mask_err, qlow,
+            pos_latch, irq_q
+        );
+        for i in 0..K {
+            self.st_v0[i].clock.next = self.clock.val();
+            self.st_t[i].clock.next = self.clock.val();
+            self.st_steps[i].clock.next = self.clock.val();
+            self.pushed[i].clock.next = self.clock.val();
+            self.m_pos[i].clock.next = self.clock.val();
+            self.m_taken[i].clock.next = self.clock.val();
+            self.m_done[i].clock.next = self.clock.val();
+            self.m_rej[i].clock.next = self.clock.val();
+            self.m_under[i].clock.next = self.clock.val();
+            self.m_busy[i].clock.next = self.clock.val();
+            self.f_under[i].clock.next = self.clock.val();
+            self.f_over[i].clock.next = self.clock.val();
+            self.f_err[i].clock.next = self.clock.val();
+            self.f_code[i].clock.next = self.clock.val();
+            self.st_v0[i].d.next = self.st_v0[i].q.val();
+            self.st_t[i].d.next = self.st_t[i].q.val();
+            self.st_steps[i].d.next = self.st_steps[i].q.val();
+            self.pushed[i].d.next = self.pushed[i].q.val();
+            self.m_pos[i].d.next = self.m_pos[i].q.val();
+            self.m_taken[i].d.next = self.m_taken[i].q.val();
+            self.m_done[i].d.next = self.m_done[i].q.val();
+            self.m_rej[i].d.next = self.m_rej[i].q.val();
+            self.m_under[i].d.next = self.m_under[i].q.val();
+            self.m_busy[i].d.next = self.m_busy[i].q.val();
+            self.f_under[i].d.next = self.f_under[i].q.val();
+            self.f_over[i].d.next = self.f_over[i].q.val();
+            self.f_err[i].d.next = self.f_err[i].q.val();
+            self.f_code[i].d.next = self.f_code[i].q.val();
+        }
+        self.enable.next = self.ctrl_en.q.val();
+        self.irq.next = self.irq_q.q.val();
+        self.accepting.next = self.ctrl_en.q.val() & self.core_en.q.val();
+        self.cmd_write.next = false;
+        self.cmd_data.next = 0.into();
+
+        // ---- decode ----------------------------------------------------------
+        self.w_glob.next = self.wr.val() & !self.wr_addr.val().get_bit(8);
+        self.w_ax.next = self.wr.val() & self.wr_addr.val().get_bit(8);
+        self.w_axis.next = self.wr_addr.val().get_bits::<4>(4);
+        self.w_off.next = self.wr_addr.val().get_bits::<4>(0);
+        self.w_data32.next = bit_cast::<32, 16>(self.wr_data.val());
+        self.w_onehot.next = self.c_one.val() << bit_cast::<16, 4>(self.w_axis.val());
+        self.r_ax.next = self.rd_addr.val().get_bit(8);
+        self.r_axis.next = self.rd_addr.val().get_bits::<4>(4);
+        self.r_off.next = self.rd_addr.val().get_bits::<4>(0);
+        self.s_pos.next = self.st_word.val().get_bits::<32>(0);
+        self.s_taken.next = self.st_word.val().get_bits::<8>(32);
+        self.s_done.next = self.st_word.val().get_bits::<8>(40);
+        self.s_rej.next = self.st_word.val().get_bits::<8>(48);
+        self.s_under.next = self.st_word.val().get_bits::<8>(56);
+        self.s_err.next = self.st_word.val().get_bits::<4>(64);
+        self.s_busy.next = self.st_word.val().get_bit(68);
+        self.s_en.next = self.st_word.val().get_bit(69);
+        self.s_onehot.next = self.c_one.val() << bit_cast::<16, 8>(self.st_axis.val());
+
+        // The mirror's previous values for the axis in the status word, and the
+        // level of the axis being written.
+        self.o_taken.next = 0.into();
+        self.o_done.next = 0.into();
+        self.o_rej.next = 0.into();
+        self.o_under.next = 0.into();
+        self.o_pushed.next = 0.into();
+        self.w_level.next = 0.into();
+        self.x_v0.next = 0.into();
+        self.x_t.next = 0.into();
+        self.x_steps.next = 0.into();
+        for i in 0..K {
+            if self.st_axis.val().index() == i {
+                self.o_taken.next = self.m_taken[i].q.val();
+                self.o_done.next = self.m_done[i].q.val();
+                self.o_rej.next = self.m_rej[i].q.val();
+                self.o_under.next = self.m_under[i].q.val();
+                self.o_pushed.next = self.pushed[i].q.val();
+            }
+            if self.w_axis.val().index() == i {
+                self.w_level.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
+                self.x_v0.next = self.st_v0[i].q.val();
+                self.x_t.next = self.st_t[i].q.val();
+                self.x_steps.next = self.st_steps[i].q.val();
+            }
+        }
+
+        // ---- events from the status word -------------------------------------
+        self.ev_done.next = 0.into();
+        self.ev_qlow.next = 0.into();
+        self.ev_err.next = 0.into();
+        if self.st_valid.val() & self.accepting.val() {
+            if self.s_done.val() != self.o_done.val() {
+                self.ev_done.next = self.s_onehot.val();
+            }
+            if (self.s_taken.val() != self.o_taken.val())
+                & ((self.o_pushed.val() - self.s_taken.val()) <= bit_cast::<8, 5>(self.qlow.q.val()))
+            {
+                self.ev_qlow.next = self.s_onehot.val();
+            }
+            if (self.s_rej.val() != self.o_rej.val()) | (self.s_under.val() != self.o_under.val()) {
+                self.ev_err.next = self.s_onehot.val();
+            }
+        }
+        if self.st_valid.val() & (self.st_axis.val() == self.c_last_axis.val()) {
+            self.core_en.d.next = self.s_en.val();
+        }
+
+        // ---- pushes ----------------------------------------------------------
+        self.push_ok.next = false;
+        if self.w_ax.val() & (self.w_off.val() == self.o_steps_hi.val()) & (self.w_axis.val() <= bit_cast::<4, 8>(self.c_last_axis.val())) {
+            if !self.accepting.val() {
+                self.refused.d.next = true;
+            } else if self.cmd_full.val() | (self.w_level.val() >= self.c_qdepth.val()) {
+                self.ev_err.next = self.ev_err.val() | self.w_onehot.val();
+            } else {
+                self.push_ok.next = true;
+            }
+        }
+
+        if self.push_ok.val() {
+            self.cmd_write.next = true;
+            self.cmd_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
+                | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
+                | (bit_cast::<CMD_BITS, 32>((self.x_steps.val() & self.c_lo16.val()) | (self.w_data32.val() << 16)) << 64)
+                | (bit_cast::<CMD_BITS, 4>(self.w_axis.val()) << 96);
+        }
+
+        // ---- per axis ----------------------------------------------------------
+        for i in 0..K {
+            // Staging writes.
+            if self.w_ax.val() & (self.w_axis.val().index() == i) {
+                if self.w_off.val() == self.o_v0_lo.val() {
+                    self.st_v0[i].d.next = (self.st_v0[i].q.val() & self.c_hi16.val()) | self.w_data32.val();
+                }
+                if self.w_off.val() == self.o_v0_hi.val() {
+                    self.st_v0[i].d.next = (self.st_v0[i].q.val() & self.c_lo16.val()) | (self.w_data32.val() << 16);
+                }
+                if self.w_off.val() == self.o_t_lo.val() {
+                    self.st_t[i].d.next = (self.st_t[i].q.val() & self.c_hi16.val()) | self.w_data32.val();
+                }
+                if self.w_off.val() == self.o_t_hi.val() {
+                    self.st_t[i].d.next = (self.st_t[i].q.val() & self.c_lo16.val()) | (self.w_data32.val() << 16);
+                }
+                if self.w_off.val() == self.o_steps_lo.val() {
+                    self.st_steps[i].d.next = (self.st_steps[i].q.val() & self.c_hi16.val()) | self.w_data32.val();
+                }
+                if self.w_off.val() == self.o_steps_hi.val() {
+                    self.st_steps[i].d.next = (self.st_steps[i].q.val() & self.c_lo16.val()) | (self.w_data32.val() << 16);
+                    if self.push_ok.val() {
+                        self.pushed[i].d.next = self.pushed[i].q.val() + 1;
+                    } else if self.accepting.val() {
+                        self.f_over[i].d.next = true;
+                    }
+                }
+                if self.w_off.val() == self.o_status.val() {
+                    if self.wr_data.val().get_bit(6) {
+                        self.f_under[i].d.next = false;
+                    }
+                    if self.wr_data.val().get_bit(7) {
+                        self.f_over[i].d.next = false;
+                    }
+                    if self.wr_data.val().get_bit(8) {
+                        self.f_err[i].d.next = false;
+                        self.f_code[i].d.next = 0.into();
+                    }
+                }
+            }
+            // The status word of axis i.
+            if self.st_valid.val() & (self.st_axis.val().index() == i) {
+                self.m_pos[i].d.next = self.s_pos.val();
+                self.m_taken[i].d.next = self.s_taken.val();
+                self.m_done[i].d.next = self.s_done.val();
+                self.m_rej[i].d.next = self.s_rej.val();
+                self.m_under[i].d.next = self.s_under.val();
+                self.m_busy[i].d.next = self.s_busy.val();
+                if self.accepting.val() {
+                    if self.s_rej.val() != self.o_rej.val() {
+                        self.f_err[i].d.next = true;
+                        self.f_code[i].d.next = self.s_err.val();
+                    }
+                    if self.s_under.val() != self.o_under.val() {
+                        self.f_under[i].d.next = true;
+                    }
+                }
+            }
+            // The POS_LO read latches the high half.
+            if self.rd.val() & self.r_ax.val() & (self.r_axis.val().index() == i) & (self.r_off.val() == self.o_pos_lo.val()) {
+                self.pos_latch.d.next = self.m_pos[i].q.val().get_bits::<16>(16);
+            }
+            self.busy_bus[i].value.next =
+                ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
+            if !self.ctrl_en.q.val() {
+                self.pushed[i].d.next = 0.into();
+                self.f_under[i].d.next = false;
+                self.f_over[i].d.next = false;
+                self.f_err[i].d.next = false;
+                self.f_code[i].d.next = 0.into();
+            }
+            if self.reset.val() {
+                self.st_v0[i].d.next = 0.into();
+                self.st_t[i].d.next = 0.into();
+                self.st_steps[i].d.next = 0.into();
+                self.pushed[i].d.next = 0.into();
+                self.m_pos[i].d.next = 0.into();
+                self.m_taken[i].d.next = 0.into();
+                self.m_done[i].d.next = 0.into();
+                self.m_rej[i].d.next = 0.into();
+                self.m_under[i].d.next = 0.into();
+                self.m_busy[i].d.next = false;
+                self.f_under[i].d.next = false;
+                self.f_over[i].d.next = false;
+                self.f_err[i].d.next = false;
+                self.f_code[i].d.next = 0.into();
+            }
+        }
+        self.busy_bus[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
+        }
+
+        // ---- global writes -----------------------------------------------------
+        self.irq_done.d.next = self.irq_done.q.val() | self.ev_done.val();
+        self.irq_qlow.d.next = self.irq_qlow.q.val() | self.ev_qlow.val();
+        self.irq_err.d.next = self.irq_err.q.val() | self.ev_err.val();
+        if self.w_glob.val() {
+            if self.wr_addr.val() == self.a_ctrl.val() {
+                self.ctrl_en.d.next = self.wr_data.val().get_bit(0);
+            }
+            if self.wr_addr.val() == self.a_start.val() {
+                if self.accepting.val() & !self.cmd_full.val() {
+                    self.cmd_write.next = true;
+                    self.cmd_data.next = bit_cast::<CMD_BITS, 16>(self.wr_data.val()) | (bit_cast::<CMD_BITS, 2>(1.into()) << 104);
+                } else {
+                    self.refused.d.next = true;
+                }
+            }
+            if (self.wr_addr.val() == self.a_abort.val()) & self.wr_data.val().get_bit(0) {
+                if self.accepting.val() & !self.cmd_full.val() {
+                    self.cmd_write.next = true;
+                    self.cmd_data.next = bit_cast::<CMD_BITS, 2>(2.into()) << 104;
+                } else {
+                    self.refused.d.next = true;
+                }
+            }
+            if self.wr_addr.val() == self.a_irq_done.val() {
+                self.irq_done.d.next = (self.irq_done.q.val() & !self.wr_data.val()) | self.ev_done.val();
+            }
+            if self.wr_addr.val() == self.a_irq_qlow.val() {
+                self.irq_qlow.d.next = (self.irq_qlow.q.val() & !self.wr_data.val()) | self.ev_qlow.val();
+            }
+            if self.wr_addr.val() == self.a_irq_err.val() {
+                self.irq_err.d.next = (self.irq_err.q.val() & !self.wr_data.val()) | self.ev_err.val();
+            }
+            if self.wr_addr.val() == self.a_mask_done.val() {
+                self.mask_done.d.next = self.wr_data.val();
+            }
+            if self.wr_addr.val() == self.a_mask_qlow.val() {
+                self.mask_qlow.d.next = self.wr_data.val();
+            }
+            if self.wr_addr.val() == self.a_mask_err.val() {
+                self.mask_err.d.next = self.wr_data.val();
+            }
+            if self.wr_addr.val() == self.a_qlow.val() {
+                self.qlow.d.next = self.wr_data.val().get_bits::<5>(0);
+            }
+            if (self.wr_addr.val() == self.a_gstatus.val()) & self.wr_data.val().get_bit(1) {
+                self.refused.d.next = false;
+            }
+        }
+        self.irq_q.d.next = ((self.irq_done.q.val() & self.mask_done.q.val())
+            | (self.irq_qlow.q.val() & self.mask_qlow.q.val())
+            | (self.irq_err.q.val() & self.mask_err.q.val()))
+            .any();
+
+        // ---- reads ---------------------------------------------------------------
+        self.rd_data.next = 0.into();
+        if !self.r_ax.val() {
+            if self.rd_addr.val() == self.a_magic.val() {
+                self.rd_data.next = self.v_magic.val();
+            }
+            if self.rd_addr.val() == self.a_version.val() {
+                self.rd_data.next = self.v_version.val();
+            }
+            if self.rd_addr.val() == self.a_axes.val() {
+                self.rd_data.next = self.v_axes.val();
+            }
+            if self.rd_addr.val() == self.a_qdepth.val() {
+                self.rd_data.next = self.v_qdepth.val();
+            }
+            if self.rd_addr.val() == self.a_fdepth.val() {
+                self.rd_data.next = self.v_fdepth.val();
+            }
+            if self.rd_addr.val() == self.a_tcalc.val() {
+                self.rd_data.next = self.v_tcalc.val();
+            }
+            if self.rd_addr.val() == self.a_clk_lo.val() {
+                self.rd_data.next = self.v_clk_lo.val();
+            }
+            if self.rd_addr.val() == self.a_clk_hi.val() {
+                self.rd_data.next = self.v_clk_hi.val();
+            }
+            if self.rd_addr.val() == self.a_ctrl.val() {
+                self.rd_data.next = bit_cast::<16, 1>(self.ctrl_en.q.val().into());
+            }
+            if self.rd_addr.val() == self.a_irq_done.val() {
+                self.rd_data.next = self.irq_done.q.val();
+            }
+            if self.rd_addr.val() == self.a_irq_qlow.val() {
+                self.rd_data.next = self.irq_qlow.q.val();
+            }
+            if self.rd_addr.val() == self.a_irq_err.val() {
+                self.rd_data.next = self.irq_err.q.val();
+            }
+            if self.rd_addr.val() == self.a_mask_done.val() {
+                self.rd_data.next = self.mask_done.q.val();
+            }
+            if self.rd_addr.val() == self.a_mask_qlow.val() {
+                self.rd_data.next = self.mask_qlow.q.val();
+            }
+            if self.rd_addr.val() == self.a_mask_err.val() {
+                self.rd_data.next = self.mask_err.q.val();
+            }
+            if self.rd_addr.val() == self.a_qlow.val() {
+                self.rd_data.next = bit_cast::<16, 5>(self.qlow.q.val());
+            }
+            if self.rd_addr.val() == self.a_gstatus.val() {
+                self.rd_data.next = bit_cast::<16, 1>(self.core_en.q.val().into())
+                    | (bit_cast::<16, 1>(self.refused.q.val().into()) << 1)
+                    | (bit_cast::<16, 1>(self.irq_q.q.val().into()) << 2);
+            }
+            if self.rd_addr.val() == self.a_busy.val() {
+                for i in 0..K {
+                    self.rd_data.next = self.busy_bus[i].bus_out.val();
+                }
+            }
+        }
+        self.r_sel.next = false;
+        self.r_v0.next = 0.into();
+        self.r_t.next = 0.into();
+        self.r_steps.next = 0.into();
+        self.r_level.next = 0.into();
+        self.r_busy.next = false;
+        self.r_fu.next = false;
+        self.r_fo.next = false;
+        self.r_fe.next = false;
+        self.r_code.next = 0.into();
+        self.r_pos.next = 0.into();
+        self.r_done.next = 0.into();
+        for i in 0..K {
+            if self.r_axis.val().index() == i {
+                self.r_sel.next = true;
+                self.r_v0.next = self.st_v0[i].q.val();
+                self.r_t.next = self.st_t[i].q.val();
+                self.r_steps.next = self.st_steps[i].q.val();
+                self.r_level.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
+                self.r_busy.next = self.busy_bus[i].value.val();
+                self.r_fu.next = self.f_under[i].q.val();
+                self.r_fo.next = self.f_over[i].q.val();
+                self.r_fe.next = self.f_err[i].q.val();
+                self.r_code.next = self.f_code[i].q.val();
+                self.r_pos.next = self.m_pos[i].q.val();
+                self.r_done.next = self.m_done[i].q.val();
+            }
+        }
+        if self.r_ax.val() & self.r_sel.val() {
+            if self.r_off.val() == self.o_v0_lo.val() {
+                self.rd_data.next = self.r_v0.val().get_bits::<16>(0);
+            }
+            if self.r_off.val() == self.o_v0_hi.val() {
+                self.rd_data.next = self.r_v0.val().get_bits::<16>(16);
+            }
+            if self.r_off.val() == self.o_t_lo.val() {
+                self.rd_data.next = self.r_t.val().get_bits::<16>(0);
+            }
+            if self.r_off.val() == self.o_t_hi.val() {
+                self.rd_data.next = self.r_t.val().get_bits::<16>(16);
+            }
+            if self.r_off.val() == self.o_steps_lo.val() {
+                self.rd_data.next = self.r_steps.val().get_bits::<16>(0);
+            }
+            if self.r_off.val() == self.o_steps_hi.val() {
+                self.rd_data.next = self.r_steps.val().get_bits::<16>(16);
+            }
+            if self.r_off.val() == self.o_status.val() {
+                self.rd_data.next = bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))
+                    | (bit_cast::<16, 1>(self.r_busy.val().into()) << 5)
+                    | (bit_cast::<16, 1>(self.r_fu.val().into()) << 6)
+                    | (bit_cast::<16, 1>(self.r_fo.val().into()) << 7)
+                    | (bit_cast::<16, 1>(self.r_fe.val().into()) << 8)
+                    | (bit_cast::<16, 4>(self.r_code.val()) << 12);
+            }
+            if self.r_off.val() == self.o_pos_lo.val() {
+                self.rd_data.next = self.r_pos.val().get_bits::<16>(0);
+            }
+            if self.r_off.val() == self.o_pos_hi.val() {
+                self.rd_data.next = self.pos_latch.q.val();
+            }
+            if self.r_off.val() == self.o_done_count.val() {
+                self.rd_data.next = bit_cast::<16, 8>(self.r_done.val());
+            }
+        }
+
+        if !self.ctrl_en.q.val() {
+            self.irq_done.d.next = 0.into();
+            self.irq_qlow.d.next = 0.into();
+            self.irq_err.d.next = 0.into();
+        }
+        if self.reset.val() {
+            self.ctrl_en.d.next = false;
+            self.core_en.d.next = false;
+            self.refused.d.next = false;
+            self.irq_done.d.next = 0.into();
+            self.irq_qlow.d.next = 0.into();
+            self.irq_err.d.next = 0.into();
+            self.mask_done.d.next = 0.into();
+            self.mask_qlow.d.next = 0.into();
+            self.mask_err.d.next = 0.into();
+            self.qlow.d.next = 1.into();
+            self.pos_latch.d.next = 0.into();
+            self.irq_q.d.next = false;
+        }
+    }
+}

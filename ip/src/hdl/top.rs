@@ -1,0 +1,194 @@
+//! The whole IP core as exported: `tdm_stepper` (DESIGN.md §1).
+//!
+//! ```text
+//!  bus_clk domain                          | clk domain
+//!  ExmcSlave -> RegFile --cmd--> AsyncFifo ---> command decode -> TdmCore (or Baseline)
+//!                  ^                       |                        |
+//!                  +------ StatusSync <----+---- status word <------+
+//! ```
+//!
+//! Ports: `clk` (the core clock, whose ticks every period counts), `bus_clk` (samples
+//! the EXMC pins; unrelated to `clk`), `reset` (synchronous, active high, synchronised
+//! into each domain; hold it for at least 4 cycles of the slower clock), the EXMC pins
+//! (`ne`, `noe`, `nwe`, `addr`, `data_in`, `data_out`, `data_oe`), and per axis `step`
+//! and `dir`, plus `irq` (active high, bus clock). `fsm_state` shows the scheduler's
+//! Gray-coded state for waveforms.
+//!
+//! In the core clock, commands leave the FIFO one per cycle: a push goes to the core's
+//! command port (the register file's LEVEL accounting guarantees room), START and ABORT
+//! pulse the core's `start` (with the mask) and `abort`. While CTRL.ENABLE is 0 (seen
+//! through a synchroniser), the core is held in reset and commands are drained and
+//! dropped. The status word of the axis the handshake selects is assembled here.
+//!
+//! `Core` is [`TdmCore`] or the non-TDM [`Baseline`]: both have the same ports, so the
+//! same top (`TdmStepper` / `BaselineStepper`) is generated for each by a macro.
+
+use super::baseline::Baseline;
+use super::cdc::{AsyncFifo, BitSync};
+use super::core::{TdmCore, STATE_BITS};
+use super::exmc::ExmcSlave;
+use super::regfile::{RegFile, CMD_BITS};
+use super::status_sync::{StatusSync, STATUS_BITS};
+use crate::model::Limits;
+use crate::regs::{CoreParams, ADDR_BITS};
+use rust_hdl::prelude::*;
+
+macro_rules! stepper_top {
+    ($name:ident, $core:ident, $doc:expr) => {
+        #[doc = $doc]
+        #[derive(LogicBlock)]
+        pub struct $name<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
+            pub clk: Signal<In, Clock>,
+            pub bus_clk: Signal<In, Clock>,
+            pub reset: Signal<In, Bit>,
+            pub ne: Signal<In, Bit>,
+            pub noe: Signal<In, Bit>,
+            pub nwe: Signal<In, Bit>,
+            pub addr: Signal<In, Bits<ADDR_BITS>>,
+            pub data_in: Signal<In, Bits<16>>,
+            pub data_out: Signal<Out, Bits<16>>,
+            pub data_oe: Signal<Out, Bit>,
+            pub step: Signal<Out, Bits<K>>,
+            pub dir: Signal<Out, Bits<K>>,
+            pub irq: Signal<Out, Bit>,
+            pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
+            rst_bus: BitSync,
+            rst_core: BitSync,
+            en_core: BitSync,
+            pub exmc: ExmcSlave,
+            pub regs: RegFile<K>,
+            cmd_fifo: AsyncFifo<CMD_BITS>,
+            status: StatusSync<K>,
+            pub core: $core<K, R, DEPTH, QDEPTH>,
+            cmd_kind: Signal<Local, Bits<2>>,
+            core_reset: Signal<Local, Bit>,
+        }
+
+        impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> $name<K, R, DEPTH, QDEPTH> {
+            /// The core for these parameters; `params` must agree with K and QDEPTH.
+            pub fn new(limits: Limits, params: CoreParams) -> Self {
+                assert_eq!(params.queue_depth, QDEPTH, "queue depth parameter");
+                assert_eq!(params.fifo_depth, DEPTH, "period FIFO depth parameter");
+                $name {
+                    clk: Default::default(),
+                    bus_clk: Default::default(),
+                    reset: Default::default(),
+                    ne: Default::default(),
+                    noe: Default::default(),
+                    nwe: Default::default(),
+                    addr: Default::default(),
+                    data_in: Default::default(),
+                    data_out: Default::default(),
+                    data_oe: Default::default(),
+                    step: Default::default(),
+                    dir: Default::default(),
+                    irq: Default::default(),
+                    fsm_state: Default::default(),
+                    rst_bus: Default::default(),
+                    rst_core: Default::default(),
+                    en_core: Default::default(),
+                    exmc: Default::default(),
+                    regs: RegFile::new(params),
+                    cmd_fifo: Default::default(),
+                    status: Default::default(),
+                    core: $core::new(limits),
+                    cmd_kind: Default::default(),
+                    core_reset: Default::default(),
+                }
+            }
+        }
+
+        impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for $name<K, R, DEPTH, QDEPTH> {
+            #[hdl_gen]
+            fn update(&mut self) {
+                // Resets and the enable, into each domain.
+                self.rst_bus.clock.next = self.bus_clk.val();
+                self.rst_bus.sig_in.next = self.reset.val();
+                self.rst_core.clock.next = self.clk.val();
+                self.rst_core.sig_in.next = self.reset.val();
+                self.en_core.clock.next = self.clk.val();
+                self.en_core.sig_in.next = self.regs.enable.val();
+                self.core_reset.next = self.rst_core.sig_out.val() | !self.en_core.sig_out.val();
+
+                // Bus side.
+                self.exmc.clock.next = self.bus_clk.val();
+                self.exmc.reset.next = self.rst_bus.sig_out.val();
+                self.exmc.ne.next = self.ne.val();
+                self.exmc.noe.next = self.noe.val();
+                self.exmc.nwe.next = self.nwe.val();
+                self.exmc.addr.next = self.addr.val();
+                self.exmc.data_in.next = self.data_in.val();
+                self.data_out.next = self.exmc.data_out.val();
+                self.data_oe.next = self.exmc.data_oe.val();
+                self.regs.clock.next = self.bus_clk.val();
+                self.regs.reset.next = self.rst_bus.sig_out.val();
+                self.regs.wr.next = self.exmc.wr.val();
+                self.regs.wr_addr.next = self.exmc.wr_addr.val();
+                self.regs.wr_data.next = self.exmc.wr_data.val();
+                self.regs.rd.next = self.exmc.rd.val();
+                self.regs.rd_addr.next = self.exmc.rd_addr.val();
+                self.exmc.rd_data.next = self.regs.rd_data.val();
+                self.irq.next = self.regs.irq.val();
+
+                // Commands across.
+                self.cmd_fifo.wclock.next = self.bus_clk.val();
+                self.cmd_fifo.wreset.next = self.rst_bus.sig_out.val();
+                self.cmd_fifo.write.next = self.regs.cmd_write.val();
+                self.cmd_fifo.data_in.next = self.regs.cmd_data.val();
+                self.regs.cmd_full.next = self.cmd_fifo.full.val();
+                self.cmd_fifo.rclock.next = self.clk.val();
+                self.cmd_fifo.rreset.next = self.rst_core.sig_out.val();
+                self.cmd_fifo.read.next = true;
+                self.cmd_kind.next = self.cmd_fifo.data_out.val().get_bits::<2>(104);
+
+                // Core side.
+                self.core.clock.next = self.clk.val();
+                self.core.reset.next = self.core_reset.val();
+                self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);
+                self.core.cmd_t.next = self.cmd_fifo.data_out.val().get_bits::<32>(32);
+                self.core.cmd_steps.next = self.cmd_fifo.data_out.val().get_bits::<32>(64);
+                self.core.cmd_axis.next = self.cmd_fifo.data_out.val().get_bits::<8>(96);
+                self.core.start_mask.next = self.cmd_fifo.data_out.val().get_bits::<K>(0);
+                self.core.ext_go.next = 0.into();
+                self.core.cmd_valid.next = false;
+                self.core.start.next = false;
+                self.core.abort.next = false;
+                if !self.cmd_fifo.empty.val() & !self.core_reset.val() {
+                    if self.cmd_kind.val() == 0 {
+                        self.core.cmd_valid.next = true;
+                    }
+                    if self.cmd_kind.val() == 1 {
+                        self.core.start.next = true;
+                    }
+                    if self.cmd_kind.val() == 2 {
+                        self.core.abort.next = true;
+                    }
+                }
+                self.step.next = self.core.step.val();
+                self.dir.next = self.core.dir.val();
+                self.fsm_state.next = self.core.fsm_state.val();
+
+                // Status back.
+                self.status.cclock.next = self.clk.val();
+                self.status.creset.next = self.rst_core.sig_out.val();
+                self.status.bclock.next = self.bus_clk.val();
+                self.status.breset.next = self.rst_bus.sig_out.val();
+                self.core.sel_axis.next = self.status.sel.val();
+                self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_done.val()) << 40)
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_rejected.val()) << 48)
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_underruns.val()) << 56)
+                    | (bit_cast::<STATUS_BITS, 4>(self.core.sel_error.val().get_bits::<4>(0)) << 64)
+                    | (bit_cast::<STATUS_BITS, 1>(self.core.sel_busy.val().into()) << 68)
+                    | (bit_cast::<STATUS_BITS, 1>((!self.core_reset.val()).into()) << 69);
+                self.regs.st_valid.next = self.status.valid.val();
+                self.regs.st_axis.next = self.status.axis.val();
+                self.regs.st_word.next = self.status.word.val();
+            }
+        }
+    };
+}
+
+stepper_top!(TdmStepper, TdmCore, "The exported IP core around the TDM core (module `tdm_stepper`).");
+stepper_top!(BaselineStepper, Baseline, "The same IP core around the non-TDM baseline, for the sweep.");

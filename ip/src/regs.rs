@@ -1,0 +1,442 @@
+//! The register table: the one source of truth for the host interface.
+//!
+//! The bus decoder ([`crate::hdl::regfile`]) takes every address, reset value and
+//! identity value from here; docs/registers.md ([`markdown`]) and the C header
+//! `tdm_stepper_regs.h` ([`c_header`]) are generated from it. Tests hold all three to
+//! the table: the header is compiled and checked with gcc, the committed files must
+//! equal what this module generates, and a bus-level test walks every register.
+//!
+//! Addresses are **16-bit word addresses** on the EXMC address pins `A[8:0]`; an MCU
+//! whose FSMC shifts the AHB address for a 16-bit bus (STM32, GD32) sees each
+//! register at byte offset `2 × address` from the bank base. Global registers sit at
+//! 0x000–0x0FF; axis `a` has a block of 16 words at `0x100 + 0x10·a`.
+
+use std::fmt::Write as _;
+
+/// Width of the EXMC address bus (word address).
+pub const ADDR_BITS: usize = 9;
+/// First word address of the per-axis blocks.
+pub const AXIS_BASE: u16 = 0x100;
+/// Words per axis block.
+pub const AXIS_STRIDE: u16 = 0x10;
+/// Most axes the register map (16-bit bitmaps, 16 axis blocks) can address.
+pub const MAX_AXES: usize = 16;
+/// Largest segment queue the 5-bit LEVEL field can show.
+pub const MAX_QUEUE_DEPTH: usize = 16;
+/// ID_MAGIC's value, "TS".
+pub const MAGIC: u16 = 0x5453;
+/// ID_VERSION: major in the high byte, minor in the low byte.
+pub const VERSION: u16 = 0x0100;
+
+/// How the host may access a field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Access {
+    /// Read only; writes are ignored.
+    Ro,
+    /// Read and write.
+    Rw,
+    /// Write only, with an action; reads return 0.
+    Wo,
+    /// Sticky flag: set by hardware, cleared by writing 1.
+    W1c,
+}
+
+impl Access {
+    pub fn name(self) -> &'static str {
+        match self {
+            Access::Ro => "RO",
+            Access::Rw => "RW",
+            Access::Wo => "WO",
+            Access::W1c => "W1C",
+        }
+    }
+}
+
+/// A field of a 16-bit register.
+#[derive(Clone, Debug)]
+pub struct Field {
+    pub name: &'static str,
+    pub lsb: u32,
+    pub width: u32,
+    pub access: Access,
+    pub doc: &'static str,
+}
+
+/// Where a register's reset (or constant) value comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reset {
+    Value(u16),
+    Magic,
+    Version,
+    Axes,
+    QueueDepth,
+    FifoDepth,
+    TCalc,
+    ClockHzLo,
+    ClockHzHi,
+}
+
+/// One 16-bit register. `per_axis` registers repeat in every axis block at
+/// `AXIS_BASE + AXIS_STRIDE·a + offset`; global ones sit at `offset`.
+#[derive(Clone, Debug)]
+pub struct Register {
+    pub name: &'static str,
+    pub offset: u16,
+    pub per_axis: bool,
+    pub reset: Reset,
+    pub fields: Vec<Field>,
+    pub doc: &'static str,
+}
+
+/// The parameters of one exported core that the identity registers report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoreParams {
+    pub axes: usize,
+    pub clock_hz: u32,
+    pub queue_depth: usize,
+    pub fifo_depth: usize,
+    pub t_calc: usize,
+}
+
+impl Register {
+    /// The register's value after reset, for a core with `p`.
+    pub fn reset_value(&self, p: &CoreParams) -> u16 {
+        match self.reset {
+            Reset::Value(v) => v,
+            Reset::Magic => MAGIC,
+            Reset::Version => VERSION,
+            Reset::Axes => p.axes as u16,
+            Reset::QueueDepth => p.queue_depth as u16,
+            Reset::FifoDepth => p.fifo_depth as u16,
+            Reset::TCalc => p.t_calc as u16,
+            Reset::ClockHzLo => p.clock_hz as u16,
+            Reset::ClockHzHi => (p.clock_hz >> 16) as u16,
+        }
+    }
+
+    /// Word address of this register (of axis `axis` if it is per axis).
+    pub fn address(&self, axis: usize) -> u16 {
+        if self.per_axis {
+            AXIS_BASE + AXIS_STRIDE * axis as u16 + self.offset
+        } else {
+            self.offset
+        }
+    }
+
+    /// The register's access: that of its fields if they agree, else "mixed".
+    pub fn access_name(&self) -> &'static str {
+        let first = self.fields[0].access;
+        if self.fields.iter().all(|f| f.access == first) {
+            first.name()
+        } else {
+            "mixed"
+        }
+    }
+
+    pub fn field(&self, name: &str) -> &Field {
+        self.fields.iter().find(|f| f.name == name).unwrap_or_else(|| panic!("{}: no field {name}", self.name))
+    }
+}
+
+fn f(name: &'static str, lsb: u32, width: u32, access: Access, doc: &'static str) -> Field {
+    Field { name, lsb, width, access, doc }
+}
+
+fn reg(name: &'static str, offset: u16, per_axis: bool, reset: Reset, fields: Vec<Field>, doc: &'static str) -> Register {
+    Register { name, offset, per_axis, reset, fields, doc }
+}
+
+/// The register table.
+pub fn table() -> Vec<Register> {
+    use Access::*;
+    let whole = |a: Access, doc: &'static str| vec![f("VALUE", 0, 16, a, doc)];
+    let ro = |doc: &'static str| whole(Ro, doc);
+    vec![
+        reg("ID_MAGIC", 0x00, false, Reset::Magic, ro("0x5453 (\"TS\")"), "Identifies the core."),
+        reg("ID_VERSION", 0x01, false, Reset::Version, ro("major (15:8), minor (7:0)"), "Register map version."),
+        reg("ID_AXES", 0x02, false, Reset::Axes, ro("K, the number of axes"), "Axes in this core."),
+        reg("ID_QUEUE_DEPTH", 0x03, false, Reset::QueueDepth, ro("segments per axis queue"), "Segments an axis can hold queued (LEVEL's maximum)."),
+        reg("ID_FIFO_DEPTH", 0x04, false, Reset::FifoDepth, ro("periods per axis FIFO"), "Depth of each axis's period FIFO."),
+        reg("ID_T_CALC", 0x05, false, Reset::TCalc, ro("clk cycles per period"), "Cycles the shared unit spends per period (square-root path); an axis's period must stay ≥ K·T_CALC ticks for no underrun."),
+        reg("ID_CLOCK_HZ_LO", 0x06, false, Reset::ClockHzLo, ro("bits 15:0 of the core clock in Hz"), "Core clock frequency the export was made for, low half."),
+        reg("ID_CLOCK_HZ_HI", 0x07, false, Reset::ClockHzHi, ro("bits 31:16 of the core clock in Hz"), "Core clock frequency, high half."),
+        reg(
+            "CTRL", 0x08, false, Reset::Value(0),
+            vec![f("ENABLE", 0, 1, Rw, "1 runs the core; 0 holds it in reset (positions, queues, flags and counters cleared). Wait for GSTATUS.ENABLED before writing commands.")],
+            "Global control.",
+        ),
+        reg("START", 0x09, false, Reset::Value(0), vec![f("MASK", 0, 16, Wo, "axes to release together, bit a = axis a")],
+            "Synchronised start: the masked axes make their first step period on the same clock edge once each has its first period ready."),
+        reg("ABORT", 0x0A, false, Reset::Value(0), vec![f("ALL", 0, 1, Wo, "write 1: hard stop of every axis")],
+            "Hard stop: every queue and period FIFO empties, no further STEP edge rises (a pulse already high keeps its high time), positions stay exact."),
+        reg("IRQ_DONE", 0x0B, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: a segment of axis a finished (its last period ended)")], "Segment-done events."),
+        reg("IRQ_QLOW", 0x0C, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: axis a took a segment and its LEVEL is now ≤ QLOW_LEVEL")], "Queue-low events."),
+        reg("IRQ_ERROR", 0x0D, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: axis a set UNDERRUN, OVERFLOW or ERROR in its STATUS")], "Error events."),
+        reg("IRQ_MASK_DONE", 0x0E, false, Reset::Value(0), vec![f("AXES", 0, 16, Rw, "1 lets IRQ_DONE bit a raise the irq line")], "Enables for IRQ_DONE."),
+        reg("IRQ_MASK_QLOW", 0x0F, false, Reset::Value(0), vec![f("AXES", 0, 16, Rw, "1 lets IRQ_QLOW bit a raise the irq line")], "Enables for IRQ_QLOW."),
+        reg("IRQ_MASK_ERROR", 0x10, false, Reset::Value(0), vec![f("AXES", 0, 16, Rw, "1 lets IRQ_ERROR bit a raise the irq line")], "Enables for IRQ_ERROR."),
+        reg("QLOW_LEVEL", 0x11, false, Reset::Value(1), vec![f("LEVEL", 0, 5, Rw, "queue-low threshold, segments")], "Threshold of the queue-low event."),
+        reg(
+            "GSTATUS", 0x12, false, Reset::Value(0),
+            vec![
+                f("ENABLED", 0, 1, Ro, "the core has seen ENABLE = 1 and accepts commands"),
+                f("REFUSED", 1, 1, W1c, "a START, ABORT or push was refused: the core was not enabled or the command FIFO was full"),
+                f("IRQ", 2, 1, Ro, "the irq line"),
+            ],
+            "Global status.",
+        ),
+        reg("BUSY", 0x13, false, Reset::Value(0), vec![f("AXES", 0, 16, Ro, "bit a: axis a has segments queued, in flight or moving")], "Busy axes."),
+        reg("V0_LO", 0x0, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "start speed v0, Q0.32 steps per tick, bits 15:0")], "Staging: start speed, low half."),
+        reg("V0_HI", 0x1, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "v0 bits 31:16")], "Staging: start speed, high half."),
+        reg("T_LO", 0x2, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "duration T in clk ticks, bits 15:0")], "Staging: duration, low half."),
+        reg("T_HI", 0x3, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "T bits 31:16")], "Staging: duration, high half."),
+        reg("STEPS_LO", 0x4, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "signed steps θ (two's complement), bits 15:0")], "Staging: steps, low half."),
+        reg("STEPS_HI", 0x5, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "θ bits 31:16; the write pushes {V0, T, STEPS} into the axis queue")],
+            "Staging: steps, high half. Writing it pushes the staged segment."),
+        reg(
+            "STATUS", 0x6, true, Reset::Value(0),
+            vec![
+                f("LEVEL", 0, 5, Ro, "segments pushed and not yet taken by the scheduler (queued or in flight)"),
+                f("BUSY", 5, 1, Ro, "segments queued, in flight or moving"),
+                f("UNDERRUN", 6, 1, W1c, "a period came late: the pulse was stretched (no step lost)"),
+                f("OVERFLOW", 7, 1, W1c, "a push was refused: the queue (LEVEL = ID_QUEUE_DEPTH) or the command FIFO was full"),
+                f("ERROR", 8, 1, W1c, "a segment was rejected; ERROR_CODE says why. Clearing it clears ERROR_CODE"),
+                f("ERROR_CODE", 12, 4, Ro, "1 T = 0, 2 would reverse, 3 period too short, 4 T, 5 steps, 6 v0 out of range"),
+            ],
+            "Axis status.",
+        ),
+        reg("POS_LO", 0x7, true, Reset::Value(0), vec![f("VALUE", 0, 16, Ro, "position bits 15:0; reading it latches bits 31:16 for POS_HI")], "Signed position in steps, low half."),
+        reg("POS_HI", 0x8, true, Reset::Value(0), vec![f("VALUE", 0, 16, Ro, "position bits 31:16 as latched by the last POS_LO read")], "Position, high half (read POS_LO first)."),
+        reg("DONE_COUNT", 0x9, true, Reset::Value(0), vec![f("COUNT", 0, 8, Ro, "segments finished, wrapping at 256")], "Segments done."),
+    ]
+}
+
+/// The register named `name`.
+pub fn register(name: &str) -> Register {
+    table().into_iter().find(|r| r.name == name).unwrap_or_else(|| panic!("no register {name}"))
+}
+
+/// Word address of global register `name`, or of per-axis register `name` in axis 0.
+pub fn addr(name: &str) -> u16 {
+    register(name).address(0)
+}
+
+/// Checks the table's own consistency: no two registers share an address, fields
+/// fit and do not overlap, global registers stay below the axis blocks.
+pub fn check_table() -> Result<(), String> {
+    let t = table();
+    let mut seen = std::collections::BTreeMap::new();
+    for r in &t {
+        let limit = if r.per_axis { AXIS_STRIDE } else { AXIS_BASE };
+        if r.offset >= limit {
+            return Err(format!("{}: offset {:#x} outside its space", r.name, r.offset));
+        }
+        if let Some(other) = seen.insert((r.per_axis, r.offset), r.name) {
+            return Err(format!("{} and {other} share offset {:#x}", r.name, r.offset));
+        }
+        let mut used = 0u32;
+        for fl in &r.fields {
+            if fl.width == 0 || fl.lsb + fl.width > 16 {
+                return Err(format!("{}.{}: bits outside 15:0", r.name, fl.name));
+            }
+            let mask = ((1u32 << fl.width) - 1) << fl.lsb;
+            if used & mask != 0 {
+                return Err(format!("{}.{}: overlaps another field", r.name, fl.name));
+            }
+            used |= mask;
+        }
+    }
+    Ok(())
+}
+
+fn bits(fl: &Field) -> String {
+    if fl.width == 1 {
+        format!("{}", fl.lsb)
+    } else {
+        format!("{}:{}", fl.lsb + fl.width - 1, fl.lsb)
+    }
+}
+
+/// The C header `tdm_stepper_regs.h` for a core with `p`.
+pub fn c_header(p: &CoreParams) -> String {
+    let mut h = String::new();
+    let _ = writeln!(h, "/* tdm_stepper_regs.h: register map of the tdm-stepper IP core.");
+    let _ = writeln!(h, " * Generated by `tdm-stepper export` from the register table (ip/src/regs.rs). Do not edit.");
+    let _ = writeln!(h, " * Offsets are in bytes from the EXMC/FSMC bank base (16-bit bus: byte offset = 2 x word address).");
+    let _ = writeln!(h, " * Access every register as a 16-bit volatile halfword. */");
+    h.push_str("#ifndef TDM_STEPPER_REGS_H\n#define TDM_STEPPER_REGS_H\n\n#include <stdint.h>\n\n");
+    let _ = writeln!(h, "/* This export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc {} cycles. */", p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc);
+    let _ = writeln!(h, "#define TDM_AXES {}u", p.axes);
+    let _ = writeln!(h, "#define TDM_CLOCK_HZ {}u", p.clock_hz);
+    let _ = writeln!(h, "#define TDM_QUEUE_DEPTH {}u", p.queue_depth);
+    let _ = writeln!(h, "#define TDM_FIFO_DEPTH {}u", p.fifo_depth);
+    let _ = writeln!(h, "#define TDM_T_CALC {}u", p.t_calc);
+    let _ = writeln!(h, "#define TDM_MAGIC 0x{MAGIC:04X}u");
+    let _ = writeln!(h, "#define TDM_VERSION 0x{VERSION:04X}u\n");
+    let _ = writeln!(h, "#define TDM_AXIS_BASE 0x{:03X}u /* byte offset of axis 0's block */", 2 * AXIS_BASE);
+    let _ = writeln!(h, "#define TDM_AXIS_STRIDE 0x{:02X}u /* bytes per axis block */\n", 2 * AXIS_STRIDE);
+    for r in table() {
+        let _ = writeln!(h, "/* {}: {} */", r.name, r.doc);
+        if r.per_axis {
+            let _ = writeln!(h, "#define TDM_{}(axis) (TDM_AXIS_BASE + (axis) * TDM_AXIS_STRIDE + 0x{:02X}u)", r.name, 2 * r.offset);
+        } else {
+            let _ = writeln!(h, "#define TDM_{} 0x{:03X}u", r.name, 2 * r.offset);
+        }
+        for fl in &r.fields {
+            if fl.name == "VALUE" {
+                continue;
+            }
+            let mask = ((1u32 << fl.width) - 1) << fl.lsb;
+            let _ = writeln!(h, "#define TDM_{}_{}_SHIFT {}u", r.name, fl.name, fl.lsb);
+            let _ = writeln!(h, "#define TDM_{}_{}_MASK 0x{:04X}u /* {}: {} */", r.name, fl.name, mask, fl.access.name(), fl.doc);
+        }
+        let _ = writeln!(h);
+    }
+    h.push_str("/* Segment error codes (STATUS.ERROR_CODE). */\n");
+    for (code, name) in ERROR_CODES {
+        let _ = writeln!(h, "#define TDM_ERR_{name} {code}u");
+    }
+    h.push_str("\n/* Access helpers: base is the bank's address, e.g. 0x60000000 for FSMC bank 1. */\n");
+    h.push_str("#define TDM_REG(base, off) (*(volatile uint16_t *)((uintptr_t)(base) + (off)))\n\n");
+    h.push_str("#endif /* TDM_STEPPER_REGS_H */\n");
+    h
+}
+
+/// Error codes of STATUS.ERROR_CODE, as the model defines them.
+pub const ERROR_CODES: [(u8, &str); 6] = [
+    (1, "TICKS_ZERO"),
+    (2, "REVERSES"),
+    (3, "PERIOD_TOO_SHORT"),
+    (4, "TICKS_RANGE"),
+    (5, "STEPS_RANGE"),
+    (6, "RATE_RANGE"),
+];
+
+/// docs/registers.md for a core with `p`: the map, every field, the bus timing and
+/// the write sequence of a two-axis synchronised move.
+pub fn markdown(p: &CoreParams) -> String {
+    let mut m = String::new();
+    m.push_str("# tdm-stepper registers\n\n");
+    m.push_str("Generated from the register table (`ip/src/regs.rs`) by `tdm-stepper export`; a test fails when this file is stale. ");
+    let _ = writeln!(
+        m,
+        "Values shown for the default export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc = {} cycles.\n",
+        p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc
+    );
+    m.push_str(BUS_TEXT);
+    m.push_str("\n## Register map\n\n");
+    m.push_str("Word address on `A[8:0]`; byte offset from the bank base is twice that. Per-axis registers repeat for axis `a` at word `0x100 + 0x10·a + offset`. Unknown addresses read 0 and ignore writes.\n\n");
+    m.push_str("| word | byte | name | access | reset | description |\n|---|---|---|---|---|---|\n");
+    for r in table() {
+        let (word, byte) = if r.per_axis {
+            (format!("0x100 + 0x10·a + 0x{:X}", r.offset), format!("0x200 + 0x20·a + 0x{:02X}", 2 * r.offset))
+        } else {
+            (format!("0x{:03X}", r.offset), format!("0x{:03X}", 2 * r.offset))
+        };
+        let _ = writeln!(m, "| {word} | {byte} | {} | {} | 0x{:04X} | {} |", r.name, r.access_name(), r.reset_value(p), r.doc);
+    }
+    m.push_str("\n## Fields\n\n| register | field | bits | access | meaning |\n|---|---|---|---|---|\n");
+    for r in table() {
+        for fl in &r.fields {
+            let _ = writeln!(m, "| {} | {} | {} | {} | {} |", r.name, fl.name, bits(fl), fl.access.name(), fl.doc);
+        }
+    }
+    m.push_str("\nError codes: ");
+    let codes: Vec<String> = ERROR_CODES.iter().map(|(c, n)| format!("{c} `{n}`")).collect();
+    m.push_str(&codes.join(", "));
+    m.push_str(". Segment fields and their ranges: docs/model.md.\n");
+    m.push_str(SEQUENCE_TEXT);
+    m
+}
+
+const BUS_TEXT: &str = r#"## The bus
+
+The core is an EXMC/FSMC slave in asynchronous SRAM mode (mode 1), 16-bit data, no
+NWAIT. Its pins at the IP boundary: `ne`, `noe`, `nwe` (active low), `addr[8:0]`,
+`data_in[15:0]`, `data_out[15:0]` and `data_oe`; your top level owns the pads
+(`assign D = data_oe ? data_out : 16'bz; data_in = D`). `data_oe` is `!ne & !noe`
+straight from the pins, so the core drives the bus only while the MCU reads it.
+
+The slave samples the strobes, address and data through two flip-flops in
+`bus_clk`, which may be unrelated to `clk`. A write is captured while NWE and NE have
+been sampled low twice in a row, and committed once either is sampled high: a strobe
+too short to be sampled low twice is dropped whole, so a cut-off write never changes
+a register. A read loads the register's value when NOE is first sampled low and holds
+it until the next read.
+
+**Minimum timing**, in periods of `bus_clk` (T_bus):
+
+| phase | minimum | why |
+|---|---|---|
+| write: NWE low (DATAST) | 3 T_bus | two samples low, whatever the phase |
+| write: address and data | stable while NWE is low | sampled with it |
+| NWE or NOE high between accesses (ADDSET + turnaround) | 2 T_bus | the end of the strobe is seen |
+| read: NOE low until the MCU samples data (DATAST) | 5 T_bus + board delay | 2 synchroniser stages, the decode register, the output |
+| read: address stable before NOE falls | 0 (set during ADDSET) | sampled with NOE |
+
+To program the FSMC (mode 1), convert to HCLK cycles: DATAST ≥ ⌈5·T_bus/T_HCLK⌉ (reads)
+and ⌈3·T_bus/T_HCLK⌉ (writes; use the read value for one timing register), ADDSET ≥
+⌈2·T_bus/T_HCLK⌉. Example: STM32F407 at HCLK = 168 MHz with bus_clk = 100 MHz:
+T_bus/T_HCLK = 1.68, so DATAST = 9 and ADDSET = 4 HCLK (a read then takes about 80 ns).
+
+**32-bit values** are two halfwords. Staging registers may be written in any order;
+writing STEPS_HI pushes the segment. A position is read POS_LO first: that read
+latches the high half, and the following POS_HI read returns it, so the two halves
+are one sample (one latch for all axes: do not interleave two axes' reads).
+
+**Status crossing.** Status and positions come back from `clk` through a handshake
+that copies one axis's status word at a time, round robin. So what you read is at
+most about K·(4 T_clk + 4 T_bus) old; LEVEL and BUSY count a push at once (they are
+kept on the bus side), so a just-pushed segment never reads as idle.
+"#;
+
+const SEQUENCE_TEXT: &str = r#"
+## A two-axis synchronised move, step by step
+
+The paper's experiment: clk = 50 MHz, axis 0 moves 2,400 steps and axis 1 1,800 steps,
+each as 20 ms accelerate, 10 ms cruise, 20 ms decelerate, from rest to rest. The
+planner (`tdm_stepper::model::planner::trapezoid_by_ticks`) gives three segments per
+axis `{v0 (Q0.32 steps/tick), T (ticks), steps}`. With `R(x) = TDM_REG(base, x)`:
+
+```c
+#include "tdm_stepper_regs.h"
+#define R(off) TDM_REG(0x60000000u, off)        /* FSMC bank 1, NE1 */
+
+uint16_t tdm_read16(uint32_t off) { return R(off); }
+
+int tdm_init(void) {
+    if (R(TDM_ID_MAGIC) != TDM_MAGIC) return -1;  /* wrong bank or timing */
+    R(TDM_CTRL) = 1;                              /* ENABLE */
+    while (!(R(TDM_GSTATUS) & TDM_GSTATUS_ENABLED_MASK)) {}
+    return 0;
+}
+
+void tdm_push(unsigned axis, uint32_t v0, uint32_t t, int32_t steps) {
+    while ((R(TDM_STATUS(axis)) & TDM_STATUS_LEVEL_MASK) >= TDM_QUEUE_DEPTH) {}
+    R(TDM_V0_LO(axis)) = (uint16_t)v0;    R(TDM_V0_HI(axis)) = (uint16_t)(v0 >> 16);
+    R(TDM_T_LO(axis)) = (uint16_t)t;      R(TDM_T_HI(axis)) = (uint16_t)(t >> 16);
+    R(TDM_STEPS_LO(axis)) = (uint16_t)steps;
+    R(TDM_STEPS_HI(axis)) = (uint16_t)((uint32_t)steps >> 16);   /* pushes */
+}
+
+int32_t tdm_position(unsigned axis) {
+    uint16_t lo = R(TDM_POS_LO(axis));    /* latches the high half */
+    uint16_t hi = R(TDM_POS_HI(axis));
+    return (int32_t)(((uint32_t)hi << 16) | lo);
+}
+
+void paper_move(void) {
+    /* axis 0: 2,400 steps; axis 1: 1,800 steps (v0 = 0, 1,000,000 ticks each) */
+    tdm_push(0, 0, 1000000, 800);  tdm_push(0, 6871948, 500000, 800);  tdm_push(0, 6871948, 1000000, 800);
+    tdm_push(1, 0, 1000000, 600);  tdm_push(1, 5153961, 500000, 600);  tdm_push(1, 5153961, 1000000, 600);
+    R(TDM_IRQ_MASK_ERROR) = 0x3;          /* optional: irq on any error of axes 0, 1 */
+    R(TDM_START) = 0x3;                   /* both axes start on the same clk edge */
+    while (R(TDM_BUSY) & 0x3) {}          /* about 50 ms */
+    /* tdm_position(0) == 2400, tdm_position(1) == 1800 */
+}
+```
+
+Check `STATUS.ERROR` after pushing: a rejected segment is dropped with its code,
+and the segments queued behind it still run. `ABORT` stops everything at once; the
+positions then say exactly where each axis is.
+"#;

@@ -1,0 +1,223 @@
+//! The EXMC bus model: an MCU's FSMC in asynchronous SRAM mode 1, 16-bit, clocked by
+//! its own HCLK (unrelated to the core's clocks), turned into [`BusEvent`]s for
+//! [`super::system`].
+//!
+//! An access holds NE low for ADDSET cycles with the address out and both strobes
+//! high, then DATAST cycles with NWE (data driven) or NOE low, then NE and the strobe
+//! rise together and the bus rests one cycle. A read samples the data at the end of
+//! DATAST, just before NOE rises. [`BusTiming::minimum`] is the documented minimum
+//! (docs/registers.md) for given clocks. Inputs, in order: `reset`, `ne`, `noe`,
+//! `nwe`, `addr`, `data_in`.
+
+use super::system::{BusEvent, SystemSpec, SystemTrace};
+use super::tb::Port;
+use crate::model::Segment;
+use crate::regs::{self, ADDR_BITS};
+
+/// FSMC timing, in HCLK cycles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BusTiming {
+    /// Half the HCLK period, ps (a multiple of 3).
+    pub mcu_half_ps: u64,
+    pub addset: u64,
+    pub datast_write: u64,
+    pub datast_read: u64,
+}
+
+/// Bus clocks the slave needs (docs/registers.md): strobes high, NWE low, NOE low.
+pub const MIN_HIGH_BUS_CLOCKS: u64 = 2;
+pub const MIN_WRITE_BUS_CLOCKS: u64 = 3;
+pub const MIN_READ_BUS_CLOCKS: u64 = 5;
+
+impl BusTiming {
+    /// The documented minimum for a slave sampling at `bus_half_ps`:
+    /// ADDSET = ⌈2·T_bus/T_HCLK⌉, DATAST = ⌈3·T_bus/T_HCLK⌉ (write), ⌈5·T_bus/T_HCLK⌉ (read).
+    pub fn minimum(bus_half_ps: u64, mcu_half_ps: u64) -> BusTiming {
+        let cycles = |n: u64| (n * bus_half_ps).div_ceil(mcu_half_ps);
+        BusTiming {
+            mcu_half_ps,
+            addset: cycles(MIN_HIGH_BUS_CLOCKS),
+            datast_write: cycles(MIN_WRITE_BUS_CLOCKS),
+            datast_read: cycles(MIN_READ_BUS_CLOCKS),
+        }
+    }
+}
+
+/// The interface [`super::system`] drives: the EXMC pins in, `watch` outputs out,
+/// `data_out` sampled.
+pub fn system_spec(watch: Vec<Port>) -> SystemSpec {
+    SystemSpec {
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("ne", 1),
+            Port::new("noe", 1),
+            Port::new("nwe", 1),
+            Port::new("addr", ADDR_BITS),
+            Port::new("data_in", 16),
+        ],
+        watch,
+        sample: Port::new("data_out", 16),
+    }
+}
+
+/// Builds a bus transaction list. Starts in reset, pins idle.
+#[derive(Clone, Debug)]
+pub struct BusModel {
+    pub timing: BusTiming,
+    pins: [u128; 6],
+    /// HCLK cycle of the next access.
+    now: u64,
+    events: Vec<BusEvent>,
+    reads: Vec<(usize, u16)>,
+}
+
+/// Handle of a read: [`BusModel::value`] gives what it returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ReadId(usize);
+
+impl BusModel {
+    pub fn new(timing: BusTiming) -> BusModel {
+        assert!(timing.mcu_half_ps % 3 == 0, "HCLK half period must be a multiple of 3 ps");
+        let pins = [1, 1, 1, 1, 0, 0];
+        BusModel { timing, pins, now: 0, events: vec![BusEvent { time_ps: 2, inputs: pins.to_vec(), sample: false }], reads: vec![] }
+    }
+
+    fn time(&self, cycle: u64) -> u64 {
+        2 + 2 * self.timing.mcu_half_ps * cycle
+    }
+
+    /// HCLK cycles to cover `ps` picoseconds.
+    pub fn cycles_for_ps(&self, ps: u64) -> u64 {
+        ps.div_ceil(2 * self.timing.mcu_half_ps)
+    }
+
+    /// Time of the next access, ps.
+    pub fn now_ps(&self) -> u64 {
+        self.time(self.now)
+    }
+
+    fn set(&mut self, cycle: u64, pins: [u128; 6], sample: bool) {
+        let t = self.time(cycle);
+        self.pins = pins;
+        match self.events.last_mut() {
+            Some(e) if e.time_ps == t => {
+                e.inputs = pins.to_vec();
+                e.sample |= sample;
+            }
+            _ => {
+                assert!(self.events.last().is_none_or(|e| e.time_ps < t), "bus events out of order");
+                self.events.push(BusEvent { time_ps: t, inputs: pins.to_vec(), sample });
+            }
+        }
+    }
+
+    /// Holds reset for `cycles` HCLK cycles from now, then releases it.
+    pub fn reset(&mut self, cycles: u64) {
+        let mut p = self.pins;
+        p[0] = 1;
+        self.set(self.now, p, false);
+        self.now += cycles;
+        p[0] = 0;
+        self.set(self.now, p, false);
+        self.now += 1;
+    }
+
+    /// Waits `cycles` HCLK cycles.
+    pub fn idle(&mut self, cycles: u64) {
+        self.now += cycles;
+    }
+
+    /// Waits until `ps`.
+    pub fn idle_until_ps(&mut self, ps: u64) {
+        self.now = self.now.max(self.cycles_for_ps(ps));
+    }
+
+    /// A write whose NWE stays low `low` cycles (DATAST for a normal write).
+    pub fn write_with_low(&mut self, addr: u16, data: u16, low: u64) {
+        let t = self.timing;
+        let mut p = self.pins;
+        p[1] = 0;
+        p[2] = 1;
+        p[3] = 1;
+        p[4] = addr as u128;
+        self.set(self.now, p, false);
+        p[3] = 0;
+        p[5] = data as u128;
+        self.set(self.now + t.addset, p, false);
+        p[1] = 1;
+        p[3] = 1;
+        self.set(self.now + t.addset + low, p, false);
+        self.now += t.addset + low + 1;
+    }
+
+    pub fn write(&mut self, addr: u16, data: u16) {
+        self.write_with_low(addr, data, self.timing.datast_write);
+    }
+
+    pub fn read(&mut self, addr: u16) -> ReadId {
+        let t = self.timing;
+        let mut p = self.pins;
+        p[1] = 0;
+        p[2] = 1;
+        p[3] = 1;
+        p[4] = addr as u128;
+        self.set(self.now, p, false);
+        p[2] = 0;
+        self.set(self.now + t.addset, p, false);
+        p[1] = 1;
+        p[2] = 1;
+        self.set(self.now + t.addset + t.datast_read, p, true);
+        self.reads.push((self.events.len() - 1, addr));
+        self.now += t.addset + t.datast_read + 1;
+        ReadId(self.reads.len() - 1)
+    }
+
+    pub fn events(&self) -> &[BusEvent] {
+        &self.events
+    }
+
+    /// What read `id` returned in `trace` (None: undefined bits).
+    pub fn value(&self, trace: &SystemTrace, id: ReadId) -> Option<u16> {
+        let ev = self.reads[id.0].0;
+        trace.samples.iter().find(|s| s.0 == ev).and_then(|s| s.1).map(|v| v as u16)
+    }
+
+    // ---- register-level helpers ---------------------------------------------
+
+    pub fn write_reg(&mut self, name: &str, axis: usize, data: u16) {
+        self.write(regs::register(name).address(axis), data);
+    }
+
+    pub fn read_reg(&mut self, name: &str, axis: usize) -> ReadId {
+        self.read(regs::register(name).address(axis))
+    }
+
+    /// Stages `seg` in `axis`'s registers, STEPS_HI last (the push).
+    pub fn push_segment(&mut self, axis: usize, seg: &Segment) {
+        let steps = seg.steps as u32;
+        self.write_reg("V0_LO", axis, seg.v0_rate as u16);
+        self.write_reg("V0_HI", axis, (seg.v0_rate >> 16) as u16);
+        self.write_reg("T_LO", axis, seg.t_ticks as u16);
+        self.write_reg("T_HI", axis, (seg.t_ticks >> 16) as u16);
+        self.write_reg("STEPS_LO", axis, steps as u16);
+        self.write_reg("STEPS_HI", axis, (steps >> 16) as u16);
+    }
+
+    /// Reads the position of `axis`: POS_LO (latching the high half), then POS_HI.
+    pub fn read_position(&mut self, axis: usize) -> (ReadId, ReadId) {
+        (self.read_reg("POS_LO", axis), self.read_reg("POS_HI", axis))
+    }
+
+    /// Sets CTRL.ENABLE and waits `wait_cycles` HCLK cycles for the core to see it.
+    pub fn enable(&mut self, wait_cycles: u64) {
+        self.write_reg("CTRL", 0, 1);
+        self.idle(wait_cycles);
+    }
+}
+
+/// The position two reads returned.
+pub fn position(bus: &BusModel, trace: &SystemTrace, ids: (ReadId, ReadId)) -> Option<i32> {
+    let lo = bus.value(trace, ids.0)? as u32;
+    let hi = bus.value(trace, ids.1)? as u32;
+    Some((hi << 16 | lo) as i32)
+}
