@@ -320,7 +320,7 @@ pub fn markdown(p: &CoreParams) -> String {
     m.push_str("Generated from the register table (`ip/src/regs.rs`) by `tdm-stepper export`; a test fails when this file is stale. ");
     let _ = writeln!(
         m,
-        "Values shown for the default export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc = {} cycles.\n",
+        "Values for this export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc = {} cycles (docs/registers.md is the default export's).\n",
         p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc
     );
     m.push_str(BUS_TEXT);

@@ -697,7 +697,7 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.r_t.next = self.st_t[i].q.val();
                 self.r_steps.next = self.st_steps[i].q.val();
                 self.r_level.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
-                self.r_busy.next = self.busy_bus[i].value.val();
+                self.r_busy.next = ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
                 self.r_fu.next = self.f_under[i].q.val();
                 self.r_fo.next = self.f_over[i].q.val();
                 self.r_fe.next = self.f_err[i].q.val();

@@ -1,0 +1,299 @@
+//! `tdm-stepper export`: the IP core for a chosen axis count, as Verilog with its C
+//! header, register document and manifest.
+//!
+//! The design is generic over K (and its internal widths) at compile time, so the
+//! supported configurations are instantiated here: K = 1..=16 ([`MAX_AXES`]), the
+//! TDM core (the non-TDM baseline for K in [`BASELINE_AXES`]), period FIFO depth 4. The shared
+//! unit retires R = 8 bits per cycle ([`RADIX_BITS`]): t_calc = 12 cycles per period.
+//! The segment queue holds [`QUEUE_DEPTH`] segments per axis.
+
+use crate::hdl::core::t_calc_sqrt;
+use crate::hdl::top::{BaselineStepper, TdmStepper};
+use crate::model::Limits;
+use crate::regs::{self, CoreParams};
+use rust_hdl::prelude::*;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Bits per cycle of the shared multiplier, divider and square root.
+pub const RADIX_BITS: usize = 8;
+/// Segments per axis queue.
+pub const QUEUE_DEPTH: usize = 16;
+/// Most axes an export supports (the register map's limit).
+pub const MAX_AXES: usize = regs::MAX_AXES;
+/// The period FIFO depth of an export. Each supported configuration is compiled
+/// into the tool (the design is generic at compile time), so one depth is offered:
+/// 4 covers a segment change on every axis at once (docs/architecture.md).
+pub const FIFO_DEPTH: usize = 4;
+/// Period FIFO depths an export supports.
+pub const FIFO_DEPTHS: [usize; 1] = [FIFO_DEPTH];
+/// Core clock range, Hz (the identity register holds it; every period is in ticks).
+pub const CLOCK_HZ_RANGE: std::ops::RangeInclusive<u32> = 1_000_000..=400_000_000;
+/// Name of the exported top module.
+pub const TOP_MODULE: &str = "tdm_stepper";
+
+/// TDM core or the non-TDM baseline (K one-axis cores behind the same registers).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Arch {
+    Tdm,
+    Baseline,
+}
+
+impl std::str::FromStr for Arch {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Arch, String> {
+        match s {
+            "tdm" => Ok(Arch::Tdm),
+            "baseline" => Ok(Arch::Baseline),
+            _ => Err(format!("unknown architecture {s:?}: expected tdm or baseline")),
+        }
+    }
+}
+
+impl Arch {
+    pub fn name(self) -> &'static str {
+        match self {
+            Arch::Tdm => "tdm",
+            Arch::Baseline => "baseline",
+        }
+    }
+}
+
+/// What to export.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ExportOptions {
+    pub axes: usize,
+    pub arch: Arch,
+    pub clock_hz: u32,
+    pub fifo_depth: usize,
+}
+
+impl Default for ExportOptions {
+    fn default() -> Self {
+        ExportOptions { axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: 4 }
+    }
+}
+
+impl ExportOptions {
+    /// Checks the options; the message says what is supported.
+    pub fn check(&self) -> Result<(), String> {
+        if !(1..=MAX_AXES).contains(&self.axes) {
+            return Err(format!("--axes {}: supported axis counts are 1 to {MAX_AXES}", self.axes));
+        }
+        if self.arch == Arch::Baseline && !BASELINE_AXES.contains(&self.axes) {
+            return Err(format!("--arch baseline --axes {}: the baseline is built for {BASELINE_AXES:?} axes", self.axes));
+        }
+        if !CLOCK_HZ_RANGE.contains(&self.clock_hz) {
+            return Err(format!(
+                "--clock-hz {}: supported core clocks are {} to {} Hz",
+                self.clock_hz,
+                CLOCK_HZ_RANGE.start(),
+                CLOCK_HZ_RANGE.end()
+            ));
+        }
+        if !FIFO_DEPTHS.contains(&self.fifo_depth) {
+            return Err(format!("--fifo-depth {}: supported period FIFO depths are {FIFO_DEPTHS:?}", self.fifo_depth));
+        }
+        Ok(())
+    }
+
+    pub fn params(&self) -> CoreParams {
+        CoreParams {
+            axes: self.axes,
+            clock_hz: self.clock_hz,
+            queue_depth: QUEUE_DEPTH,
+            fifo_depth: self.fifo_depth,
+            t_calc: t_calc_sqrt(RADIX_BITS),
+        }
+    }
+
+    /// Shortest step period an axis sustains without underrun, in ticks: K·t_calc
+    /// for the TDM core (the shared unit serves K axes), t_calc for the baseline,
+    /// and never below the 2-tick minimum of the step generator.
+    pub fn min_period_ticks(&self) -> u64 {
+        let t = t_calc_sqrt(RADIX_BITS) as u64;
+        let k = match self.arch {
+            Arch::Tdm => self.axes as u64,
+            Arch::Baseline => 1,
+        };
+        (k * t).max(crate::model::segment::MIN_PERIOD_FLOOR_TICKS as u64)
+    }
+
+    /// The highest sustained step rate per axis, steps/s.
+    pub fn max_step_rate_hz(&self) -> f64 {
+        self.clock_hz as f64 / self.min_period_ticks() as f64
+    }
+}
+
+macro_rules! stepper_fn {
+    ($fname:ident, $top:ident) => {
+        #[inline(never)]
+        fn $fname<const K: usize>(params: CoreParams) -> String {
+            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(Limits::default(), params));
+            u.clk.connect();
+            u.bus_clk.connect();
+            u.reset.connect();
+            u.ne.connect();
+            u.noe.connect();
+            u.nwe.connect();
+            u.addr.connect();
+            u.data_in.connect();
+            u.connect_all();
+            generate_verilog(u.as_ref())
+        }
+    };
+}
+stepper_fn!(tdm_verilog, TdmStepper);
+stepper_fn!(baseline_verilog, BaselineStepper);
+
+macro_rules! dispatch {
+    ($opts:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
+        let o = $opts;
+        match o.arch {
+            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($params),)* _ => unreachable!() },
+            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($params),)* _ => unreachable!() },
+        }
+    }};
+}
+
+/// Axis counts of the non-TDM baseline (it exists for the sweep; each count costs
+/// compile time).
+pub const BASELINE_AXES: [usize; 5] = [1, 2, 4, 8, 16];
+
+/// The exported Verilog, top module [`TOP_MODULE`].
+pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
+    opts.check()?;
+    let params = opts.params();
+    let o = *opts;
+    // The blocks are large; build them on a thread with room for them.
+    let text = std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || dispatch!(o, params, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16], [1, 2, 4, 8, 16]))
+        .map_err(|e| format!("cannot start the generator thread: {e}"))?
+        .join()
+        .map_err(|_| "the Verilog generator panicked".to_string())?;
+    rename_top(&text)
+}
+
+/// rust-hdl calls the top module `top` and each submodule `top$path`; the IP's are
+/// `tdm_stepper` and `tdm_stepper$path`.
+fn rename_top(text: &str) -> Result<String, String> {
+    let from = "\nmodule top(";
+    if text.matches(from).count() != 1 {
+        return Err("generated Verilog has no single `module top(`".into());
+    }
+    let text = text.replacen(from, &format!("\nmodule {TOP_MODULE}("), 1);
+    let mut out = String::with_capacity(text.len() + 4096);
+    let mut rest = text.as_str();
+    while let Some(k) = rest.find("top$") {
+        let boundary = rest[..k].chars().last().is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '$'));
+        out.push_str(&rest[..k]);
+        out.push_str(if boundary { "tdm_stepper$" } else { "top$" });
+        rest = &rest[k + 4..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+/// Files written by [`export`].
+#[derive(Clone, Debug)]
+pub struct Exported {
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes the IP into `dir`.
+pub fn export(opts: &ExportOptions, dir: &Path) -> Result<Exported, String> {
+    let v = verilog(opts)?;
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let p = opts.params();
+    let files = [
+        ("tdm_stepper.v", v),
+        ("tdm_stepper_regs.h", regs::c_header(&p)),
+        ("registers.md", regs::markdown(&p)),
+        ("manifest.json", serde_json::to_string_pretty(&manifest(opts)).expect("json") + "\n"),
+    ];
+    let mut out = Vec::new();
+    for (name, text) in files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        out.push(path);
+    }
+    Ok(Exported { files: out })
+}
+
+/// One port of the exported module.
+#[derive(Clone, Debug, Serialize, PartialEq, Eq)]
+pub struct PortDoc {
+    pub name: &'static str,
+    pub direction: &'static str,
+    pub width: usize,
+    pub clock: &'static str,
+    pub description: &'static str,
+}
+
+/// The ports of `tdm_stepper` for K axes (a test holds this list to the Verilog).
+pub fn ports(axes: usize) -> Vec<PortDoc> {
+    let p = |name, direction, width, clock, description| PortDoc { name, direction, width, clock, description };
+    vec![
+        p("clk", "input", 1, "-", "core clock: every step period is counted in its ticks"),
+        p("bus_clk", "input", 1, "-", "samples the EXMC pins; may be unrelated to clk"),
+        p("reset", "input", 1, "async", "active high, synchronised into each clock; hold ≥ 4 cycles of the slower clock"),
+        p("ne", "input", 1, "async", "EXMC chip select, active low"),
+        p("noe", "input", 1, "async", "EXMC output enable (read strobe), active low"),
+        p("nwe", "input", 1, "async", "EXMC write enable (write strobe), active low"),
+        p("addr", "input", regs::ADDR_BITS, "async", "EXMC address, 16-bit word address"),
+        p("data_in", "input", 16, "async", "EXMC data from the pads"),
+        p("data_out", "output", 16, "bus_clk", "EXMC data to the pads"),
+        p("data_oe", "output", 1, "async", "drive data_out onto the pads: !ne & !noe, combinational"),
+        p("step", "output", axes, "clk", "STEP of axis a in bit a: one 50% duty pulse per step, rising edge = the step"),
+        p("dir", "output", axes, "clk", "DIR of axis a in bit a: 1 = negative steps; changes only while STEP is low"),
+        p("irq", "output", 1, "bus_clk", "interrupt, active high: IRQ_* status under IRQ_MASK_*"),
+        p("fsm_state", "output", crate::hdl::core::STATE_BITS, "clk", "scheduler state (Gray code), for waveforms; leave open"),
+    ]
+}
+
+#[derive(Serialize)]
+struct Manifest {
+    top_module: &'static str,
+    arch: Arch,
+    axes: usize,
+    clock_hz: u32,
+    radix_bits: usize,
+    t_calc_cycles: usize,
+    t_calc_uniform_cycles: usize,
+    queue_depth: usize,
+    period_fifo_depth: usize,
+    command_fifo_depth: usize,
+    min_period_ticks: u64,
+    max_step_rate_hz: f64,
+    register_map_version: String,
+    ports: Vec<PortDoc>,
+    tools: Tools,
+}
+
+#[derive(Serialize)]
+struct Tools {
+    tdm_stepper: &'static str,
+    rust_hdl: &'static str,
+}
+
+fn manifest(opts: &ExportOptions) -> Manifest {
+    Manifest {
+        top_module: TOP_MODULE,
+        arch: opts.arch,
+        axes: opts.axes,
+        clock_hz: opts.clock_hz,
+        radix_bits: RADIX_BITS,
+        t_calc_cycles: t_calc_sqrt(RADIX_BITS),
+        t_calc_uniform_cycles: crate::hdl::core::T_CALC_UNIFORM,
+        queue_depth: QUEUE_DEPTH,
+        period_fifo_depth: opts.fifo_depth,
+        command_fifo_depth: crate::hdl::cdc::ASYNC_FIFO_DEPTH,
+        min_period_ticks: opts.min_period_ticks(),
+        max_step_rate_hz: opts.max_step_rate_hz(),
+        register_map_version: format!("{}.{}", regs::VERSION >> 8, regs::VERSION & 0xFF),
+        ports: ports(opts.axes),
+        tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },
+    }
+}

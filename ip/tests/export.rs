@@ -1,0 +1,190 @@
+//! `tdm-stepper export` as a user runs it, and what it writes: the four files, the
+//! committed docs/registers.md and docs/tdm_stepper_regs.h (they must equal what the
+//! register table generates), the C header under gcc -Wall -Werror, the module's
+//! ports against the documented list, Verilator -Wall lint for K = 1, 2, 8 and 16
+//! (and the baseline), and clear errors for bad arguments.
+
+mod common;
+
+use common::*;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use tdm_stepper::export::{self, ExportOptions};
+use tdm_stepper::regs;
+use tdm_stepper::verify::Simulator;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_tdm-stepper"))
+}
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn export_to(args: &[&str], name: &str) -> PathBuf {
+    let dir = sim_dir(name, Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = bin().args(["export", "--out"]).arg(&dir).args(args).output().unwrap();
+    assert!(out.status.success(), "export {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    dir
+}
+
+#[test]
+fn default_export_writes_the_ip_and_the_committed_docs_are_current() {
+    let dir = export_to(&[], "export_default");
+    for f in ["tdm_stepper.v", "tdm_stepper_regs.h", "registers.md", "manifest.json"] {
+        assert!(dir.join(f).is_file(), "{f} not written");
+    }
+    let read = |p: &Path| std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert_eq!(
+        read(&dir.join("registers.md")),
+        read(&repo().join("docs/registers.md")),
+        "docs/registers.md is stale: run `cargo run --release -- export --out /tmp/ip` and copy registers.md"
+    );
+    assert_eq!(
+        read(&dir.join("tdm_stepper_regs.h")),
+        read(&repo().join("docs/tdm_stepper_regs.h")),
+        "docs/tdm_stepper_regs.h is stale: copy it from a default export"
+    );
+    let m: serde_json::Value = serde_json::from_str(&read(&dir.join("manifest.json"))).unwrap();
+    let o = ExportOptions::default();
+    assert_eq!(m["top_module"], "tdm_stepper");
+    assert_eq!(m["axes"], 2);
+    assert_eq!(m["clock_hz"], 50_000_000);
+    assert_eq!(m["t_calc_cycles"], o.params().t_calc as u64);
+    assert_eq!(m["queue_depth"], export::QUEUE_DEPTH as u64);
+    assert_eq!(m["period_fifo_depth"], 4);
+    assert_eq!(m["min_period_ticks"], 2 * o.params().t_calc as u64);
+    assert!((m["max_step_rate_hz"].as_f64().unwrap() - 50e6 / (2.0 * o.params().t_calc as f64)).abs() < 1e-6);
+    assert_eq!(m["tools"]["rust_hdl"], "0.46.0");
+    assert_eq!(m["ports"].as_array().unwrap().len(), export::ports(2).len());
+    regs::check_table().unwrap();
+}
+
+/// The module header and port declarations of the exported Verilog, as
+/// (name, direction, width).
+fn verilog_ports(v: &str) -> Vec<(String, String, usize)> {
+    let start = v.find("\nmodule tdm_stepper(").expect("module tdm_stepper");
+    let body = &v[start..];
+    let header_end = body.find(");").unwrap();
+    let names: Vec<&str> = body["\nmodule tdm_stepper(".len()..header_end].split(',').map(|s| s.trim()).collect();
+    names
+        .iter()
+        .map(|n| {
+            let decl = body
+                .lines()
+                .map(|l| l.trim())
+                .find(|l| (l.starts_with("input ") || l.starts_with("output ")) && l.trim_end_matches(';').ends_with(&format!(" {n}")))
+                .unwrap_or_else(|| panic!("no declaration of port {n}"));
+            let dir = decl.split_whitespace().next().unwrap().to_string();
+            let width = match (decl.find('['), decl.find(':')) {
+                (Some(a), Some(b)) => decl[a + 1..b].parse::<usize>().unwrap() + 1,
+                _ => 1,
+            };
+            (n.to_string(), dir, width)
+        })
+        .collect()
+}
+
+#[test]
+fn exported_verilog_lints_clean_and_has_the_documented_ports() {
+    let waivers = repo().join("ip/verilog/lint_waivers.vlt");
+    for (k, arch) in [(1, "tdm"), (2, "tdm"), (8, "tdm"), (16, "tdm"), (2, "baseline")] {
+        let dir = export_to(&["--axes", &k.to_string(), "--arch", arch], &format!("export_lint_{arch}_{k}"));
+        let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
+        let want: Vec<(String, String, usize)> =
+            export::ports(k).iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
+        assert_eq!(verilog_ports(&v), want, "K = {k} {arch}: ports differ from export::ports (and the manifest)");
+        // No system tasks or delays. (rust-hdl's flip-flops carry `initial q = 0`
+        // blocks: power-up values, which FPGA synthesis honours.)
+        let b = v.as_bytes();
+        for (i, &c) in b.iter().enumerate() {
+            let prev_ident = i > 0 && (b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_' || b[i - 1] == b'$');
+            assert!(!(c == b'$' && !prev_ident), "K = {k}: a system task at byte {i}: {}", &v[i..(i + 20).min(v.len())]);
+            assert!(!(c == b'#' && b.get(i + 1).is_some_and(|d| d.is_ascii_digit())), "K = {k}: a delay at byte {i}");
+        }
+        for l in v.lines().filter(|l| l.contains("initial")) {
+            assert_eq!(l.trim(), "initial begin", "K = {k}: unexpected initial: {l}");
+        }
+        let inits = v.split("initial begin").skip(1).all(|rest| {
+            let block = &rest[..rest.find("end").unwrap()];
+            block.lines().map(|l| l.trim()).filter(|l| !l.is_empty()).all(|l| l.starts_with("q = ") && l.ends_with(';'))
+        });
+        assert!(inits, "K = {k}: an initial block does more than set a register's power-up value");
+        let out = Command::new("verilator")
+            .current_dir(&dir)
+            .args(["--lint-only", "-Wall", "--top-module", "tdm_stepper"])
+            .arg(&waivers)
+            .arg("tdm_stepper.v")
+            .output()
+            .expect("verilator is installed (scripts/test.sh installs it)");
+        assert!(out.status.success(), "K = {k} {arch}: verilator -Wall:\n{}", String::from_utf8_lossy(&out.stderr));
+    }
+    // No true combinational loop (the waived UNOPTFLAT are block-level only).
+    let dir = sim_dir("export_lint_tdm_2", Simulator::Verilator);
+    let out = Command::new("yosys")
+        .current_dir(&dir)
+        .args(["-q", "-p", "read_verilog tdm_stepper.v; hierarchy -top tdm_stepper; proc; flatten; check -assert"])
+        .output()
+        .expect("yosys is installed");
+    assert!(out.status.success(), "yosys check found a problem:\n{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn c_header_compiles_with_gcc_and_matches_the_table() {
+    let dir = export_to(&[], "export_header");
+    let mut c = String::from("#include <assert.h>\n#include \"tdm_stepper_regs.h\"\nint main(void) {\n");
+    // Every register's byte offset, for axes 0 and K-1, from the table.
+    for r in regs::table() {
+        if r.per_axis {
+            for a in [0usize, 1] {
+                c += &format!("    assert(TDM_{}({a}) == 0x{:X}u);\n", r.name, 2 * r.address(a));
+            }
+        } else {
+            c += &format!("    assert(TDM_{} == 0x{:X}u);\n", r.name, 2 * r.address(0));
+        }
+        for f in r.fields.iter().filter(|f| f.name != "VALUE") {
+            c += &format!("    assert(TDM_{}_{}_MASK == 0x{:X}u);\n", r.name, f.name, ((1u32 << f.width) - 1) << f.lsb);
+        }
+    }
+    // A few by hand, as an MCU engineer reads them in docs/registers.md.
+    c += "    assert(TDM_CTRL == 0x10u);\n    assert(TDM_STATUS(1) == 0x22Cu);\n    assert(TDM_POS_LO(0) == 0x20Eu);\n";
+    c += "    assert(TDM_AXES == 2u && TDM_MAGIC == 0x5453u);\n    return 0;\n}\n";
+    std::fs::write(dir.join("check.c"), c).unwrap();
+    let out = Command::new("gcc")
+        .current_dir(&dir)
+        .args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-o", "check", "check.c"])
+        .output()
+        .expect("gcc is installed");
+    assert!(out.status.success(), "gcc:\n{}", String::from_utf8_lossy(&out.stderr));
+    let run = Command::new(dir.join("check")).output().unwrap();
+    assert!(run.status.success(), "header values differ from the table:\n{}", String::from_utf8_lossy(&run.stderr));
+}
+
+#[test]
+fn bad_arguments_get_a_clear_error_and_no_panic() {
+    let tmp = sim_dir("export_bad", Simulator::Verilator);
+    std::fs::create_dir_all(&tmp).unwrap();
+    let file = tmp.join("a_file");
+    std::fs::write(&file, "x").unwrap();
+    let under_file = file.join("sub");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["--axes".into(), "0".into()], "axis counts are 1 to 16"),
+        (vec!["--axes".into(), "17".into()], "axis counts are 1 to 16"),
+        (vec!["--clock-hz".into(), "999".into()], "supported core clocks"),
+        (vec!["--clock-hz".into(), "500000000".into()], "supported core clocks"),
+        (vec!["--fifo-depth".into(), "3".into()], "period FIFO depths"),
+        (vec!["--arch".into(), "fast".into()], "expected tdm or baseline"),
+        (vec!["--arch".into(), "baseline".into(), "--axes".into(), "3".into()], "baseline is built for"),
+    ];
+    for (args, msg) in cases {
+        let out = bin().args(["export", "--out"]).arg(tmp.join("x")).args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(msg), "{args:?}: message {err:?} lacks {msg:?}");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    }
+    let out = bin().args(["export", "--out"]).arg(&under_file).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("cannot create") && !err.contains("panicked"), "unwritable DIR: {err}");
+}
