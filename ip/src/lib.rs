@@ -7,5 +7,6 @@ pub mod export;
 pub mod hdl;
 pub mod model;
 pub mod regs;
+pub mod sim;
 pub mod vectors;
 pub mod verify;

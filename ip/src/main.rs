@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 use tdm_stepper::export::{self, Arch, ExportOptions};
+use tdm_stepper::sim::{self, Engine, SimOptions};
 use tdm_stepper::{accuracy, vectors};
 
 #[derive(Parser)]
@@ -35,6 +36,31 @@ enum Command {
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
+    },
+    /// Simulate a move through the EXMC bus into the exported core; write a report,
+    /// an SVG beside it, and optionally a VCD.
+    Sim {
+        /// Number of axes K of the core (1 to 16; rust-hdl: 1, 2, 4 or 8).
+        #[arg(long, default_value_t = 2)]
+        axes: usize,
+        /// The moves, per axis, in steps/s, seconds and steps (see README).
+        #[arg(long)]
+        moves: PathBuf,
+        /// verilator (fast) or rust-hdl (the same design, about 1000 times slower).
+        #[arg(long, default_value = "verilator")]
+        engine: Engine,
+        /// Write a VCD (GTKWave, Surfer) of STEP, DIR, the scheduler state and the FIFO levels.
+        #[arg(long)]
+        vcd: Option<PathBuf>,
+        /// Only this window of the run, START_S:END_S seconds from its start.
+        #[arg(long, value_parser = sim::parse_window)]
+        vcd_window: Option<(f64, f64)>,
+        /// The JSON report; the SVG is written beside it.
+        #[arg(long)]
+        report: PathBuf,
+        /// Scratch folder for the simulator build.
+        #[arg(long, default_value = "target/tdm-stepper-sim")]
+        work: PathBuf,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -65,6 +91,35 @@ fn run(cli: Cli) -> Result<(), String> {
                 t0.elapsed().as_secs_f64()
             );
             for p in done.files {
+                println!("wrote {}", p.display());
+            }
+        }
+        Command::Sim { axes, moves, engine, vcd, vcd_window, report, work } => {
+            if vcd_window.is_some() && vcd.is_none() {
+                return Err("--vcd-window needs --vcd".into());
+            }
+            let opts = SimOptions { axes, moves, engine, vcd, vcd_window, report, work, progress: true };
+            let (r, files) = sim::run(&opts)?;
+            println!(
+                "simulated {:.4} s ({} clk cycles) in {:.1} s (build and run); skew {} ticks",
+                r.simulated_seconds,
+                r.clk_cycles,
+                r.wall_seconds_build_and_run,
+                r.skew_ticks.map_or("-".to_string(), |s| s.to_string())
+            );
+            for a in &r.axes {
+                println!(
+                    "axis {}: {} steps, position {}, max edge error {:.3} ticks, max period error {:.3} % ({:.3} % for periods >= 500 ticks), underrun {}",
+                    a.axis,
+                    a.steps,
+                    a.final_position.map_or("?".to_string(), |p| p.to_string()),
+                    a.max_edge_error_ticks,
+                    a.max_period_error_pct,
+                    a.max_period_error_pct_ge_500_ticks,
+                    if a.underrun { "YES" } else { "no" }
+                );
+            }
+            for p in files {
                 println!("wrote {}", p.display());
             }
         }

@@ -45,8 +45,9 @@ impl BusTiming {
 
 /// The interface [`super::system`] drives: the EXMC pins in, `watch` outputs out,
 /// `data_out` sampled.
-pub fn system_spec(watch: Vec<Port>) -> SystemSpec {
+pub fn system_spec(module: &str, watch: Vec<Port>) -> SystemSpec {
     SystemSpec {
+        module: module.to_string(),
         inputs: vec![
             Port::new("reset", 1),
             Port::new("ne", 1),

@@ -1,0 +1,454 @@
+//! `tdm-stepper sim`: a move, in physical units, written through the EXMC bus model
+//! into the exported core and simulated (Verilator by default, or rust-hdl), with a
+//! report, an SVG and optionally a VCD window.
+//!
+//! MOVES.json:
+//! ```json
+//! { "clock_hz": 50000000,
+//!   "axes": [
+//!     { "trapezoid": { "steps": 2400, "t_acc_s": 0.02, "t_cruise_s": 0.01, "t_dec_s": 0.02 } },
+//!     { "segments": [ { "v0_steps_per_s": 0, "t_s": 0.02, "steps": 600 },
+//!                     { "v0_steps_per_s": 60000, "t_s": 0.01, "steps": 600 } ] } ] }
+//! ```
+//! Every axis starts together (one START with all of them). The bus model drives the
+//! documented minimum timing from a 168 MHz MCU into a ≈100 MHz `bus_clk`; `clk` is
+//! `clock_hz` (rounded to a whole number of 3 ps half periods). While the bus rests
+//! for long, Verilator pauses `bus_clk` (it carries no STEP timing); see
+//! [`crate::verify::system::bus_pauses`].
+
+use crate::export::{self, ExportOptions, QUEUE_DEPTH, RADIX_BITS};
+use crate::hdl::top::TdmStepper;
+use crate::model::{planner, units, AxisRun, Limits, Segment};
+use crate::verify::bus::{position, system_spec, BusModel, BusTiming, ReadId};
+use crate::verify::system::{bus_pauses, run_system_rust_hdl, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
+use crate::verify::Port;
+use plotters::prelude::*;
+use rust_hdl::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The moves file.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MovesFile {
+    #[serde(default = "default_clock")]
+    pub clock_hz: u32,
+    pub axes: Vec<AxisMove>,
+}
+
+fn default_clock() -> u32 {
+    50_000_000
+}
+
+/// One axis: segments in physical units, or the trapezoid shorthand.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged, deny_unknown_fields)]
+pub enum AxisMove {
+    Segments { segments: Vec<PhysSegment> },
+    Trapezoid { trapezoid: Trapezoid },
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysSegment {
+    pub v0_steps_per_s: f64,
+    pub t_s: f64,
+    pub steps: i64,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Trapezoid {
+    pub steps: i64,
+    pub t_acc_s: f64,
+    pub t_cruise_s: f64,
+    pub t_dec_s: f64,
+}
+
+/// Which simulator runs the core.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Engine {
+    Verilator,
+    RustHdl,
+}
+
+impl std::str::FromStr for Engine {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Engine, String> {
+        match s {
+            "verilator" => Ok(Engine::Verilator),
+            "rust-hdl" => Ok(Engine::RustHdl),
+            _ => Err(format!("unknown engine {s:?}: expected verilator or rust-hdl")),
+        }
+    }
+}
+
+/// What to simulate.
+#[derive(Clone, Debug)]
+pub struct SimOptions {
+    pub axes: usize,
+    pub moves: PathBuf,
+    pub engine: Engine,
+    pub vcd: Option<PathBuf>,
+    /// Seconds from the start of the simulation.
+    pub vcd_window: Option<(f64, f64)>,
+    pub report: PathBuf,
+    /// Scratch folder for the simulator build.
+    pub work: PathBuf,
+    pub progress: bool,
+}
+
+/// Parses `START_S:END_S`.
+pub fn parse_window(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s.split_once(':').ok_or_else(|| format!("--vcd-window {s:?}: expected START_S:END_S"))?;
+    let parse = |x: &str| x.trim().parse::<f64>().map_err(|_| format!("--vcd-window {s:?}: {x:?} is not a number of seconds"));
+    let (a, b) = (parse(a)?, parse(b)?);
+    if !(a.is_finite() && b.is_finite() && a >= 0.0 && b > a) {
+        return Err(format!("--vcd-window {s:?}: need 0 ≤ START < END"));
+    }
+    Ok((a, b))
+}
+
+/// Plans every axis of a moves file into segments.
+pub fn plan(moves: &MovesFile) -> Result<Vec<Vec<Segment>>, String> {
+    let f = moves.clock_hz;
+    units::check_clock(f as u64).map_err(|e| format!("clock_hz: {e}"))?;
+    let limits = Limits::default();
+    moves
+        .axes
+        .iter()
+        .enumerate()
+        .map(|(a, m)| match m {
+            AxisMove::Trapezoid { trapezoid: t } => {
+                planner::trapezoid_by_times(t.steps, t.t_acc_s, t.t_cruise_s, t.t_dec_s, f, &limits)
+                    .map_err(|e| format!("axis {a}: trapezoid: {e}"))
+            }
+            AxisMove::Segments { segments } => segments
+                .iter()
+                .enumerate()
+                .map(|(k, s)| {
+                    let steps = i32::try_from(s.steps).map_err(|_| format!("axis {a} segment {k}: steps {} out of range", s.steps))?;
+                    Ok(Segment::new(
+                        units::steps_per_s_to_rate(s.v0_steps_per_s, f).map_err(|e| format!("axis {a} segment {k}: {e}"))?,
+                        units::seconds_to_ticks(s.t_s, f).map_err(|e| format!("axis {a} segment {k}: {e}"))?,
+                        steps,
+                    ))
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+/// Per-axis results.
+#[derive(Clone, Debug, Serialize)]
+pub struct AxisReport {
+    pub axis: usize,
+    pub segments: Vec<Segment>,
+    /// (index, error code) of segments the core rejected, as the model predicts.
+    pub rejected: Vec<(usize, u8)>,
+    pub steps: usize,
+    /// Position read back through the bus (POS_LO, POS_HI) after the move.
+    pub final_position: Option<i32>,
+    pub expected_position: i64,
+    /// clk cycle of every STEP rising edge.
+    pub edge_cycles: Vec<u64>,
+    /// Offset-free: edge − (release + 1), against exact kinematics.
+    pub max_edge_error_ticks: f64,
+    pub max_period_error_pct: f64,
+    /// Over steps whose exact period is at least 500 ticks.
+    pub max_period_error_pct_ge_500_ticks: f64,
+    /// STATUS read after the move.
+    pub status: Option<u16>,
+    pub underrun: bool,
+    /// First edge − 1 − the model's first edge tick.
+    pub release_cycle: Option<i64>,
+}
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub engine: Engine,
+    pub axes_in_core: usize,
+    pub clock_hz: u32,
+    pub clk_cycles: u64,
+    pub simulated_seconds: f64,
+    /// Largest difference between the axes' release cycles.
+    pub skew_ticks: Option<i64>,
+    pub axes: Vec<AxisReport>,
+    pub wall_seconds_build_and_run: f64,
+}
+
+fn clocks_for(clock_hz: u32) -> Clocks {
+    let half = (1e12 / (2.0 * clock_hz as f64) / 3.0).round().max(1.0) as u64 * 3;
+    Clocks { clk_half_ps: half, bus_half_ps: 5_001 }
+}
+
+const MCU_HALF_PS: u64 = 2_976;
+
+/// Runs a simulation and writes the report and the SVG (and the VCD).
+pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
+    let text = std::fs::read_to_string(&opts.moves).map_err(|e| format!("cannot read {}: {e}", opts.moves.display()))?;
+    let moves: MovesFile = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", opts.moves.display()))?;
+    let axes = plan(&moves)?;
+    let k = opts.axes;
+    let exp = ExportOptions { axes: k, clock_hz: moves.clock_hz, ..Default::default() };
+    exp.check()?;
+    if axes.is_empty() || axes.len() > k {
+        return Err(format!("{} lists {} axes; the core has --axes {k}", opts.moves.display(), axes.len()));
+    }
+    let capacity = QUEUE_DEPTH + 2;
+    for (a, segs) in axes.iter().enumerate() {
+        if segs.len() > capacity {
+            return Err(format!(
+                "axis {a}: {} segments; sim writes every segment before the start, and an axis holds {capacity} (queue {QUEUE_DEPTH} + 2 slots)",
+                segs.len()
+            ));
+        }
+    }
+    let limits = Limits::default();
+    let runs: Vec<AxisRun> = axes.iter().map(|s| AxisRun::run(s, &limits)).collect();
+    let clocks = clocks_for(moves.clock_hz);
+    let tick_ps = 2 * clocks.clk_half_ps;
+
+    // The bus sequence.
+    let mut b = BusModel::new(BusTiming::minimum(clocks.bus_half_ps, MCU_HALF_PS));
+    b.reset(40);
+    // ENABLE, then time for it to reach the core and come back as ENABLED.
+    b.enable(b.cycles_for_ps((400 + 40 * k as u64) * tick_ps.max(2 * clocks.bus_half_ps)));
+    for (a, segs) in axes.iter().enumerate() {
+        for s in segs {
+            b.push_segment(a, s);
+        }
+    }
+    b.idle(100);
+    b.write_reg("START", 0, ((1u32 << axes.len()) - 1) as u16);
+    let start_ps = b.now_ps();
+    let end = runs.iter().map(|r| r.end_tick).max().unwrap_or(0);
+    b.idle_until_ps(start_ps + (end + 2_000 + 20 * k as u64 * RADIX_BITS as u64) * tick_ps);
+    let reads: Vec<((ReadId, ReadId), ReadId)> = (0..axes.len()).map(|a| (b.read_position(a), b.read_reg("STATUS", a))).collect();
+    let cycles = b.now_ps() / tick_ps + 100;
+
+    let t0 = std::time::Instant::now();
+    let mut watch = vec![Port::new("step", k), Port::new("dir", k)];
+    watch.push(Port::new("irq", 1));
+    let trace = match opts.engine {
+        Engine::Verilator => {
+            let verilog = export::verilog(&exp)?;
+            let vcd = opts.vcd.as_ref().map(|p| {
+                let (w0, w1) = opts.vcd_window.unwrap_or((0.0, f64::MAX / 4e12));
+                // Probe names (documented in the README).
+                let mut probes = Vec::new();
+                for a in 0..k {
+                    probes.push((format!("step_{a}"), 1, format!("dut.step[{a}]")));
+                    probes.push((format!("dir_{a}"), 1, format!("dut.dir[{a}]")));
+                }
+                probes.push(("fsm_state".to_string(), crate::hdl::core::STATE_BITS, "dut.fsm_state".to_string()));
+                for a in 0..k {
+                    probes.push((format!("fifo_level_{a}"), 8, format!("dut.core.axes${a}$level")));
+                    probes.push((format!("queue_level_{a}"), 8, format!("dut.core.queues${a}$level")));
+                }
+                probes.push(("irq".to_string(), 1, "dut.irq".to_string()));
+                let to_cycle = |s: f64| ((s * 1e12 / tick_ps as f64) as u64).min(cycles);
+                VcdOptions { path: p.clone(), window_cycles: (to_cycle(w0), to_cycle(w1)), probes }
+            });
+            let ropts = RunOptions { vcd, progress: opts.progress, pause_idle_bus_ps: Some(1_000_000_000) };
+            let spec = system_spec(export::TOP_MODULE, watch);
+            let work = std::path::absolute(&opts.work).map_err(|e| format!("{}: {e}", opts.work.display()))?;
+            let trace = run_system_with(&work, &verilog, &spec, &clocks, b.events(), cycles, &ropts)?;
+            if let Some(v) = &ropts.vcd {
+                if let Some(dir) = v.path.parent().filter(|p| !p.as_os_str().is_empty()) {
+                    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+                }
+                write_vcd(&v.path, v, &trace, tick_ps)?;
+            }
+            trace
+        }
+        Engine::RustHdl => {
+            if opts.vcd.is_some() {
+                return Err("--vcd needs --engine verilator".into());
+            }
+            rust_hdl_run(k, exp, &clocks, &b, cycles, opts.progress)?
+        }
+    };
+    let wall = t0.elapsed().as_secs_f64();
+
+    let mut reports = Vec::new();
+    for (a, run) in runs.iter().enumerate() {
+        let rises = rises(&trace, a);
+        let release = rises.first().zip(run.edge_ticks.first()).map(|(&r, &e)| r as i64 - 1 - e as i64);
+        let (mut max_e, mut max_p, mut max_p500) = (0f64, 0f64, 0f64);
+        if let Some(l0) = release {
+            for (i, &r) in rises.iter().enumerate().take(run.exact_ticks.len()) {
+                let t = (r as i64 - l0 - 1) as f64;
+                max_e = max_e.max((t - run.exact_ticks[i]).abs());
+                if i > 0 {
+                    let p = (r - rises[i - 1]) as f64;
+                    let x = run.exact_ticks[i] - run.exact_ticks[i - 1];
+                    let pct = ((p - x) / x * 100.0).abs();
+                    max_p = max_p.max(pct);
+                    if x >= 500.0 {
+                        max_p500 = max_p500.max(pct);
+                    }
+                }
+            }
+        }
+        let status = b.value(&trace, reads[a].1);
+        reports.push(AxisReport {
+            axis: a,
+            segments: axes[a].clone(),
+            rejected: run.rejected.iter().map(|r| (r.index, r.error.code())).collect(),
+            steps: rises.len(),
+            final_position: position(&b, &trace, reads[a].0),
+            expected_position: run.position,
+            edge_cycles: rises,
+            max_edge_error_ticks: max_e,
+            max_period_error_pct: max_p,
+            max_period_error_pct_ge_500_ticks: max_p500,
+            status,
+            underrun: status.is_some_and(|s| s & (1 << 6) != 0),
+            release_cycle: release,
+        });
+    }
+    let releases: Vec<i64> = reports.iter().filter_map(|r| r.release_cycle).collect();
+    let skew = (!releases.is_empty()).then(|| releases.iter().max().unwrap() - releases.iter().min().unwrap());
+    let report = Report {
+        engine: opts.engine,
+        axes_in_core: k,
+        clock_hz: moves.clock_hz,
+        clk_cycles: cycles,
+        simulated_seconds: cycles as f64 / moves.clock_hz as f64,
+        skew_ticks: skew,
+        axes: reports,
+        wall_seconds_build_and_run: wall,
+    };
+    let mut written = Vec::new();
+    if let Some(dir) = opts.report.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    std::fs::write(&opts.report, serde_json::to_string_pretty(&report).expect("json") + "\n")
+        .map_err(|e| format!("cannot write {}: {e}", opts.report.display()))?;
+    written.push(opts.report.clone());
+    let svg = opts.report.with_extension("svg");
+    write_svg(&report, &runs, &svg).map_err(|e| format!("cannot write {}: {e}", svg.display()))?;
+    written.push(svg);
+    if let Some(v) = &opts.vcd {
+        written.push(v.clone());
+    }
+    Ok((report, written))
+}
+
+fn rises(trace: &SystemTrace, a: usize) -> Vec<u64> {
+    let mut out = Vec::new();
+    let mut prev = 0;
+    for (c, v) in &trace.changes {
+        let s = (v[0].unwrap_or(0) >> a) & 1;
+        if s == 1 && prev == 0 {
+            out.push(*c);
+        }
+        prev = s;
+    }
+    out
+}
+
+macro_rules! rust_hdl_k {
+    ($k:expr, $exp:expr, $clocks:expr, $b:expr, $cycles:expr, $progress:expr, [$($kk:literal),*]) => {
+        match $k {
+            $($kk => Ok(rust_hdl_sim::<$kk>($exp, $clocks, $b, $cycles, $progress)),)*
+            _ => Err(format!("--engine rust-hdl supports --axes 1, 2, 4 or 8 (got {})", $k)),
+        }
+    };
+}
+
+fn rust_hdl_run(k: usize, exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> Result<SystemTrace, String> {
+    let (clocks, b) = (*clocks, b.clone());
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || rust_hdl_k!(k, exp, &clocks, &b, cycles, progress, [1, 2, 4, 8]))
+        .map_err(|e| e.to_string())?
+        .join()
+        .map_err(|_| "the rust-hdl simulation panicked".to_string())?
+}
+
+fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
+    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(Limits::default(), exp.params()));
+    u.clk.connect();
+    u.bus_clk.connect();
+    u.reset.connect();
+    u.ne.connect();
+    u.noe.connect();
+    u.nwe.connect();
+    u.addr.connect();
+    u.data_in.connect();
+    u.connect_all();
+    let pauses = bus_pauses(b.events(), 1_000_000_000);
+    let trace = run_system_rust_hdl(
+        u.as_mut(),
+        clocks,
+        b.events(),
+        cycles,
+        &pauses,
+        progress,
+        |u, c, bc| {
+            u.clk.next = Clock::from(c);
+            u.bus_clk.next = Clock::from(bc);
+        },
+        |u, p| {
+            u.reset.next = p[0] == 1;
+            u.ne.next = p[1] == 1;
+            u.noe.next = p[2] == 1;
+            u.nwe.next = p[3] == 1;
+            u.addr.next = (p[4] as u64).into();
+            u.data_in.next = (p[5] as u64).into();
+        },
+        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128],
+        |u| u.data_out.val().to_u64() as u128,
+    );
+    if progress {
+        eprintln!();
+    }
+    trace
+}
+
+fn write_svg(r: &Report, runs: &[AxisRun], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let f = r.clock_hz as f64;
+    let rows = r.axes.len();
+    let root = SVGBackend::new(path, (1100, 420 * rows as u32)).into_drawing_area();
+    root.fill(&WHITE)?;
+    for (ax, area) in r.axes.iter().zip(root.split_evenly((rows, 1))) {
+        let run = &runs[ax.axis];
+        let (top, bottom) = area.split_vertically(260);
+        let Some(l0) = ax.release_cycle else { continue };
+        let x = &run.exact_ticks;
+        let e: Vec<f64> = ax.edge_cycles.iter().map(|&c| (c as i64 - l0 - 1) as f64).collect();
+        let n = x.len().min(e.len());
+        let planned: Vec<(f64, f64)> = (1..n).map(|i| (x[i] / f, f / (x[i] - x[i - 1]))).collect();
+        let emitted: Vec<(f64, f64)> = (1..n).map(|i| (e[i] / f, f / (e[i] - e[i - 1]))).collect();
+        let err: Vec<(f64, f64)> = (0..n).map(|i| (e[i] / f, e[i] - x[i])).collect();
+        let t_end = x.last().copied().unwrap_or(1.0) / f;
+        let v_max = planned.iter().chain(&emitted).map(|p| p.1).fold(1.0, f64::max) * 1.05;
+        let mut c = ChartBuilder::on(&top)
+            .caption(format!("axis {}: speed (steps/s), planned and emitted", ax.axis), ("sans-serif", 16))
+            .margin(8)
+            .x_label_area_size(28)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0f64..t_end, 0f64..v_max)?;
+        c.configure_mesh().x_desc("time (s)").y_desc("steps/s").draw()?;
+        c.draw_series(LineSeries::new(planned, BLACK))?.label("planned (exact)").legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK));
+        c.draw_series(emitted.iter().map(|&p| Circle::new(p, 1, BLUE.filled())))?
+            .label("emitted (1/period)")
+            .legend(|(x, y)| Circle::new((x + 8, y), 2, BLUE.filled()));
+        c.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+        let lim = err.iter().map(|p| p.1.abs()).fold(1.0, f64::max) * 1.1;
+        let mut c2 = ChartBuilder::on(&bottom)
+            .caption(format!("axis {}: edge error against exact time (ticks, cumulative)", ax.axis), ("sans-serif", 16))
+            .margin(8)
+            .x_label_area_size(28)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0f64..t_end, -lim..lim)?;
+        c2.configure_mesh().x_desc("time (s)").y_desc("ticks").draw()?;
+        c2.draw_series(err.iter().map(|&p| Circle::new(p, 1, RED.filled())))?;
+    }
+    root.present()?;
+    Ok(())
+}
