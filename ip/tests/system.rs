@@ -516,7 +516,7 @@ fn short_move_through_the_bus_rust_hdl_equals_verilator() {
         // Before reset reaches every register, Verilator's zeros and rust-hdl's
         // defaults may differ; compare from the first clk cycle after reset.
         let from = clk_cycle_at(b.events()[2].time_ps) + 10;
-        SystemTrace { changes: t.changes.iter().filter(|c| c.0 >= from).cloned().collect(), samples: t.samples.clone() }
+        SystemTrace { changes: t.changes.iter().filter(|c| c.0 >= from).cloned().collect(), samples: t.samples.clone(), probes: vec![] }
     };
     assert_eq!(strip(&reference), strip(&trace), "rust-hdl and Verilator traces differ");
     assert!(irq_edges(&trace).0.len() == 1, "masked done events of axis 1 raise irq once");
