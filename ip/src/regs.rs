@@ -379,6 +379,13 @@ and ⌈3·T_bus/T_HCLK⌉ (writes; use the read value for one timing register), 
 ⌈2·T_bus/T_HCLK⌉. Example: STM32F407 at HCLK = 168 MHz with bus_clk = 100 MHz:
 T_bus/T_HCLK = 1.68, so DATAST = 9 and ADDSET = 4 HCLK (a read then takes about 80 ns).
 
+**Command FIFO.** Pushes, START and ABORT cross into `clk` through a 4-deep FIFO that
+drains one command per `clk` cycle, each seen about 3 `clk` cycles after its write.
+A push takes six bus writes, so with `clk` faster than about a quarter of the MCU's
+write rate the FIFO never fills; with a slower `clk`, space pushes by 8 `clk` cycles
+(a refused push sets STATUS.OVERFLOW, a refused START or ABORT GSTATUS.REFUSED, and
+nothing already queued is lost).
+
 **32-bit values** are two halfwords. Staging registers may be written in any order;
 writing STEPS_HI pushes the segment. A position is read POS_LO first: that read
 latches the high half, and the following POS_HI read returns it, so the two halves

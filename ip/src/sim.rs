@@ -216,9 +216,14 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     b.reset(40);
     // ENABLE, then time for it to reach the core and come back as ENABLED.
     b.enable(b.cycles_for_ps((400 + 40 * k as u64) * tick_ps.max(2 * clocks.bus_half_ps)));
+    // Pushes are paced so that the 4-deep command FIFO never fills, however slow
+    // clk is against the bus (it drains one command per clk cycle after a crossing
+    // of about 3 cycles).
+    let pace = b.cycles_for_ps(8 * tick_ps);
     for (a, segs) in axes.iter().enumerate() {
         for s in segs {
             b.push_segment(a, s);
+            b.idle(pace);
         }
     }
     b.idle(100);

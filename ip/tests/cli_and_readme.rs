@@ -12,17 +12,21 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_tdm-stepper"))
 }
 
-/// The fenced block under "## Quick start".
-fn quick_start() -> Vec<String> {
+/// The commands of the first fenced block under `heading`.
+fn commands_under(heading: &str) -> Vec<String> {
     let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
-    let section = readme.split("## Quick start").nth(1).expect("README has a Quick start");
+    let section = readme.split(heading).nth(1).unwrap_or_else(|| panic!("README has {heading}"));
     let block = section.split("```").nth(1).expect("a fenced block");
     block.lines().skip(1).map(|l| l.split('#').next().unwrap().trim().to_string()).filter(|l| !l.is_empty()).collect()
 }
 
+fn readme() -> String {
+    std::fs::read_to_string(repo().join("README.md")).unwrap()
+}
+
 #[test]
 fn quick_start_commands_exist_and_ci_runs_the_test_command() {
-    let cmds = quick_start();
+    let cmds = commands_under("## Quick start");
     assert_eq!(cmds.len(), 2, "two commands: {cmds:?}");
     // The first runs a subcommand of our binary.
     let sub = cmds[0].strip_prefix("cargo run --release -- ").expect("cargo run of the binary");
@@ -32,6 +36,73 @@ fn quick_start_commands_exist_and_ci_runs_the_test_command() {
     assert_eq!(cmds[1], "scripts/test.sh");
     let ci = std::fs::read_to_string(repo().join(".ci/run")).unwrap();
     assert!(ci.lines().any(|l| l.trim() == "exec scripts/test.sh"), ".ci/run must exec scripts/test.sh");
+}
+
+/// The worked example, run as written from the repository root: export, then the
+/// paper's experiment through the bus in Verilator with a VCD. The report must show
+/// ≤ 1 tick of edge error, 0 skew and the positions; the VCD must open (parsed here
+/// with the `vcd` crate) and hold every step.
+#[test]
+fn readme_worked_example_runs_as_written() {
+    let cmds = commands_under("## Worked example");
+    let ours: Vec<&String> = cmds.iter().filter(|c| c.starts_with("cargo run --release -- ")).collect();
+    assert_eq!(ours.len(), 2, "export and sim: {cmds:?}");
+    assert!(ours[0].contains(" export ") && ours[1].contains(" sim "), "{ours:?}");
+    let arg = |c: &str, flag: &str| -> String {
+        let w: Vec<&str> = c.split_whitespace().collect();
+        w[w.iter().position(|x| *x == flag).unwrap_or_else(|| panic!("{flag} in {c}")) + 1].to_string()
+    };
+    for c in &ours {
+        let args: Vec<&str> = c.strip_prefix("cargo run --release -- ").unwrap().split_whitespace().collect();
+        let out = bin().current_dir(repo()).args(&args).output().unwrap();
+        assert!(out.status.success(), "{c}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let ip = repo().join(arg(ours[0], "--out"));
+    for f in ["tdm_stepper.v", "tdm_stepper_regs.h", "registers.md", "manifest.json"] {
+        assert!(ip.join(f).is_file(), "{f}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(repo().join(arg(ours[1], "--report"))).unwrap()).unwrap();
+    assert_eq!(report["skew_ticks"], 0);
+    for (a, pos) in [(0, 2400), (1, 1800)] {
+        let ax = &report["axes"][a];
+        assert_eq!(ax["final_position"], pos, "axis {a}");
+        assert_eq!(ax["steps"], pos, "axis {a}");
+        assert!(ax["max_edge_error_ticks"].as_f64().unwrap() <= 1.0, "axis {a}");
+        assert_eq!(ax["underrun"], false, "axis {a}");
+    }
+    assert!(repo().join(arg(ours[1], "--report")).with_extension("svg").is_file());
+    let vcd_path = repo().join(arg(ours[1], "--vcd"));
+    let size = std::fs::metadata(&vcd_path).unwrap().len();
+    assert!(size < 50 << 20, "VCD is {size} bytes");
+    let mut parser = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(&vcd_path).unwrap()));
+    let header = parser.parse_header().unwrap();
+    let step0 = header.find_var(&["tdm_stepper", "step_0"]).expect("step_0 in the VCD").code;
+    for name in ["dir_0", "step_1", "dir_1", "fsm_state", "fifo_level_0", "queue_level_1", "irq"] {
+        assert!(header.find_var(&["tdm_stepper", name]).is_some(), "{name} in the VCD");
+    }
+    let mut rises = 0;
+    for cmd in parser {
+        if let vcd::Command::ChangeScalar(code, vcd::Value::V1) = cmd.unwrap() {
+            if code == step0 {
+                rises += 1;
+            }
+        }
+    }
+    assert_eq!(rises, 2400, "STEP rising edges of axis 0 in the VCD");
+}
+
+/// The README's port table is the exported module's (export::ports, which
+/// tests/export.rs holds to the Verilog).
+#[test]
+fn readme_port_table_matches_the_export() {
+    let text = readme();
+    let k = 3;
+    for p in tdm_stepper::export::ports(k) {
+        let width = if p.width == k { "K".to_string() } else { p.width.to_string() };
+        let row = format!("| `{}` | {} | {} | {} | {} |", p.name, p.direction, width, p.clock, p.description);
+        assert!(text.contains(&row), "README lacks the port row {row}");
+    }
 }
 
 #[test]
@@ -57,4 +128,71 @@ fn unwritable_output_is_a_clear_error_not_a_panic() {
     }
     let out = bin().arg("no-such-command").output().unwrap();
     assert!(!out.status.success());
+}
+
+fn write_moves(name: &str, text: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn sim_rejects_bad_input_with_a_clear_message() {
+    let ok = write_moves("ok.json", r#"{"clock_hz": 1000000, "axes": [{"trapezoid": {"steps": 10, "t_acc_s": 0.002, "t_cruise_s": 0, "t_dec_s": 0.002}}]}"#);
+    let seg = r#"{"v0_steps_per_s": 0, "t_s": 0.001, "steps": 1}"#;
+    let many = write_moves("many.json", &format!(r#"{{"axes": [{{"segments": [{}]}}]}}"#, vec![seg; 19].join(",")));
+    let unknown = write_moves("unknown.json", r#"{"axes": [{"trapezoid": {"steps": 10, "t_acc": 0.1, "t_cruise_s": 0, "t_dec_s": 0.1}}]}"#);
+    let three = write_moves("three.json", &format!(r#"{{"axes": [{{"segments": [{seg}]}}, {{"segments": [{seg}]}}, {{"segments": [{seg}]}}]}}"#));
+    let neg = write_moves("neg.json", r#"{"axes": [{"segments": [{"v0_steps_per_s": 0, "t_s": -1, "steps": 1}]}]}"#);
+    let report = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_cli/r.json");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (vec!["--moves".into(), "/no/such/file.json".into()], "cannot read"),
+        (vec!["--moves".into(), many.display().to_string()], "holds 18"),
+        (vec!["--moves".into(), unknown.display().to_string()], "did not match"),
+        (vec!["--moves".into(), three.display().to_string()], "lists 3 axes"),
+        (vec!["--moves".into(), neg.display().to_string()], "axis 0 segment 0"),
+        (vec!["--moves".into(), ok.display().to_string(), "--axes".into(), "17".into()], "axis counts are 1 to 16"),
+        (vec!["--moves".into(), ok.display().to_string(), "--vcd-window".into(), "0:1".into()], "--vcd-window needs --vcd"),
+        (vec!["--moves".into(), ok.display().to_string(), "--vcd".into(), "x.vcd".into(), "--vcd-window".into(), "2:1".into()], "START < END"),
+        (vec!["--moves".into(), ok.display().to_string(), "--engine".into(), "rust-hdl".into(), "--vcd".into(), "x.vcd".into()], "--vcd needs --engine verilator"),
+        (vec!["--moves".into(), ok.display().to_string(), "--engine".into(), "spice".into()], "expected verilator or rust-hdl"),
+    ];
+    for (args, msg) in cases {
+        let out = bin().arg("sim").args(&args).arg("--report").arg(&report).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} succeeded");
+        assert!(err.contains(msg), "{args:?}: {err:?} lacks {msg:?}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
+
+/// The same short move in both engines gives the same edges, and the model's.
+#[test]
+fn sim_engines_agree_on_a_short_move() {
+    let moves = write_moves(
+        "short.json",
+        r#"{"clock_hz": 1000000, "axes": [
+            {"trapezoid": {"steps": 40, "t_acc_s": 0.004, "t_cruise_s": 0.002, "t_dec_s": 0.004}},
+            {"segments": [{"v0_steps_per_s": 0, "t_s": 0.004, "steps": -10}, {"v0_steps_per_s": 5000, "t_s": 0.002, "steps": -10}]}]}"#,
+    );
+    let mut reports = Vec::new();
+    for engine in ["verilator", "rust-hdl"] {
+        let report = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("sim_cli/short_{engine}.json"));
+        let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("sim_cli/work_{engine}"));
+        let out = bin().arg("sim").arg("--moves").arg(&moves).args(["--engine", engine]).arg("--report").arg(&report).arg("--work").arg(&work).output().unwrap();
+        assert!(out.status.success(), "{engine}: {}", String::from_utf8_lossy(&out.stderr));
+        let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        assert_eq!(r["skew_ticks"], 0, "{engine}");
+        assert_eq!(r["axes"][0]["final_position"], 40, "{engine}");
+        assert_eq!(r["axes"][1]["final_position"], -20, "{engine}");
+        for a in 0..2 {
+            assert!(r["axes"][a]["max_edge_error_ticks"].as_f64().unwrap() <= 1.0, "{engine} axis {a}");
+        }
+        reports.push(r);
+    }
+    for a in 0..2 {
+        assert_eq!(reports[0]["axes"][a]["edge_cycles"], reports[1]["axes"][a]["edge_cycles"], "axis {a}: engines differ");
+    }
 }
