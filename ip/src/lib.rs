@@ -8,5 +8,6 @@ pub mod hdl;
 pub mod model;
 pub mod regs;
 pub mod sim;
+pub mod sweep;
 pub mod vectors;
 pub mod verify;

