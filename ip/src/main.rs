@@ -87,9 +87,13 @@ enum Command {
         /// Folder for the results.
         #[arg(long, default_value = "docs/results")]
         out: PathBuf,
-        /// Scratch folder for the tool runs (logs stay there).
+        /// Scratch folder for the tool runs (logs stay there). A point whose exported
+        /// Verilog is unchanged reuses its finished run there.
         #[arg(long, default_value = "target/tdm-stepper-sweep")]
         work: PathBuf,
+        /// Run no tool: collect the finished runs in the work folder.
+        #[arg(long)]
+        cached_only: bool,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -152,7 +156,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 println!("wrote {}", p.display());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, jobs, timeout_s, out, work } => {
+        Command::Sweep { axes, arch, family, fmax, jobs, timeout_s, out, work, cached_only } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
@@ -170,6 +174,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 out,
                 work,
                 clock_hz: 50_000_000,
+                cached_only,
             };
             let repo = std::env::current_dir().map_err(|e| e.to_string())?;
             let (s, files) = sweep::run(&opts, &repo)?;

@@ -70,6 +70,8 @@ pub struct SweepOptions {
     pub out: PathBuf,
     pub work: PathBuf,
     pub clock_hz: u32,
+    /// Only collect finished runs from the work folder; run no tool.
+    pub cached_only: bool,
 }
 
 /// Resources of one synthesis run, by kind.
@@ -209,6 +211,9 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
                 return parse_stat(&stat, family);
             }
         }
+        if opts.cached_only {
+            return Err("not run: no finished result in the work folder (--cached-only)".into());
+        }
         std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
         let _ = std::fs::remove_file(dir.join("stat.json"));
         let script = format!("read_verilog tdm_stepper.v; {}; tee -q -o stat.json stat -json", family.synth());
@@ -225,7 +230,13 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
             arch,
             axes,
             family,
-            status: if e.starts_with("timeout") { "timeout".into() } else { "failed".into() },
+            status: if e.starts_with("timeout") {
+                "timeout".into()
+            } else if e.starts_with("not run") {
+                "not_run".into()
+            } else {
+                "failed".into()
+            },
             resources: None,
             seconds,
             log,
@@ -274,6 +285,9 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
         let cached = same_input(&dir, "tdm_stepper.v", &v) && same_input(&dir, "fmax_top.v", &io_wrapper(axes)) && dir.join("report.json").is_file();
         let ver = Command::new(nextpnr).arg("--version").output().map_err(|e| format!("{}: {e}", nextpnr.display()))?;
         tool = format!("{}{}", String::from_utf8_lossy(&ver.stdout).trim(), String::from_utf8_lossy(&ver.stderr).trim());
+        if !cached && opts.cached_only {
+            return Err("not run: no finished result in the work folder (--cached-only)".into());
+        }
         if !cached {
         let _ = std::fs::remove_file(dir.join("report.json"));
         std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
@@ -307,7 +321,13 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
         },
         Err(e) => FmaxPoint {
             axes,
-            status: if e.starts_with("timeout") { "timeout".into() } else { "failed".into() },
+            status: if e.starts_with("timeout") {
+                "timeout".into()
+            } else if e.starts_with("not run") {
+                "not_run".into()
+            } else {
+                "failed".into()
+            },
             fmax_clk_mhz: None,
             fmax_bus_clk_mhz: None,
             max_step_rate_hz_at_fmax: None,

@@ -401,12 +401,20 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
     let pos2: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
     let p2_end = b.now_ps();
 
-    // Phase 3: segment-done interrupt on axis 0.
+    // Phase 3: segment-done interrupt on axis 0, and its queue-low event (QLOW_LEVEL
+    // 0: the scheduler takes both segments into the axis's slots, LEVEL falls to 0).
     b.write_reg("IRQ_MASK_DONE", 0, 0b01);
+    b.write_reg("QLOW_LEVEL", 0, 0);
+    b.write_reg("IRQ_QLOW", 0, 0xFFFF);
+    let qlow_before = b.read_reg("IRQ_QLOW", 0);
     let move3 = vec![Segment::new(0, 10_000, 20), uniform(10_000, 20)];
     for s in &move3 {
         b.push_segment(0, s);
     }
+    // Two setups (about 60 cycles each at R = 8), the period FIFO filled between
+    // them, then the status crossing: well inside 12 µs.
+    b.idle(2_000);
+    let qlow_after = b.read_reg("IRQ_QLOW", 0);
     b.write_reg("START", 0, 0b01);
     let p3_start = b.now_ps();
     b.idle_until_ps(p3_start + 25_000 * tick_ps);
@@ -464,6 +472,8 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
     assert_eq!(irq3.len(), 1, "phase 3: irq rises once (then stays high until cleared)");
     assert!(irq3[0] > first_done && irq3[0] <= first_done + 100, "irq at {} for a segment done at {first_done}", irq3[0]);
     assert_eq!(read16(&b, &trace, irq_done), 0b01, "IRQ_DONE");
+    assert_eq!(read16(&b, &trace, qlow_before), 0, "IRQ_QLOW after W1C");
+    assert_eq!(read16(&b, &trace, qlow_after), 0b01, "IRQ_QLOW when axis 0's queue emptied");
 
     // Phase 4: no edge after the abort's commit (plus the crossing), exact positions.
     let abort_cycle = clk_cycle_at(p4_abort + 2 * 2 * MCU_HALF_PS * (b.timing.addset + b.timing.datast_write)) + 40;
