@@ -216,6 +216,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     b.reset(40);
     // ENABLE, then time for it to reach the core and come back as ENABLED.
     b.enable(b.cycles_for_ps((400 + 40 * k as u64) * tick_ps.max(2 * clocks.bus_half_ps)));
+    let enabled = b.read_reg("GSTATUS", 0);
     // Pushes are paced so that the 4-deep command FIFO never fills, however slow
     // clk is against the bus (it drains one command per clk cycle after a crossing
     // of about 3 cycles).
@@ -277,6 +278,9 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
         }
     };
     let wall = t0.elapsed().as_secs_f64();
+    if b.value(&trace, enabled).is_none_or(|g| g & 1 == 0) {
+        return Err("the core did not report GSTATUS.ENABLED before the first push (no command would be accepted)".into());
+    }
 
     let mut reports = Vec::new();
     for (a, run) in runs.iter().enumerate() {
