@@ -131,15 +131,7 @@ macro_rules! stepper_fn {
         #[inline(never)]
         fn $fname<const K: usize>(params: CoreParams) -> String {
             let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(Limits::default(), params));
-            u.clk.connect();
-            u.bus_clk.connect();
-            u.reset.connect();
-            u.ne.connect();
-            u.noe.connect();
-            u.nwe.connect();
-            u.addr.connect();
-            u.data_in.connect();
-            u.connect_all();
+            u.connect_ports();
             generate_verilog(u.as_ref())
         }
     };

@@ -381,15 +381,7 @@ fn rust_hdl_run(k: usize, exp: ExportOptions, clocks: &Clocks, b: &BusModel, cyc
 
 fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
     let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(Limits::default(), exp.params()));
-    u.clk.connect();
-    u.bus_clk.connect();
-    u.reset.connect();
-    u.ne.connect();
-    u.noe.connect();
-    u.nwe.connect();
-    u.addr.connect();
-    u.data_in.connect();
-    u.connect_all();
+    u.connect_ports();
     let pauses = bus_pauses(b.events(), 1_000_000_000);
     let trace = run_system_rust_hdl(
         u.as_mut(),

@@ -30,15 +30,7 @@ fn params<const K: usize>() -> CoreParams {
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
     let mut u = TdmStepper::<K, R, DEPTH, QDEPTH>::new(Limits::default(), params::<K>());
-    u.clk.connect();
-    u.bus_clk.connect();
-    u.reset.connect();
-    u.ne.connect();
-    u.noe.connect();
-    u.nwe.connect();
-    u.addr.connect();
-    u.data_in.connect();
-    u.connect_all();
+    u.connect_ports();
     u
 }
 

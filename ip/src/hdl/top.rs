@@ -96,6 +96,20 @@ macro_rules! stepper_top {
                     core_reset: Default::default(),
                 }
             }
+
+            /// Marks the top-level inputs as driven from outside and connects the
+            /// block, as simulation and Verilog generation need.
+            pub fn connect_ports(&mut self) {
+                self.clk.connect();
+                self.bus_clk.connect();
+                self.reset.connect();
+                self.ne.connect();
+                self.noe.connect();
+                self.nwe.connect();
+                self.addr.connect();
+                self.data_in.connect();
+                self.connect_all();
+            }
         }
 
         impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for $name<K, R, DEPTH, QDEPTH> {
