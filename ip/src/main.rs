@@ -78,6 +78,10 @@ enum Command {
         /// Place and route the TDM core on ECP5 for these axis counts (needs scripts/install-nextpnr.sh).
         #[arg(long, value_delimiter = ',')]
         fmax: Vec<usize>,
+        /// Synthesise the TDM core for these axis counts on xc7 without flattening and
+        /// tabulate its LUTs and FFs by block (with two or more K: per extra axis).
+        #[arg(long, value_delimiter = ',')]
+        breakdown: Vec<usize>,
         /// Tool runs in parallel.
         #[arg(long, default_value_t = 2)]
         jobs: usize,
@@ -156,7 +160,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 println!("wrote {}", p.display());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, jobs, timeout_s, out, work, cached_only } => {
+        Command::Sweep { axes, arch, family, fmax, breakdown, jobs, timeout_s, out, work, cached_only } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
@@ -169,6 +173,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 archs: arch,
                 families: family,
                 fmax_axes: fmax,
+                breakdown_axes: breakdown,
                 jobs,
                 timeout: std::time::Duration::from_secs(timeout_s),
                 out,

@@ -65,6 +65,8 @@ pub struct SweepOptions {
     pub families: Vec<Family>,
     /// Place and route on ECP5 for these axis counts (TDM).
     pub fmax_axes: Vec<usize>,
+    /// Hierarchical xc7 synthesis of the TDM core for these axis counts: where the LUTs go.
+    pub breakdown_axes: Vec<usize>,
     pub jobs: usize,
     pub timeout: Duration,
     pub out: PathBuf,
@@ -109,6 +111,43 @@ pub struct FmaxPoint {
     pub fmax_bus_clk_mhz: Option<f64>,
     pub max_step_rate_hz_at_fmax: Option<f64>,
     pub tool: String,
+    /// The clk domain's critical path, from the nextpnr log.
+    pub critical_path: Option<CriticalPath>,
+    pub seconds: f64,
+    pub log: PathBuf,
+    pub message: Option<String>,
+}
+
+/// A critical path as nextpnr reports it.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct CriticalPath {
+    pub total_ns: f64,
+    pub logic_ns: f64,
+    pub routing_ns: f64,
+    /// The launching cell and pin, and the capturing one.
+    pub from: String,
+    pub to: String,
+    /// Cells on the path by hierarchical block (the instance path without the cell
+    /// name, cut to three levels), most first.
+    pub blocks: Vec<(String, usize)>,
+}
+
+/// One block of the hierarchical synthesis (see [`block_of`]).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Block {
+    pub name: String,
+    pub luts: u64,
+    pub ffs: u64,
+    pub dsps: u64,
+    pub carry: u64,
+}
+
+/// The resources of the TDM core by block, from `synth_xilinx` without `-flatten`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Breakdown {
+    pub axes: usize,
+    pub status: String,
+    pub blocks: Vec<Block>,
     pub seconds: f64,
     pub log: PathBuf,
     pub message: Option<String>,
@@ -121,6 +160,7 @@ pub struct Sweep {
     pub t_calc_cycles: usize,
     pub points: Vec<Point>,
     pub fmax: Vec<FmaxPoint>,
+    pub breakdown: Vec<Breakdown>,
     pub capacity: Vec<Capacity>,
 }
 
@@ -144,6 +184,12 @@ pub fn parse_stat(json: &str, family: Family) -> Result<Resources, String> {
     let v: serde_json::Value = serde_json::from_str(json).map_err(|e| format!("stat -json: {e}"))?;
     let design = v.get("design").ok_or("stat -json: no design")?;
     let cells = design.get("num_cells_by_type").and_then(|c| c.as_object()).ok_or("stat -json: no num_cells_by_type")?;
+    Ok(count_cells(cells, family))
+}
+
+/// Counts cells by type (one module's or the design's) into resource kinds; cells of
+/// other types (IO buffers, submodule instances) are kept in `cells_by_type` only.
+fn count_cells(cells: &serde_json::Map<String, serde_json::Value>, family: Family) -> Resources {
     let mut r = Resources::default();
     for (name, n) in cells {
         let n = n.as_u64().unwrap_or(0);
@@ -170,7 +216,7 @@ pub fn parse_stat(json: &str, family: Family) -> Result<Resources, String> {
         };
         *kind += n;
     }
-    Ok(r)
+    r
 }
 
 /// Runs `cmd` in `dir` with its output in `log`, killed after `timeout`.
@@ -212,7 +258,7 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
             }
         }
         if opts.cached_only {
-            return Err("not run: no finished result in the work folder (--cached-only)".into());
+            return Err(NOT_RUN.into());
         }
         std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
         let _ = std::fs::remove_file(dir.join("stat.json"));
@@ -230,13 +276,7 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
             arch,
             axes,
             family,
-            status: if e.starts_with("timeout") {
-                "timeout".into()
-            } else if e.starts_with("not run") {
-                "not_run".into()
-            } else {
-                "failed".into()
-            },
+            status: status_of(&e),
             resources: None,
             seconds,
             log,
@@ -244,6 +284,19 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
         },
     }
 }
+
+/// The status of a run that gave error `e`: "timeout", "not_run" or "failed".
+fn status_of(e: &str) -> String {
+    if e.starts_with("timeout") {
+        "timeout".into()
+    } else if e.starts_with(NOT_RUN) {
+        "not_run".into()
+    } else {
+        "failed".into()
+    }
+}
+
+const NOT_RUN: &str = "not run: no finished result in the work folder (--cached-only)";
 
 /// The IO wrapper for place and route: the pins of a real board would not hold the
 /// core's ports, so a shift chain feeds the EXMC inputs and the outputs are XOR-reduced
@@ -286,7 +339,7 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
         let ver = Command::new(nextpnr).arg("--version").output().map_err(|e| format!("{}: {e}", nextpnr.display()))?;
         tool = format!("{}{}", String::from_utf8_lossy(&ver.stdout).trim(), String::from_utf8_lossy(&ver.stderr).trim());
         if !cached && opts.cached_only {
-            return Err("not run: no finished result in the work folder (--cached-only)".into());
+            return Err(NOT_RUN.into());
         }
         if !cached {
         let _ = std::fs::remove_file(dir.join("report.json"));
@@ -306,6 +359,7 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
         let clk = fmax_of(fmax, "clk");
         Ok((clk.ok_or("no clk in the fmax report")?, fmax_of(fmax, "bus_clk")))
     })();
+    let critical_path = std::fs::read_to_string(&log).ok().and_then(|l| critical_path(&l, "clk"));
     let seconds = t0.elapsed().as_secs_f64();
     match result {
         Ok((clk, bus)) => FmaxPoint {
@@ -315,23 +369,217 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
             fmax_bus_clk_mhz: bus,
             max_step_rate_hz_at_fmax: Some(max_step_rate_hz(axes, clk * 1e6)),
             tool,
+            critical_path,
             seconds,
             log,
             message: None,
         },
         Err(e) => FmaxPoint {
             axes,
-            status: if e.starts_with("timeout") {
-                "timeout".into()
-            } else if e.starts_with("not run") {
-                "not_run".into()
-            } else {
-                "failed".into()
-            },
+            status: status_of(&e),
             fmax_clk_mhz: None,
             fmax_bus_clk_mhz: None,
             max_step_rate_hz_at_fmax: None,
             tool,
+            critical_path,
+            seconds,
+            log,
+            message: Some(e),
+        },
+    }
+}
+
+/// The critical path of clock `clock` (a net such as `$glbnet$clk$TRELLIS_IO_IN`, or
+/// its plain name) in a nextpnr log: its delay split into logic and routing, its ends
+/// and the blocks it runs through.
+pub fn critical_path(log: &str, clock: &str) -> Option<CriticalPath> {
+    let tag = format!("${clock}$");
+    let mut lines = log.lines().skip_while(|l| {
+        !(l.contains("Critical path report for clock '")
+            && (l.contains(&tag) || l.contains(&format!("'{clock}'"))))
+    });
+    lines.next()?;
+    let (mut from, mut to, mut total) = (None, None, 0.0);
+    let mut blocks: Vec<(String, usize)> = Vec::new();
+    for l in lines {
+        let l = l.trim_start_matches("Info:").trim_start_matches("Warning:");
+        if let Some((logic, rest)) = l.split_once(" ns logic, ") {
+            let logic_ns: f64 = logic.trim().parse().ok()?;
+            let routing_ns: f64 = rest
+                .trim()
+                .trim_end_matches(" ns routing")
+                .trim()
+                .parse()
+                .ok()?;
+            blocks.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+            return Some(CriticalPath {
+                total_ns: total,
+                logic_ns,
+                routing_ns,
+                from: from?,
+                to: to?,
+                blocks,
+            });
+        }
+        if l.contains("Critical path report") {
+            return None;
+        }
+        let w: Vec<&str> = l.split_whitespace().collect();
+        if w.len() < 5 || w[3] != "Source" {
+            continue;
+        }
+        let Ok(t) = w[2].parse::<f64>() else { continue };
+        total = t;
+        let name = w[4].to_string();
+        match w[0] {
+            "clk-to-q" if from.is_none() => from = Some(name.clone()),
+            "setup" => to = Some(name.clone()),
+            _ => {}
+        }
+        if w[0] != "setup" {
+            // Instance path: drop the pin and the cell name, keep three levels.
+            let parts: Vec<&str> = name.split('.').collect();
+            let keep = parts.len().saturating_sub(2).min(3);
+            let block = if keep == 0 {
+                "(top)".to_string()
+            } else {
+                parts[..keep].join(".")
+            };
+            match blocks.iter_mut().find(|b| b.0 == block) {
+                Some(b) => b.1 += 1,
+                None => blocks.push((block, 1)),
+            }
+        }
+    }
+    None
+}
+
+/// The block a module of the exported core belongs to (rust-hdl names a module by its
+/// instance path, `tdm_stepper$core$ctx$0$r_a`).
+pub fn block_of(module: &str) -> &'static str {
+    let path = module.trim_start_matches('\\');
+    let rest = match path.split_once('$') {
+        Some((_, r)) => r,
+        None => return "top level (IO, glue)",
+    };
+    const BLOCKS: [(&str, &str); 13] = [
+        ("core$ctx$", "per-axis contexts (current and next segment)"),
+        ("core$queues$", "per-axis segment queues"),
+        ("core$axes$", "per-axis step generators and period FIFOs"),
+        ("core$div", "shared divider"),
+        ("core$sqrt", "shared square root"),
+        ("core$mul", "shared multipliers"),
+        (
+            "core",
+            "scheduler: FSM, working copy, K:1 multiplexers, counters",
+        ),
+        ("regs", "register file: staging, status mirror, IRQ"),
+        ("status", "status crossing (core to bus clock)"),
+        ("cmd_fifo", "command FIFO (bus to core clock)"),
+        ("exmc", "EXMC slave"),
+        ("rst_", "reset and enable synchronisers"),
+        ("en_core", "reset and enable synchronisers"),
+    ];
+    BLOCKS
+        .iter()
+        .find(|(p, _)| rest.starts_with(p))
+        .map(|b| b.1)
+        .unwrap_or("other")
+}
+
+/// Resources by block from `stat -json` of a hierarchical synthesis of `top`. Each
+/// module counts once per instance (rust-hdl writes one module per instance, but the
+/// count does not rely on it).
+pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Block>, String> {
+    let v: serde_json::Value =
+        serde_json::from_str(json).map_err(|e| format!("stat -json: {e}"))?;
+    let modules = v
+        .get("modules")
+        .and_then(|m| m.as_object())
+        .ok_or("stat -json: no modules")?;
+    let cells = |name: &str| -> Option<&serde_json::Map<String, serde_json::Value>> {
+        modules
+            .get(&format!("\\{name}"))
+            .or_else(|| modules.get(name))?
+            .get("num_cells_by_type")?
+            .as_object()
+    };
+    cells(top).ok_or(format!("stat -json: no module {top}"))?;
+    let mut blocks: Vec<Block> = Vec::new();
+    let mut stack = vec![(top.to_string(), 1u64)];
+    while let Some((m, n)) = stack.pop() {
+        let c = cells(&m).ok_or(format!("stat -json: no module {m}"))?;
+        let r = count_cells(c, family);
+        let name = block_of(&m);
+        let b = match blocks.iter_mut().position(|b| b.name == name) {
+            Some(i) => &mut blocks[i],
+            None => {
+                blocks.push(Block {
+                    name: name.into(),
+                    luts: 0,
+                    ffs: 0,
+                    dsps: 0,
+                    carry: 0,
+                });
+                blocks.last_mut().unwrap()
+            }
+        };
+        b.luts += n * r.luts;
+        b.ffs += n * r.ffs;
+        b.dsps += n * r.dsps;
+        b.carry += n * r.carry;
+        for (ty, k) in c {
+            if cells(ty).is_some() {
+                stack.push((ty.clone(), n * k.as_u64().unwrap_or(0)));
+            }
+        }
+    }
+    blocks.sort_by(|a, b| b.luts.cmp(&a.luts).then(a.name.cmp(&b.name)));
+    Ok(blocks)
+}
+
+fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
+    let dir = opts.work.join(format!("breakdown_xc7_tdm_k{axes}"));
+    let log = dir.join("yosys.log");
+    let t0 = Instant::now();
+    let result = (|| -> Result<Vec<Block>, String> {
+        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let v = export::verilog(&ExportOptions {
+            axes,
+            clock_hz: opts.clock_hz,
+            ..Default::default()
+        })?;
+        if same_input(&dir, "tdm_stepper.v", &v) {
+            if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
+                return breakdown_blocks(&stat, "tdm_stepper", Family::Xc7);
+            }
+        }
+        if opts.cached_only {
+            return Err(NOT_RUN.into());
+        }
+        std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
+        let _ = std::fs::remove_file(dir.join("stat.json"));
+        let mut cmd = Command::new("yosys");
+        cmd.args(["-q", "-p", "read_verilog tdm_stepper.v; synth_xilinx -top tdm_stepper; tee -q -o stat.json stat -json"]);
+        run_logged(cmd, &dir, &log, opts.timeout)?;
+        let stat = std::fs::read_to_string(dir.join("stat.json"))
+            .map_err(|e| format!("no stat.json: {e}; see {}", log.display()))?;
+        breakdown_blocks(&stat, "tdm_stepper", Family::Xc7)
+    })();
+    let seconds = t0.elapsed().as_secs_f64();
+    match result {
+        Ok(blocks) => Breakdown {
+            axes,
+            status: "ok".into(),
+            blocks,
+            seconds,
+            log,
+            message: None,
+        },
+        Err(e) => Breakdown {
+            axes,
+            status: status_of(&e),
+            blocks: Vec::new(),
             seconds,
             log,
             message: Some(e),
@@ -354,6 +602,7 @@ fn same_input(dir: &Path, file: &str, text: &str) -> bool {
 enum Task {
     Synth(Arch, usize, Family),
     Fmax(usize),
+    Breakdown(usize),
 }
 
 /// Runs the sweep and writes its outputs into `opts.out`.
@@ -362,6 +611,9 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
         for &a in &opts.archs {
             ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, ..Default::default() }.check()?;
         }
+    }
+    for &k in opts.fmax_axes.iter().chain(&opts.breakdown_axes) {
+        ExportOptions { axes: k, clock_hz: opts.clock_hz, ..Default::default() }.check()?;
     }
     let nextpnr = nextpnr_command(repo);
     if !opts.fmax_axes.is_empty() && !nextpnr.exists() {
@@ -375,6 +627,9 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     let mut tasks: Vec<Task> = Vec::new();
     for &k in &opts.fmax_axes {
         tasks.push(Task::Fmax(k));
+    }
+    for &k in opts.breakdown_axes.iter().rev() {
+        tasks.push(Task::Breakdown(k));
     }
     let mut synth: Vec<(Arch, usize, Family)> = Vec::new();
     for &f in &opts.families {
@@ -390,10 +645,11 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     let queue = Arc::new(Mutex::new(tasks.into_iter().rev().collect::<Vec<_>>()));
     let points = Arc::new(Mutex::new(Vec::new()));
     let fmaxes = Arc::new(Mutex::new(Vec::new()));
+    let breakdowns = Arc::new(Mutex::new(Vec::new()));
     let done = Arc::new(Mutex::new(0usize));
     std::thread::scope(|s| {
         for _ in 0..opts.jobs.max(1) {
-            let (queue, points, fmaxes, done) = (queue.clone(), points.clone(), fmaxes.clone(), done.clone());
+            let (queue, points, fmaxes, breakdowns, done) = (queue.clone(), points.clone(), fmaxes.clone(), breakdowns.clone(), done.clone());
             let nextpnr = nextpnr.clone();
             s.spawn(move || loop {
                 let Some(task) = queue.lock().unwrap().pop() else { break };
@@ -416,6 +672,15 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
                         fmaxes.lock().unwrap().push(p);
                         line
                     }
+                    Task::Breakdown(k) => {
+                        let b = breakdown_point(k, opts);
+                        let line = match b.status.as_str() {
+                            "ok" => format!("breakdown xc7 tdm K={k}: {} blocks ({:.0} s)", b.blocks.len(), b.seconds),
+                            _ => format!("breakdown xc7 tdm K={k}: {}: {}", b.status, b.message.clone().unwrap_or_default()),
+                        };
+                        breakdowns.lock().unwrap().push(b);
+                        line
+                    }
                 };
                 let mut d = done.lock().unwrap();
                 *d += 1;
@@ -427,6 +692,17 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     points.sort_by_key(|p| (p.family, p.arch.name(), p.axes));
     let mut fmax = Arc::try_unwrap(fmaxes).unwrap().into_inner().unwrap();
     fmax.sort_by_key(|p| p.axes);
+    let mut breakdown = Arc::try_unwrap(breakdowns).unwrap().into_inner().unwrap();
+    breakdown.sort_by_key(|b| b.axes);
+    // Log paths in the outputs are relative to the repository when under it.
+    let rel = |p: &mut PathBuf| {
+        if let Ok(r) = p.strip_prefix(repo) {
+            *p = r.to_path_buf();
+        }
+    };
+    points.iter_mut().for_each(|p| rel(&mut p.log));
+    fmax.iter_mut().for_each(|p| rel(&mut p.log));
+    breakdown.iter_mut().for_each(|p| rel(&mut p.log));
     let capacity = opts
         .axes
         .iter()
@@ -437,7 +713,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
             max_step_rate_hz_at_fmax: fmax.iter().find(|f| f.axes == k).and_then(|f| f.max_step_rate_hz_at_fmax),
         })
         .collect();
-    let sweep = Sweep { yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, capacity };
+    let sweep = Sweep { yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
     let files = write_outputs(&sweep, &opts.out).map_err(|e| format!("cannot write into {}: {e}", opts.out.display()))?;
     Ok((sweep, files))
 }
@@ -526,6 +802,24 @@ pub fn markdown(s: &Sweep) -> String {
             );
         }
         m += "\n";
+        for p in &s.fmax {
+            if let Some(c) = &p.critical_path {
+                let blocks: Vec<String> = c.blocks.iter().take(4).map(|(b, n)| format!("`{b}` {n}")).collect();
+                m += &format!(
+                    "K = {}: the clk critical path is {:.1} ns ({:.1} ns logic, {:.1} ns routing), from `{}` to `{}`; cells on it by block: {}.\n\n",
+                    p.axes,
+                    c.total_ns,
+                    c.logic_ns,
+                    c.routing_ns,
+                    c.from,
+                    c.to,
+                    blocks.join(", ")
+                );
+            }
+        }
+    }
+    if !s.breakdown.is_empty() {
+        m += &breakdown_markdown(&s.breakdown);
     }
     m += "## Axis capacity\n\nAn axis sustains periods down to K·t_calc ticks without underrun (measured by `tests/hdl_core.rs`, `underrun_exactly_when_k_t_calc_exceeds_the_period`).\n\n";
     m += "| K | min period (ticks) | max steps/s per axis at 50 MHz | at Fmax |\n|---|---|---|---|\n";
@@ -539,6 +833,79 @@ pub fn markdown(s: &Sweep) -> String {
         );
     }
     m
+}
+
+/// The table of [`Breakdown`]s: LUT6 and FF by block at each K and, with two or more
+/// K, the LUT6 per extra axis between the smallest and the largest.
+pub fn breakdown_markdown(bs: &[Breakdown]) -> String {
+    let mut m = String::from(
+        "## Where the LUTs go (xc7, TDM, `synth_xilinx -top tdm_stepper` without `-flatten`)\n\n",
+    );
+    m += "Each block is synthesised on its own here, so the totals are a little above the flattened ones.\n\n";
+    let ok: Vec<&Breakdown> = bs.iter().filter(|b| b.status == "ok").collect();
+    for b in bs.iter().filter(|b| b.status != "ok") {
+        m += &format!(
+            "* K = {}: {} ({})\n",
+            b.axes,
+            b.status,
+            b.message.clone().unwrap_or_default()
+        );
+    }
+    if ok.is_empty() {
+        return m + "\n";
+    }
+    let mut names: Vec<&str> = Vec::new();
+    for b in ok.iter().rev() {
+        for x in &b.blocks {
+            if !names.contains(&x.name.as_str()) {
+                names.push(&x.name);
+            }
+        }
+    }
+    let per_axis = ok.len() >= 2;
+    m += "| block |";
+    for b in &ok {
+        m += &format!(" LUT6 K = {} | FF K = {} |", b.axes, b.axes);
+    }
+    m += if per_axis {
+        " LUT6 per extra axis |\n|---|"
+    } else {
+        "\n|---|"
+    };
+    m += &"---|".repeat(2 * ok.len() + per_axis as usize);
+    m += "\n";
+    let get = |b: &Breakdown, n: &str| {
+        b.blocks
+            .iter()
+            .find(|x| x.name == n)
+            .map_or((0, 0), |x| (x.luts, x.ffs))
+    };
+    let mut rows: Vec<(String, Vec<(u64, u64)>)> = names
+        .iter()
+        .map(|n| (n.to_string(), ok.iter().map(|b| get(b, n)).collect()))
+        .collect();
+    let total: Vec<(u64, u64)> = (0..ok.len())
+        .map(|i| {
+            rows.iter()
+                .fold((0, 0), |a, r| (a.0 + r.1[i].0, a.1 + r.1[i].1))
+        })
+        .collect();
+    rows.push(("**total**".into(), total));
+    let (k0, k1) = (ok[0].axes, ok[ok.len() - 1].axes);
+    for (n, v) in rows {
+        m += &format!("| {n} |");
+        for (l, f) in &v {
+            m += &format!(" {l} | {f} |");
+        }
+        if per_axis {
+            m += &format!(
+                " {:.0} |",
+                (v[v.len() - 1].0 as f64 - v[0].0 as f64) / (k1 - k0) as f64
+            );
+        }
+        m += "\n";
+    }
+    m + "\n"
 }
 
 fn write_outputs(s: &Sweep, out: &Path) -> Result<Vec<PathBuf>, Box<dyn std::error::Error>> {

@@ -73,3 +73,129 @@ fn stat_and_fmax_reports_are_read_right() {
     assert_eq!(fmax_of(f, "clk"), Some(14.7));
     assert_eq!(fmax_of(f, "bus_clk"), Some(79.5));
 }
+
+/// The nextpnr critical-path report is summarised right: delays, ends, blocks. The
+/// excerpt has the shape of a real nextpnr-ecp5 0.11 log (cut short).
+#[test]
+fn critical_path_summary_reads_a_nextpnr_report() {
+    use tdm_stepper::sweep::critical_path;
+    let log = "\
+Info: Critical path report for clock '$glbnet$clk$TRELLIS_IO_IN' (posedge -> posedge):
+Info:       type curr  total name
+Info:   clk-to-q  0.52  0.52 Source core.core.div.den.q_TRELLIS_FF_Q_30.Q
+Info:    routing  1.98  2.51 Net core.core.div.den.q[1] (38,35) -> (52,32)
+Info:                          Sink core.core.div.digits$0$rem_out_LUT4_Z_7.C
+Info:                          Defined in:
+Info:                               tdm_stepper.v:1400.26-1409.6
+Info:      logic  0.24  2.75 Source core.core.div.digits$0$rem_out_LUT4_Z_7.F
+Info:    routing  1.00  3.75 Net x (1,1) -> (2,2)
+Info:      logic  0.45  4.20 Source core.regs.w_level_LUT4_Z_6.F
+Info:    routing  0.30  4.50 Net y (1,1) -> (2,2)
+Info:      logic  0.07  4.57 Source $nextpnr_CCU2C_89$CCU2_COMB0.FCO
+Info:    routing  1.58  6.15 Net core.core.div.digits$7.rem_out[1] (49,37) -> (38,33)
+Info:                          Sink core.core.div.rem.q_TRELLIS_FF_Q_62.M
+Info:      setup  0.00  6.15 Source core.core.div.rem.q_TRELLIS_FF_Q_62.M
+Info: 1.28 ns logic, 4.87 ns routing
+
+Info: Critical path report for clock '$glbnet$bus_clk$TRELLIS_IO_IN' (posedge -> posedge):
+Info:   clk-to-q  0.52  0.52 Source core.exmc.d1.q_TRELLIS_FF_Q.Q
+Info:      setup  0.00  0.52 Source core.exmc.d2.q_TRELLIS_FF_Q.DI
+Info: 0.52 ns logic, 0.00 ns routing
+";
+    let c = critical_path(log, "clk").expect("clk path");
+    assert_eq!((c.total_ns, c.logic_ns, c.routing_ns), (6.15, 1.28, 4.87));
+    assert_eq!(c.from, "core.core.div.den.q_TRELLIS_FF_Q_30.Q");
+    assert_eq!(c.to, "core.core.div.rem.q_TRELLIS_FF_Q_62.M");
+    assert_eq!(
+        c.blocks,
+        vec![
+            ("core.core.div".to_string(), 2),
+            ("(top)".to_string(), 1),
+            ("core.regs".to_string(), 1)
+        ]
+    );
+    let b = critical_path(log, "bus_clk").expect("bus_clk path");
+    assert_eq!(
+        (b.total_ns, b.from.as_str()),
+        (0.52, "core.exmc.d1.q_TRELLIS_FF_Q.Q")
+    );
+    assert_eq!(critical_path(log, "other"), None);
+    assert_eq!(
+        critical_path(&log[..log.find("Info: 1.28").unwrap()], "clk"),
+        None,
+        "a cut report gives nothing"
+    );
+}
+
+/// The breakdown counts each block's flip-flops exactly on a real (small, hierarchical)
+/// yosys run named the way rust-hdl names the exported core's modules, and every module
+/// of the exported core belongs to a named block.
+#[test]
+fn breakdown_counts_cells_by_block() {
+    use tdm_stepper::sweep::{block_of, breakdown_blocks, Family};
+    let dir = sim_dir("sweep_breakdown", Simulator::Verilator);
+    std::fs::create_dir_all(&dir).unwrap();
+    let reg = |name: &str, bits: usize| {
+        format!("module \\{name} (input clk, input [{m}:0] d, output reg [{m}:0] q);\n  always @(posedge clk) q <= d;\nendmodule\n", m = bits - 1)
+    };
+    let mut v = String::from(
+        "module tdm_stepper(input clk, input [63:0] d, output [63:0] q0, output [63:0] q1, output [63:0] q2, output [7:0] q3);\n\
+         \\tdm_stepper$core$ctx$0 c0(.clk(clk), .d(d[9:0]), .q(q0[9:0]));\n\
+         \\tdm_stepper$core$ctx$1 c1(.clk(clk), .d(d[9:0]), .q(q1[9:0]));\n\
+         \\tdm_stepper$core$div d0(.clk(clk), .d(d[32:0]), .q(q2[32:0]));\n\
+         \\tdm_stepper$regs r0(.clk(clk), .d(d[6:0]), .q(q3[6:0]));\nendmodule\n",
+    );
+    for (n, b) in [
+        ("tdm_stepper$core$ctx$0", 10),
+        ("tdm_stepper$core$ctx$1", 10),
+        ("tdm_stepper$core$div", 33),
+        ("tdm_stepper$regs", 7),
+    ] {
+        v += &reg(n, b);
+    }
+    std::fs::write(dir.join("h.v"), v).unwrap();
+    let run = Command::new("yosys")
+        .current_dir(&dir)
+        .args([
+            "-q",
+            "-p",
+            "read_verilog h.v; synth_xilinx -top tdm_stepper; tee -q -o stat.json stat -json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let blocks = breakdown_blocks(
+        &std::fs::read_to_string(dir.join("stat.json")).unwrap(),
+        "tdm_stepper",
+        Family::Xc7,
+    )
+    .unwrap();
+    let ffs = |n: &str| blocks.iter().find(|b| b.name == block_of(n)).map(|b| b.ffs);
+    assert_eq!(
+        ffs("tdm_stepper$core$ctx$0"),
+        Some(20),
+        "two contexts of 10 bits: {blocks:?}"
+    );
+    assert_eq!(ffs("tdm_stepper$core$div"), Some(33));
+    assert_eq!(ffs("tdm_stepper$regs"), Some(7));
+    assert_eq!(blocks.iter().map(|b| b.ffs).sum::<u64>(), 60);
+    assert!(breakdown_blocks("{\"modules\": {}}", "tdm_stepper", Family::Xc7).is_err());
+
+    let exported = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions {
+        axes: 2,
+        ..Default::default()
+    })
+    .unwrap();
+    let mut names: Vec<&str> = exported
+        .lines()
+        .filter_map(|l| l.strip_prefix("module "))
+        .map(|l| l.split('(').next().unwrap())
+        .collect();
+    assert!(names.len() > 100);
+    names.retain(|n| block_of(n) == "other");
+    assert!(names.is_empty(), "modules in no block: {names:?}");
+}
