@@ -26,19 +26,7 @@ fn tick<B: Block>(u: &mut B, clock: impl Fn(&mut B, bool)) {
 /// A K-axis core, reset, with the paper's segments on every axis, started.
 fn running_core<const K: usize>() -> Box<TdmCore<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>> {
     let mut u = Box::new(TdmCore::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(Limits::default()));
-    u.clock.connect();
-    u.reset.connect();
-    u.cmd_valid.connect();
-    u.cmd_axis.connect();
-    u.cmd_v0.connect();
-    u.cmd_t.connect();
-    u.cmd_steps.connect();
-    u.start.connect();
-    u.start_mask.connect();
-    u.sel_axis.connect();
-    u.ext_go.connect();
-    u.abort.connect();
-    u.connect_all();
+    u.connect_ports();
     let clk = |u: &mut TdmCore<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>, c: bool| u.clock.next = Clock::from(c);
     u.reset.next = true;
     tick(u.as_mut(), clk);

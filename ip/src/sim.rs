@@ -19,11 +19,9 @@
 use crate::export::{self, ExportOptions, QUEUE_DEPTH, RADIX_BITS};
 use crate::hdl::top::TdmStepper;
 use crate::model::{planner, units, AxisRun, Limits, Segment};
-use crate::verify::bus::{position, system_spec, BusModel, BusTiming, ReadId};
-use crate::verify::system::{bus_pauses, run_system_rust_hdl, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
-use crate::verify::Port;
+use crate::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming, ReadId};
+use crate::verify::system::{bus_pauses, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
 use plotters::prelude::*;
-use rust_hdl::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -236,8 +234,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let cycles = b.now_ps() / tick_ps + 100;
 
     let t0 = std::time::Instant::now();
-    let mut watch = vec![Port::new("step", k), Port::new("dir", k)];
-    watch.push(Port::new("irq", 1));
+    let watch = stepper_watch(k);
     let trace = match opts.engine {
         Engine::Verilator => {
             let verilog = export::verilog(&exp)?;
@@ -383,28 +380,7 @@ fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusMode
     let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(Limits::default(), exp.params()));
     u.connect_ports();
     let pauses = bus_pauses(b.events(), 1_000_000_000);
-    let trace = run_system_rust_hdl(
-        u.as_mut(),
-        clocks,
-        b.events(),
-        cycles,
-        &pauses,
-        progress,
-        |u, c, bc| {
-            u.clk.next = Clock::from(c);
-            u.bus_clk.next = Clock::from(bc);
-        },
-        |u, p| {
-            u.reset.next = p[0] == 1;
-            u.ne.next = p[1] == 1;
-            u.noe.next = p[2] == 1;
-            u.nwe.next = p[3] == 1;
-            u.addr.next = (p[4] as u64).into();
-            u.data_in.next = (p[5] as u64).into();
-        },
-        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128],
-        |u| u.data_out.val().to_u64() as u128,
-    );
+    let trace = run_stepper_rust_hdl(u.as_mut(), clocks, b.events(), cycles, &pauses, progress);
     if progress {
         eprintln!();
     }

@@ -12,9 +12,9 @@ use tdm_stepper::hdl::core::t_calc_sqrt;
 use tdm_stepper::hdl::top::TdmStepper;
 use tdm_stepper::model::{AxisRun, Limits, Segment};
 use tdm_stepper::regs::{self, CoreParams};
-use tdm_stepper::verify::bus::{position, system_spec, BusModel, BusTiming};
-use tdm_stepper::verify::system::{run_system, run_system_rust_hdl, run_system_with, Clocks, RunOptions, SystemTrace};
-use tdm_stepper::verify::{Port, Simulator};
+use tdm_stepper::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming};
+use tdm_stepper::verify::system::{run_system, run_system_with, Clocks, RunOptions, SystemTrace};
+use tdm_stepper::verify::Simulator;
 
 // The export's configuration.
 const R: usize = tdm_stepper::export::RADIX_BITS;
@@ -34,9 +34,6 @@ fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
     u
 }
 
-fn watch<const K: usize>() -> Vec<Port> {
-    vec![Port::new("step", K), Port::new("dir", K), Port::new("irq", 1)]
-}
 
 fn bus() -> BusModel {
     let mut b = BusModel::new(BusTiming::minimum(CLOCKS.bus_half_ps, MCU_HALF_PS));
@@ -54,14 +51,14 @@ fn cycles_after(b: &BusModel, extra: u64) -> u64 {
 
 fn verilator<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
     let verilog = generate_verilog(&dut::<K>());
-    run_system(&sim_dir(name, Simulator::Verilator), &verilog, &system_spec("top", watch::<K>()), &CLOCKS, b.events(), cycles).unwrap()
+    run_system(&sim_dir(name, Simulator::Verilator), &verilog, &system_spec("top", stepper_watch(K)), &CLOCKS, b.events(), cycles).unwrap()
 }
 
 /// The same, on what `tdm-stepper export` writes.
 fn verilator_exported<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
     let opts = tdm_stepper::export::ExportOptions { axes: K, ..Default::default() };
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
-    let spec = system_spec(tdm_stepper::export::TOP_MODULE, watch::<K>());
+    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(K));
     let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
     run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
 }
@@ -70,29 +67,7 @@ fn verilator_exported<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> 
 const PAUSE_GAP_PS: u64 = 1_000_000_000;
 
 fn rust_hdl<const K: usize>(b: &BusModel, cycles: u64) -> SystemTrace {
-    let mut u = dut::<K>();
-    run_system_rust_hdl(
-        &mut u,
-        &CLOCKS,
-        b.events(),
-        cycles,
-        &[],
-        false,
-        |u, c, bc| {
-            u.clk.next = Clock::from(c);
-            u.bus_clk.next = Clock::from(bc);
-        },
-        |u, p| {
-            u.reset.next = p[0] == 1;
-            u.ne.next = p[1] == 1;
-            u.noe.next = p[2] == 1;
-            u.nwe.next = p[3] == 1;
-            u.addr.next = (p[4] as u64).into();
-            u.data_in.next = (p[5] as u64).into();
-        },
-        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128],
-        |u| u.data_out.val().to_u64() as u128,
-    )
+    run_stepper_rust_hdl(&mut dut::<K>(), &CLOCKS, b.events(), cycles, &[], false)
 }
 
 /// Rising edges of axis `a` (clk cycles).

@@ -9,7 +9,9 @@
 //! (docs/registers.md) for given clocks. Inputs, in order: `reset`, `ne`, `noe`,
 //! `nwe`, `addr`, `data_in`.
 
-use super::system::{BusEvent, SystemSpec, SystemTrace};
+use super::system::{run_system_rust_hdl, BusEvent, Clocks, SystemSpec, SystemTrace};
+use crate::hdl::top::TdmStepper;
+use rust_hdl::prelude::*;
 use super::tb::Port;
 use crate::model::Segment;
 use crate::regs::{self, ADDR_BITS};
@@ -59,6 +61,47 @@ pub fn system_spec(module: &str, watch: Vec<Port>) -> SystemSpec {
         watch,
         sample: Port::new("data_out", 16),
     }
+}
+
+/// The outputs a simulation of the whole IP watches, in this order: `step`, `dir` (K
+/// bits each) and `irq`. [`run_stepper_rust_hdl`] reports the same.
+pub fn stepper_watch(axes: usize) -> Vec<Port> {
+    vec![Port::new("step", axes), Port::new("dir", axes), Port::new("irq", 1)]
+}
+
+/// Runs bus `events` into a rust-hdl [`TdmStepper`] (connected with `connect_ports`):
+/// clk and bus_clk from `clocks`, the pins as [`system_spec`] lists them, the outputs
+/// of [`stepper_watch`] watched and `data_out` sampled, as the Verilator run does.
+pub fn run_stepper_rust_hdl<const K: usize, const R: usize, const D: usize, const Q: usize>(
+    u: &mut TdmStepper<K, R, D, Q>,
+    clocks: &Clocks,
+    events: &[BusEvent],
+    cycles: u64,
+    pauses: &[(u64, u64)],
+    progress: bool,
+) -> SystemTrace {
+    run_system_rust_hdl(
+        u,
+        clocks,
+        events,
+        cycles,
+        pauses,
+        progress,
+        |u, c, bc| {
+            u.clk.next = Clock::from(c);
+            u.bus_clk.next = Clock::from(bc);
+        },
+        |u, p| {
+            u.reset.next = p[0] == 1;
+            u.ne.next = p[1] == 1;
+            u.noe.next = p[2] == 1;
+            u.nwe.next = p[3] == 1;
+            u.addr.next = (p[4] as u64).into();
+            u.data_in.next = (p[5] as u64).into();
+        },
+        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128],
+        |u| u.data_out.val().to_u64() as u128,
+    )
 }
 
 /// Builds a bus transaction list. Starts in reset, pins idle.

@@ -7,19 +7,7 @@
 macro_rules! connect_core {
     ($u:expr) => {{
         let mut u = $u;
-        u.clock.connect();
-        u.reset.connect();
-        u.cmd_valid.connect();
-        u.cmd_axis.connect();
-        u.cmd_v0.connect();
-        u.cmd_t.connect();
-        u.cmd_steps.connect();
-        u.start.connect();
-        u.start_mask.connect();
-        u.sel_axis.connect();
-        u.ext_go.connect();
-        u.abort.connect();
-        u.connect_all();
+        u.connect_ports();
         u
     }};
 }
@@ -158,7 +146,6 @@ pub fn tick_core<const R: usize, const D: usize, const Q: usize>(u: &mut tdm_ste
 pub fn one_segment_core<const R: usize, const D: usize, const Q: usize>(
     seg: tdm_stepper::model::Segment,
 ) -> tdm_stepper::hdl::core::TdmCore<1, R, D, Q> {
-    use rust_hdl::prelude::*;
     let mut u = connect_core!(tdm_stepper::hdl::core::TdmCore::<1, R, D, Q>::new(tdm_stepper::model::Limits::default()));
     u.reset.next = true;
     tick_core(&mut u);
