@@ -460,6 +460,59 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
 
 /// A short two-axis move through the bus in rust-hdl and in Verilator: the same
 /// trace (STEP, DIR, irq and every read), and the model's edges.
+/// An axis asked for periods shorter than the shared unit can serve underruns: its
+/// STATUS.UNDERRUN and IRQ_ERROR bit set and irq rises, no step is lost and no period
+/// is shortened; an axis within K·t_calc at the same time is untouched. W1C clears it.
+#[test]
+fn underrun_is_flagged_on_the_late_axis_only_and_loses_no_step() {
+    let tick_ps = 2 * CLOCKS.clk_half_ps;
+    let min_period = 2 * t_calc_sqrt(R) as u32; // K·t_calc for K = 2
+    let (fast, slow) = (10u32, 40u32);
+    assert!(fast < min_period && slow >= min_period);
+    let (n0, n1) = (200i32, 100i32);
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IRQ_MASK_ERROR", 0, 0b01);
+    b.push_segment(0, &uniform(fast * n0 as u32, n0));
+    b.push_segment(1, &uniform(slow * n1 as u32, n1));
+    b.write_reg("START", 0, 0b11);
+    let start = b.now_ps();
+    b.idle_until_ps(start + 12_000 * tick_ps);
+    let status = [b.read_reg("STATUS", 0), b.read_reg("STATUS", 1)];
+    let irq_err = b.read_reg("IRQ_ERROR", 0);
+    let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
+    let cleared_at = b.now_ps();
+    b.write_reg("STATUS", 0, STATUS_UNDERRUN);
+    b.write_reg("IRQ_ERROR", 0, 0xFFFF);
+    b.idle(200);
+    let status_after = b.read_reg("STATUS", 0);
+    let irq_err_after = b.read_reg("IRQ_ERROR", 0);
+    let trace = verilator_exported::<2>("system_underrun", &b, cycles_after(&b, 50));
+
+    assert_eq!(read16(&b, &trace, status[0]) & (STATUS_UNDERRUN | STATUS_OVERFLOW | STATUS_ERROR), STATUS_UNDERRUN, "axis 0 STATUS");
+    assert_eq!(read16(&b, &trace, status[0]) & 0x3F, 0, "axis 0: LEVEL and BUSY read 0 at the end");
+    assert_eq!(read16(&b, &trace, status[1]), 0, "axis 1 (periods ≥ K·t_calc) STATUS");
+    assert_eq!(read16(&b, &trace, irq_err), 0b01, "IRQ_ERROR names axis 0 only");
+    assert_eq!(position(&b, &trace, pos[0]), Some(n0));
+    assert_eq!(position(&b, &trace, pos[1]), Some(n1));
+    assert_eq!(read16(&b, &trace, status_after), 0, "W1C clears UNDERRUN");
+    assert_eq!(read16(&b, &trace, irq_err_after), 0);
+    let (up, down) = irq_edges(&trace);
+    assert_eq!((up.len(), down.len()), (1, 1), "irq rises once and falls after the W1C");
+    assert!(down[0] >= clk_cycle_at(cleared_at), "irq falls only after the clear");
+    for (a, n, period) in [(0, n0, fast), (1, n1, slow)] {
+        let r = rises(&trace, a);
+        assert_eq!(r.len(), n as usize, "axis {a}: every step emitted");
+        let gaps: Vec<u64> = r.windows(2).map(|w| w[1] - w[0]).collect();
+        assert!(gaps.iter().all(|&g| g >= period as u64), "axis {a}: a period was shortened: {gaps:?}");
+        if a == 1 {
+            assert!(gaps.iter().all(|&g| g == period as u64), "axis 1 must be exact: {gaps:?}");
+        } else {
+            assert!(gaps.iter().any(|&g| g > period as u64), "axis 0 never ran late: the test does not test underrun");
+        }
+    }
+}
+
 #[test]
 fn short_move_through_the_bus_rust_hdl_equals_verilator() {
     let limits = Limits::default();
