@@ -491,12 +491,15 @@ pub fn block_of(module: &str) -> &'static str {
 /// module counts once per instance (rust-hdl writes one module per instance, but the
 /// count does not rely on it).
 pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Block>, String> {
-    let v: serde_json::Value =
-        serde_json::from_str(json).map_err(|e| format!("stat -json: {e}"))?;
-    let modules = v
-        .get("modules")
-        .and_then(|m| m.as_object())
-        .ok_or("stat -json: no modules")?;
+    // yosys 0.23 prints the hierarchy as text after "modules" when it is three or more
+    // levels deep, so the file is not JSON: read the "modules" object alone.
+    let at = json.find("\"modules\":").ok_or("stat -json: no modules")? + "\"modules\":".len();
+    let v = serde_json::Deserializer::from_str(&json[at..])
+        .into_iter::<serde_json::Value>()
+        .next()
+        .ok_or("stat -json: no modules")?
+        .map_err(|e| format!("stat -json: {e}"))?;
+    let modules = v.as_object().ok_or("stat -json: modules is not an object")?;
     let cells = |name: &str| -> Option<&serde_json::Map<String, serde_json::Value>> {
         modules
             .get(&format!("\\{name}"))

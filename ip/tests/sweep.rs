@@ -147,12 +147,14 @@ fn breakdown_counts_cells_by_block() {
     );
     for (n, b) in [
         ("tdm_stepper$core$ctx$0", 10),
-        ("tdm_stepper$core$ctx$1", 10),
+        ("tdm_stepper$core$ctx$1$r_a", 10),
         ("tdm_stepper$core$div", 33),
         ("tdm_stepper$regs", 7),
     ] {
         v += &reg(n, b);
     }
+    // A third level (yosys 0.23 then writes its hierarchy as text into stat -json).
+    v += "module \\tdm_stepper$core$ctx$1 (input clk, input [9:0] d, output [9:0] q);\n  \\tdm_stepper$core$ctx$1$r_a r(.clk(clk), .d(d), .q(q));\nendmodule\n";
     std::fs::write(dir.join("h.v"), v).unwrap();
     let run = Command::new("yosys")
         .current_dir(&dir)
@@ -168,12 +170,9 @@ fn breakdown_counts_cells_by_block() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let blocks = breakdown_blocks(
-        &std::fs::read_to_string(dir.join("stat.json")).unwrap(),
-        "tdm_stepper",
-        Family::Xc7,
-    )
-    .unwrap();
+    let stat = std::fs::read_to_string(dir.join("stat.json")).unwrap();
+    assert!(serde_json::from_str::<serde_json::Value>(&stat).is_err(), "yosys wrote valid JSON: the workaround can go");
+    let blocks = breakdown_blocks(&stat, "tdm_stepper", Family::Xc7).unwrap();
     let ffs = |n: &str| blocks.iter().find(|b| b.name == block_of(n)).map(|b| b.ffs);
     assert_eq!(
         ffs("tdm_stepper$core$ctx$0"),
