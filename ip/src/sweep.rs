@@ -97,7 +97,12 @@ pub struct Point {
     /// "ok", "failed" or "timeout".
     pub status: String,
     pub resources: Option<Resources>,
+    /// Time of this sweep's work on the point (short when a finished run was reused:
+    /// `message` says so).
     pub seconds: f64,
+    /// Wall time of the tool run that gave the result (from the work folder's file
+    /// times: input written to result written), reused or not.
+    pub tool_seconds: Option<f64>,
     pub log: PathBuf,
     pub message: Option<String>,
 }
@@ -114,6 +119,7 @@ pub struct FmaxPoint {
     /// The clk domain's critical path, from the nextpnr log.
     pub critical_path: Option<CriticalPath>,
     pub seconds: f64,
+    pub tool_seconds: Option<f64>,
     pub log: PathBuf,
     pub message: Option<String>,
 }
@@ -150,6 +156,7 @@ pub struct Breakdown {
     pub status: String,
     pub blocks: Vec<Block>,
     pub seconds: f64,
+    pub tool_seconds: Option<f64>,
     pub log: PathBuf,
     pub message: Option<String>,
 }
@@ -249,12 +256,14 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
     let dir = opts.work.join(format!("{}_{}_k{axes}", family.name(), arch.name()));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
+    let mut reused = false;
     let result = (|| -> Result<Resources, String> {
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, ..Default::default() })?;
         // A finished run on the same Verilog is reused (delete the work folder to rerun).
         if same_input(&dir, "tdm_stepper.v", &v) {
             if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
+                reused = true;
                 return parse_stat(&stat, family);
             }
         }
@@ -272,7 +281,17 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
     })();
     let seconds = t0.elapsed().as_secs_f64();
     match result {
-        Ok(r) => Point { arch, axes, family, status: "ok".into(), resources: Some(r), seconds, log, message: None },
+        Ok(r) => Point {
+            arch,
+            axes,
+            family,
+            status: "ok".into(),
+            resources: Some(r),
+            seconds,
+            tool_seconds: run_seconds(&dir, "tdm_stepper.v", "stat.json"),
+            log,
+            message: reused_note(reused),
+        },
         Err(e) => Point {
             arch,
             axes,
@@ -280,6 +299,7 @@ fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> 
             status: status_of(&e),
             resources: None,
             seconds,
+            tool_seconds: None,
             log,
             message: Some(e),
         },
@@ -295,6 +315,17 @@ fn status_of(e: &str) -> String {
     } else {
         "failed".into()
     }
+}
+
+/// Seconds from writing `input` to writing `output` in `dir`: the tool run's wall time.
+fn run_seconds(dir: &Path, input: &str, output: &str) -> Option<f64> {
+    let t = |f: &str| std::fs::metadata(dir.join(f)).and_then(|m| m.modified()).ok();
+    t(output)?.duration_since(t(input)?).ok().map(|d| d.as_secs_f64())
+}
+
+/// The message of a point whose finished run in the work folder was reused.
+fn reused_note(reused: bool) -> Option<String> {
+    reused.then(|| "reused the finished run in the work folder (its input is unchanged); seconds is the time to collect it".to_string())
 }
 
 const NOT_RUN: &str = "not run: no finished result in the work folder (--cached-only)";
@@ -333,6 +364,7 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
     let log = dir.join("pnr.log");
     let t0 = Instant::now();
     let mut tool = String::new();
+    let mut reused = false;
     let result = (|| -> Result<(f64, Option<f64>), String> {
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, ..Default::default() })?;
@@ -342,6 +374,7 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
         if !cached && opts.cached_only {
             return Err(NOT_RUN.into());
         }
+        reused = cached;
         if !cached {
         let _ = std::fs::remove_file(dir.join("report.json"));
         std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
@@ -372,8 +405,9 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
             tool,
             critical_path,
             seconds,
+            tool_seconds: run_seconds(&dir, "fmax_top.v", "report.json"),
             log,
-            message: None,
+            message: reused_note(reused),
         },
         Err(e) => FmaxPoint {
             axes,
@@ -384,6 +418,7 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
             tool,
             critical_path,
             seconds,
+            tool_seconds: None,
             log,
             message: Some(e),
         },
@@ -571,6 +606,7 @@ fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
     let dir = opts.work.join(format!("breakdown_xc7_tdm_k{axes}"));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
+    let mut reused = false;
     let result = (|| -> Result<Vec<Block>, String> {
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let v = export::verilog(&ExportOptions {
@@ -580,6 +616,7 @@ fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
         })?;
         if same_input(&dir, "tdm_stepper.v", &v) && same_input(&dir, "script.ys", &breakdown_script(axes)) {
             if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
+                reused = true;
                 return breakdown_blocks(&stat, "tdm_stepper", Family::Xc7);
             }
         }
@@ -603,14 +640,16 @@ fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
             status: "ok".into(),
             blocks,
             seconds,
+            tool_seconds: run_seconds(&dir, "script.ys", "stat.json"),
             log,
-            message: None,
+            message: reused_note(reused),
         },
         Err(e) => Breakdown {
             axes,
             status: status_of(&e),
             blocks: Vec::new(),
             seconds,
+            tool_seconds: None,
             log,
             message: Some(e),
         },

@@ -39,6 +39,23 @@ fn small_sweep_synthesises_tdm_and_baseline_for_one_and_two_axes() {
     assert!(luts("tdm", 2) < luts("baseline", 2), "TDM must be smaller than two one-axis cores");
     let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
     assert!(md.contains("| 2 | ") && md.contains("6,262"), "the table and the paper's Table 1");
+
+    // --cached-only collects the same results and says they were reused.
+    let again = Command::new(env!("CARGO_BIN_EXE_tdm-stepper"))
+        .args(["sweep", "--axes", "1,2", "--arch", "tdm,baseline", "--family", "xc7", "--cached-only", "--out"])
+        .arg(&out)
+        .arg("--work")
+        .arg(&work)
+        .output()
+        .unwrap();
+    assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
+    let s2: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("sweep.json")).unwrap()).unwrap();
+    for p in s2["points"].as_array().unwrap() {
+        let first = points.iter().find(|q| q["arch"] == p["arch"] && q["axes"] == p["axes"]).unwrap();
+        assert_eq!(p["resources"], first["resources"]);
+        assert!(p["message"].as_str().is_some_and(|m| m.starts_with("reused")), "{p}");
+        assert!(p["tool_seconds"].as_f64().is_some_and(|t| t > 0.0), "the tool's run time: {p}");
+    }
 }
 
 #[test]
