@@ -252,32 +252,39 @@ fn run_logged(mut cmd: Command, dir: &Path, log: &Path, timeout: Duration) -> Re
     }
 }
 
+/// Runs yosys `script` (which writes `stat.json`) on `verilog` in `dir` and returns
+/// `stat.json`. A finished run on the same Verilog and script is reused instead
+/// (`reused` is set; delete the work folder to rerun); with `--cached-only` nothing runs.
+fn yosys_stat(dir: &Path, verilog: &str, script: &str, opts: &SweepOptions, reused: &mut bool) -> Result<String, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    if same_input(dir, "tdm_stepper.v", verilog) && same_input(dir, "script.ys", script) {
+        if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
+            *reused = true;
+            return Ok(stat);
+        }
+    }
+    if opts.cached_only {
+        return Err(NOT_RUN.into());
+    }
+    std::fs::write(dir.join("tdm_stepper.v"), verilog).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("script.ys"), script).map_err(|e| e.to_string())?;
+    let _ = std::fs::remove_file(dir.join("stat.json"));
+    let log = dir.join("yosys.log");
+    let mut cmd = Command::new("yosys");
+    cmd.args(["-q", "-s", "script.ys"]);
+    run_logged(cmd, dir, &log, opts.timeout)?;
+    std::fs::read_to_string(dir.join("stat.json")).map_err(|e| format!("no stat.json: {e}; see {}", log.display()))
+}
+
 fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> Point {
     let dir = opts.work.join(format!("{}_{}_k{axes}", family.name(), arch.name()));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
     let mut reused = false;
     let result = (|| -> Result<Resources, String> {
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, ..Default::default() })?;
-        // A finished run on the same Verilog is reused (delete the work folder to rerun).
-        if same_input(&dir, "tdm_stepper.v", &v) {
-            if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
-                reused = true;
-                return parse_stat(&stat, family);
-            }
-        }
-        if opts.cached_only {
-            return Err(NOT_RUN.into());
-        }
-        std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
-        let _ = std::fs::remove_file(dir.join("stat.json"));
         let script = format!("read_verilog tdm_stepper.v; {}; tee -q -o stat.json stat -json", family.synth());
-        let mut cmd = Command::new("yosys");
-        cmd.args(["-q", "-p", &script]);
-        run_logged(cmd, &dir, &log, opts.timeout)?;
-        let stat = std::fs::read_to_string(dir.join("stat.json")).map_err(|e| format!("no stat.json: {e}; see {}", log.display()))?;
-        parse_stat(&stat, family)
+        parse_stat(&yosys_stat(&dir, &v, &script, opts, &mut reused)?, family)
     })();
     let seconds = t0.elapsed().as_secs_f64();
     match result {
@@ -608,30 +615,8 @@ fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
     let t0 = Instant::now();
     let mut reused = false;
     let result = (|| -> Result<Vec<Block>, String> {
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let v = export::verilog(&ExportOptions {
-            axes,
-            clock_hz: opts.clock_hz,
-            ..Default::default()
-        })?;
-        if same_input(&dir, "tdm_stepper.v", &v) && same_input(&dir, "script.ys", &breakdown_script(axes)) {
-            if let Ok(stat) = std::fs::read_to_string(dir.join("stat.json")) {
-                reused = true;
-                return breakdown_blocks(&stat, "tdm_stepper", Family::Xc7);
-            }
-        }
-        if opts.cached_only {
-            return Err(NOT_RUN.into());
-        }
-        std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
-        std::fs::write(dir.join("script.ys"), breakdown_script(axes)).map_err(|e| e.to_string())?;
-        let _ = std::fs::remove_file(dir.join("stat.json"));
-        let mut cmd = Command::new("yosys");
-        cmd.args(["-q", "-s", "script.ys"]);
-        run_logged(cmd, &dir, &log, opts.timeout)?;
-        let stat = std::fs::read_to_string(dir.join("stat.json"))
-            .map_err(|e| format!("no stat.json: {e}; see {}", log.display()))?;
-        breakdown_blocks(&stat, "tdm_stepper", Family::Xc7)
+        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, ..Default::default() })?;
+        breakdown_blocks(&yosys_stat(&dir, &v, &breakdown_script(axes), opts, &mut reused)?, "tdm_stepper", Family::Xc7)
     })();
     let seconds = t0.elapsed().as_secs_f64();
     match result {
@@ -640,7 +625,7 @@ fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
             status: "ok".into(),
             blocks,
             seconds,
-            tool_seconds: run_seconds(&dir, "script.ys", "stat.json"),
+            tool_seconds: run_seconds(&dir, "tdm_stepper.v", "stat.json"),
             log,
             message: reused_note(reused),
         },
