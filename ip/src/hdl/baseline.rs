@@ -106,23 +106,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
         }
     }
 
-    /// Marks the inputs as driven from outside and connects the block, for
-    /// simulating the core on its own (tests, benches).
-    pub fn connect_ports(&mut self) {
-        self.clock.connect();
-        self.reset.connect();
-        self.cmd_valid.connect();
-        self.cmd_axis.connect();
-        self.cmd_v0.connect();
-        self.cmd_t.connect();
-        self.cmd_steps.connect();
-        self.start.connect();
-        self.start_mask.connect();
-        self.sel_axis.connect();
-        self.ext_go.connect();
-        self.abort.connect();
-        self.connect_all();
-    }
+    core_connect_ports!();
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for Baseline<K, R, DEPTH, QDEPTH> {

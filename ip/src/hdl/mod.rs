@@ -22,6 +22,29 @@
 //!
 //! Timing conventions, latencies, sizes and what each test proves: docs/architecture.md.
 
+/// `connect_ports()` of a core: `TdmCore` and `Baseline` have the same inputs.
+macro_rules! core_connect_ports {
+    () => {
+        /// Marks the inputs as driven from outside and connects the block, for
+        /// simulating the core on its own (tests, benches).
+        pub fn connect_ports(&mut self) {
+            self.clock.connect();
+            self.reset.connect();
+            self.cmd_valid.connect();
+            self.cmd_axis.connect();
+            self.cmd_v0.connect();
+            self.cmd_t.connect();
+            self.cmd_steps.connect();
+            self.start.connect();
+            self.start_mask.connect();
+            self.sel_axis.connect();
+            self.ext_go.connect();
+            self.abort.connect();
+            self.connect_all();
+        }
+    };
+}
+
 pub mod baseline;
 pub mod bit_insert;
 pub mod cdc;
