@@ -92,7 +92,7 @@ enum Command {
         #[arg(long, default_value = "docs/results")]
         out: PathBuf,
         /// Scratch folder for the tool runs (logs stay there). A point whose exported
-        /// Verilog is unchanged reuses its finished run there.
+        /// Verilog and yosys script are unchanged reuses its finished run there.
         #[arg(long, default_value = "target/tdm-stepper-sweep")]
         work: PathBuf,
         /// Run no tool: collect the finished runs in the work folder.
