@@ -7,12 +7,12 @@
 
 #include <stdint.h>
 
-/* This export: K = 2, clk = 50000000 Hz, queue depth 16, period FIFO depth 4, t_calc 12 cycles. */
+/* This export: K = 2, clk = 50000000 Hz, queue depth 16, period FIFO depth 4, t_calc 22 cycles. */
 #define TDM_AXES 2u
 #define TDM_CLOCK_HZ 50000000u
 #define TDM_QUEUE_DEPTH 16u
 #define TDM_FIFO_DEPTH 4u
-#define TDM_T_CALC 12u
+#define TDM_T_CALC 22u
 #define TDM_MAGIC 0x5453u
 #define TDM_VERSION 0x0100u
 

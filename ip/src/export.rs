@@ -4,7 +4,7 @@
 //! The design is generic over K (and its internal widths) at compile time, so the
 //! supported configurations are instantiated here: K = 1..=16 ([`MAX_AXES`]), the
 //! TDM core (the non-TDM baseline for K in [`BASELINE_AXES`]), period FIFO depth 4. The shared
-//! unit retires R = 8 bits per cycle ([`RADIX_BITS`]): t_calc = 12 cycles per period.
+//! unit retires R = 2 bits per cycle ([`RADIX_BITS`]): t_calc = 22 cycles per period.
 //! The segment queue holds [`QUEUE_DEPTH`] segments per axis.
 
 use crate::hdl::core::t_calc_sqrt;
@@ -16,7 +16,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// Bits per cycle of the shared multiplier, divider and square root.
-pub const RADIX_BITS: usize = 8;
+pub const RADIX_BITS: usize = 2;
 /// Segments per axis queue.
 pub const QUEUE_DEPTH: usize = 16;
 /// Most axes an export supports (the register map's limit).

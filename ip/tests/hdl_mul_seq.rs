@@ -14,15 +14,14 @@ fn operands(count: usize) -> Vec<Vec<u128>> {
     let t = (1u128 << 30) - 1;
     let mut v: Vec<Vec<u128>> = vec![
         vec![0, 0],
-        vec![u128::MAX, u64::MAX as u128],         // wraps: only the low 128 bits
-        vec![(1u128 << 31) - 1, t],                 // v0·T
+        vec![u128::MAX, u32::MAX as u128],          // wraps: only the low 128 bits
         vec![t * t, (1u128 << 31) - 1],             // v0·T²
-        vec![u64::MAX as u128, u64::MAX as u128],   // P'²
-        vec![(1u128 << 101) - 1, 1u128 << 24],      // B'·n
+        vec![u64::MAX as u128, 1u128 << 30],        // (v_end·T·2^32)·T
+        vec![(1u128 << 100) - 1, 1u128 << 24],      // B'·n
     ];
     let mut rng = Rng(0xd1b5_4a32_d192_ed03);
     while v.len() < count {
-        v.push(vec![rng.next_u128() >> (rng.next() % 128), (rng.next() >> (rng.next() % 64)) as u128]);
+        v.push(vec![rng.next_u128() >> (rng.next() % 128), ((rng.next() as u32) >> (rng.next() % 32)) as u128]);
     }
     v
 }

@@ -10,7 +10,7 @@ mod common;
 use common::*;
 use rust_hdl::prelude::*;
 use std::path::PathBuf;
-use tdm_stepper::hdl::reg_fifo::{pack_entry, ENTRY_BITS};
+use tdm_stepper::hdl::ram_fifo::{pack_entry, ENTRY_BITS};
 use tdm_stepper::hdl::step_gen::StepAxis;
 use tdm_stepper::verify::{run, run_rust_hdl, Port, TbSpec};
 use tdm_stepper::vectors::VectorFile;

@@ -143,6 +143,27 @@ proptest! {
         check_segment(&seg, &limits, seed)?;
     }
 
+    /// The offset-root recurrence the hardware runs equals `isqrt(p² + c) − p` for
+    /// every root that fits 36 bits, over p < 2^64 and c anywhere in that root's
+    /// interval (both ends included), and the segments' accumulators stay in range.
+    #[test]
+    fn offset_root_equals_isqrt_over_its_range(
+        p in prop_oneof![any::<u64>(), Just(0u64), Just(u64::MAX - (1 << 37)), 0u64..1000],
+        x in prop_oneof![0u64..(1 << 36), Just(0u64), Just((1u64 << 34) + 1), ((1u64 << 36) - 4)..(1u64 << 36)],
+        pick in 0u8..3,
+        frac in any::<u64>(),
+    ) {
+        let (p128, x128) = (p as u128, x as u128);
+        prop_assume!(p128 + x128 < 1 << 64);
+        // The interval of c whose root is x: [x² + 2px, (x+1)² + 2p(x+1) − 1].
+        let lo = x128 * x128 + 2 * p128 * x128;
+        let width = 2 * (p128 + x128) + 1;
+        let c = match pick { 0 => lo, 1 => lo + width - 1, _ => lo + (frac as u128 % width) };
+        prop_assume!(c < 1u128 << ACC_BITS);
+        prop_assert_eq!((p128 * p128 + c).isqrt() - p128, x128);
+        prop_assert_eq!(offset_root(p, c), x);
+    }
+
     /// Multi-segment moves: edges measured from the move start, cumulatively.
     #[test]
     fn multi_segment_moves_do_not_drift(

@@ -77,10 +77,13 @@ fn stat_and_fmax_reports_are_read_right() {
     use tdm_stepper::sweep::{fmax_of, parse_stat, Family};
     let xc7 = r#"{"design": {"num_cells": 9, "num_cells_by_type": {"LUT2": 3, "LUT6": 4, "FDRE": 5, "FDSE": 1, "DSP48E1": 2, "CARRY4": 7, "RAMB18E1": 1, "RAM32M": 2, "IBUF": 9}}}"#;
     let r = parse_stat(xc7, Family::Xc7).unwrap();
-    assert_eq!((r.luts, r.ffs, r.dsps, r.carry, r.brams, r.lutram), (7, 6, 2, 7, 1, 2));
+    // LUTs: 3 + 4 LUT cells, and 2 RAM32M of 4 LUTs each.
+    assert_eq!((r.luts, r.ffs, r.dsps, r.carry, r.brams, r.lutram), (15, 6, 2, 7, 1, 2));
+    assert_eq!(r.luts_in_memory, 8);
     let ecp5 = r#"{"design": {"num_cells_by_type": {"LUT4": 10, "TRELLIS_FF": 8, "MULT18X18D": 3, "CCU2C": 4, "DP16KD": 1, "TRELLIS_DPR16X4": 2}}}"#;
     let r = parse_stat(ecp5, Family::Ecp5).unwrap();
-    assert_eq!((r.luts, r.ffs, r.dsps, r.carry, r.brams, r.lutram), (10, 8, 3, 4, 1, 2));
+    // LUTs: 10 LUT4 cells, and 2 TRELLIS_DPR16X4 of 6 LUT4s each.
+    assert_eq!((r.luts, r.ffs, r.dsps, r.carry, r.brams, r.lutram), (22, 8, 3, 4, 1, 2));
     assert!(parse_stat("{}", Family::Xc7).is_err());
     let rep: serde_json::Value = serde_json::from_str(
         r#"{"fmax": {"$glbnet$bus_clk$TRELLIS_IO_IN": {"achieved": 79.5, "constraint": 100}, "$glbnet$clk$TRELLIS_IO_IN": {"achieved": 14.7, "constraint": 100}}}"#,

@@ -378,7 +378,7 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
     for s in &move3 {
         b.push_segment(0, s);
     }
-    // Two setups (about 60 cycles each at R = 8), the period FIFO filled between
+    // Two setups (about 170–200 cycles each at R = 2), the period FIFO filled between
     // them, then the status crossing: well inside 12 µs.
     b.idle(2_000);
     let qlow_after = b.read_reg("IRQ_QLOW", 0);

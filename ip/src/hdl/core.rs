@@ -3,7 +3,7 @@
 //!
 //! Per axis: a segment queue (`QDEPTH` × 96 bits), a context ([`AxisContext`]), and a
 //! period FIFO with its step generator ([`StepAxis`]). Shared: one [`MulSeq`], one
-//! [`Divider`] and one [`Sqrt`] (`R` bits per cycle each), and the scheduler.
+//! [`Divider`] and one [`OffsetRoot`] (`R` bits per cycle each), and the scheduler.
 //!
 //! **Scheduler.** In `PICK` it looks at axis m: if m has an active segment and room
 //! in its period FIFO, it computes m's next period; else if m's segment is done and the
@@ -37,21 +37,22 @@
 
 use super::bit_insert::{BitInsert, BitPick};
 use super::context::AxisContext;
+use super::context_ram::{ContextRam, ContextWord, CTX_ADDR_BITS, CTX_MAX_AXES};
 use super::divider::{div_latency, Divider};
 use super::mul_seq::{mul_seq_latency, MulSeq};
 use super::mul_wide::{MulReg, MUL_REG_LATENCY};
-use super::reg_fifo::{RegFifo, ENTRY_BITS};
-use super::sqrt::{sqrt_latency, Sqrt};
+use super::ram_fifo::{RamFifo, ENTRY_BITS};
+use super::root::{root_latency, OffsetRoot};
 use super::step_gen::StepAxis;
 use super::sync_start::SyncStart;
 use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
-/// decelerating segments): PICK, P_START, the square root ([`sqrt_latency`]) and the
-/// commit. 20 at R = 4, 12 at R = 8. Measured by tests/hdl_core.rs.
+/// decelerating segments): PICK, P_START, the offset root ([`root_latency`]) and the
+/// commit. 22 at R = 2, 13 at R = 4. Measured by tests/hdl_core.rs.
 pub const fn t_calc_sqrt(r: usize) -> usize {
-    3 + sqrt_latency(r)
+    3 + root_latency(r)
 }
 
 /// Cycles per period on the uniform path: PICK, U_STEP, commit.
@@ -59,11 +60,11 @@ pub const T_CALC_UNIFORM: usize = 3;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
 /// segment, from S_CHECK to its commit: three 32×32 products on the registered
-/// wide-multiplier leaf (v0·T, T·RMAX, T²), two on the sequential multiplier (v·T², P'²;
-/// three with n·B' when decelerating) and two divides (P', B'), each issued in the
+/// wide-multiplier leaf (v0·T, T·RMAX, T²), one on the sequential multiplier (v·T²;
+/// two with n·B' when decelerating) and two divides (P', B'), each issued in the
 /// cycle its operand arrives. Measured by tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
-    let wide = if decelerating { 3 } else { 2 };
+    let wide = if decelerating { 2 } else { 1 };
     2 + 3 * MUL_REG_LATENCY + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
 
@@ -74,9 +75,8 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 20] = [
-    "PICK", "S_CHECK", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_P2",
-    "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
+pub const STATES: [&str; 19] = [
+    "PICK", "S_CHECK", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
     "S_DRAIN",
 ];
 
@@ -128,10 +128,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// The scheduler's state register (Gray code), for waveforms.
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
 
-    queues: [RegFifo<SEGMENT_BITS, QDEPTH>; K],
+    queues: [RamFifo<SEGMENT_BITS, QDEPTH>; K],
     axes: [StepAxis<DEPTH>; K],
-    /// Per-axis contexts; public so that simulations can inspect them.
+    /// Per-axis context flags; public so that simulations can inspect them.
     pub ctx: [AxisContext; K],
+    /// The wide context fields of every axis, two words each (see [`Self::context`]).
+    ctx_ram: ContextRam,
     step_bus: [BitInsert<K>; K],
     dir_bus: [BitInsert<K>; K],
     under_bus: [BitInsert<K>; K],
@@ -146,7 +148,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     mulw: MulReg<32, 32, 64>,
     mul: MulSeq<R>,
     div: Divider<R>,
-    sqrt: Sqrt<R>,
+    root: OffsetRoot<R>,
 
     st: DFF<Bits<STATE_BITS>>,
     m: DFF<Bits<8>>,
@@ -160,8 +162,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_t: DFF<Bits<32>>,
     w_e: DFF<Bits<32>>,
     w_p: DFF<Bits<64>>,
-    w_b: DFF<Bits<128>>,
-    w_a: DFF<Bits<128>>,
+    w_b: DFF<Bits<100>>,
+    w_a: DFF<Bits<100>>,
     w_uq: DFF<Bits<32>>,
     w_ur: DFF<Bits<32>>,
     w_uqs: DFF<Bits<32>>,
@@ -172,8 +174,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_dmag: DFF<Bits<128>>,
     s_vend: DFF<Bits<128>>,
     s_t2: DFF<Bits<128>>,
-    s_p2: DFF<Bits<128>>,
-    s_anew: DFF<Bits<128>>,
+    s_anew: DFF<Bits<100>>,
     s_code: DFF<Bits<8>>,
 
     // Axis m, through the multiplexers.
@@ -184,8 +185,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cur_t: Signal<Local, Bits<32>>,
     cur_e: Signal<Local, Bits<32>>,
     cur_p: Signal<Local, Bits<64>>,
-    cur_b: Signal<Local, Bits<128>>,
-    cur_a: Signal<Local, Bits<128>>,
+    cur_b: Signal<Local, Bits<100>>,
+    cur_a: Signal<Local, Bits<100>>,
     cur_uq: Signal<Local, Bits<32>>,
     cur_ur: Signal<Local, Bits<32>>,
     cur_uqs: Signal<Local, Bits<32>>,
@@ -195,7 +196,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cur_full: Signal<Local, Bit>,
     cur_next_valid: Signal<Local, Bit>,
     cur_next_dwell: Signal<Local, Bit>,
-    cur_next_t: Signal<Local, Bits<32>>,
+    cur_slot: Signal<Local, Bit>,
     all_sat: Signal<Local, Bit>,
     promote_now: Signal<Local, Bit>,
     nwe_now: Signal<Local, Bit>,
@@ -212,8 +213,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     narrow: Signal<Local, Bits<128>>,
     t128: Signal<Local, Bits<128>>,
     p_test: Signal<Local, Bits<128>>,
-    a_step: Signal<Local, Bits<128>>,
-    tau: Signal<Local, Bits<64>>,
+    a_step: Signal<Local, Bits<100>>,
     rounded: Signal<Local, Bits<32>>,
     e_next: Signal<Local, Bits<32>>,
     i_next: Signal<Local, Bits<32>>,
@@ -246,7 +246,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_x: Constant<Bits<STATE_BITS>>,
     k_p: Constant<Bits<STATE_BITS>>,
     k_b: Constant<Bits<STATE_BITS>>,
-    k_p2s: Constant<Bits<STATE_BITS>>,
     k_nb: Constant<Bits<STATE_BITS>>,
     k_commit_setup: Constant<Bits<STATE_BITS>>,
     k_reject: Constant<Bits<STATE_BITS>>,
@@ -261,7 +260,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
     /// A core whose every emitted period is at least `limits.min_period_ticks`.
     pub fn new(limits: Limits) -> Self {
-        assert!((1..=64).contains(&K), "TdmCore: K = {K} outside 1..=64");
+        assert!((1..=CTX_MAX_AXES).contains(&K), "TdmCore: K = {K} outside 1..={CTX_MAX_AXES}");
         TdmCore {
             clock: Default::default(),
             reset: Default::default(),
@@ -296,6 +295,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             queues: std::array::from_fn(|_| Default::default()),
             axes: std::array::from_fn(|_| Default::default()),
             ctx: std::array::from_fn(|_| Default::default()),
+            ctx_ram: Default::default(),
             step_bus: std::array::from_fn(BitInsert::new),
             dir_bus: std::array::from_fn(BitInsert::new),
             under_bus: std::array::from_fn(BitInsert::new),
@@ -310,7 +310,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             mulw: Default::default(),
             mul: Default::default(),
             div: Default::default(),
-            sqrt: Default::default(),
+            root: Default::default(),
             st: Default::default(),
             m: Default::default(),
             cmd_err: Default::default(),
@@ -333,7 +333,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_dmag: Default::default(),
             s_vend: Default::default(),
             s_t2: Default::default(),
-            s_p2: Default::default(),
             s_anew: Default::default(),
             s_code: Default::default(),
             cur_kind: Default::default(),
@@ -354,7 +353,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cur_full: Default::default(),
             cur_next_valid: Default::default(),
             cur_next_dwell: Default::default(),
-            cur_next_t: Default::default(),
+            cur_slot: Default::default(),
             all_sat: Default::default(),
             promote_now: Default::default(),
             nwe_now: Default::default(),
@@ -370,7 +369,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             t128: Default::default(),
             p_test: Default::default(),
             a_step: Default::default(),
-            tau: Default::default(),
             rounded: Default::default(),
             e_next: Default::default(),
             i_next: Default::default(),
@@ -401,7 +399,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_x: state("S_X"),
             k_p: state("S_P"),
             k_b: state("S_B"),
-            k_p2s: state("S_P2"),
             k_nb: state("S_NB"),
             k_commit_setup: state("S_COMMIT_SETUP"),
             k_reject: state("S_REJECT"),
@@ -415,6 +412,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     }
 
     core_connect_ports!();
+
+    /// Axis `axis`'s current segment as the simulation holds it: its kind (0 idle,
+    /// 1 uniform, 2 accelerate, 3 decelerate), error code and context word.
+    pub fn context(&self, axis: usize) -> (u8, u8, ContextWord) {
+        let c = &self.ctx[axis];
+        let addr = 2 * axis + c.slot.val() as usize;
+        (c.kind.val().to_u64() as u8, c.err.val().to_u64() as u8, self.ctx_ram.word(addr))
+    }
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic
@@ -424,22 +429,23 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_p2, s_anew, s_code
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code
         );
         self.mulw.clock.next = self.clock.val();
         self.mulw.a.next = 0.into();
         self.mulw.b.next = 0.into();
         self.mul.clock.next = self.clock.val();
         self.div.clock.next = self.clock.val();
-        self.sqrt.clock.next = self.clock.val();
+        self.root.clock.next = self.clock.val();
         self.mul.start.next = false;
         self.div.start.next = false;
-        self.sqrt.start.next = false;
+        self.root.start.next = false;
         self.mul.a.next = 0.into();
         self.mul.b.next = 0.into();
         self.div.numerator.next = 0.into();
         self.div.denominator.next = 0.into();
-        self.sqrt.radicand.next = self.s_anew.q.val();
+        self.root.c.next = self.s_anew.q.val();
+        self.root.p.next = self.w_p.q.val();
         self.push_now.next = false;
         self.push_entry.next = 0.into();
         self.pop_now.next = false;
@@ -452,47 +458,41 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
 
         // ---- axis m through the multiplexers --------------------------------
         self.cur_kind.next = 0.into();
-        self.cur_rev.next = false;
-        self.cur_n.next = 0.into();
-        self.cur_i.next = 0.into();
-        self.cur_t.next = 0.into();
-        self.cur_e.next = 0.into();
-        self.cur_p.next = 0.into();
-        self.cur_b.next = 0.into();
-        self.cur_a.next = 0.into();
-        self.cur_uq.next = 0.into();
-        self.cur_ur.next = 0.into();
-        self.cur_uqs.next = 0.into();
-        self.cur_urs.next = 0.into();
         self.cur_head.next = 0.into();
         self.cur_queued.next = false;
         self.cur_full.next = true;
         self.cur_next_valid.next = false;
         self.cur_next_dwell.next = false;
-        self.cur_next_t.next = 0.into();
+        self.cur_slot.next = false;
         for i in 0..K {
             if self.m.q.val().index() == i {
                 self.cur_kind.next = self.ctx[i].kind.val();
-                self.cur_rev.next = self.ctx[i].rev.val();
-                self.cur_n.next = self.ctx[i].n.val();
-                self.cur_i.next = self.ctx[i].i.val();
-                self.cur_t.next = self.ctx[i].t.val();
-                self.cur_e.next = self.ctx[i].e.val();
-                self.cur_p.next = self.ctx[i].p.val();
-                self.cur_b.next = self.ctx[i].b.val();
-                self.cur_a.next = self.ctx[i].a.val();
-                self.cur_uq.next = self.ctx[i].uq.val();
-                self.cur_ur.next = self.ctx[i].ur.val();
-                self.cur_uqs.next = self.ctx[i].uqs.val();
-                self.cur_urs.next = self.ctx[i].urs.val();
                 self.cur_head.next = self.queues[i].head.val();
                 self.cur_queued.next = !self.queues[i].empty.val();
                 self.cur_full.next = self.axes[i].full.val();
                 self.cur_next_valid.next = self.ctx[i].next_valid.val();
                 self.cur_next_dwell.next = self.ctx[i].next_dwell.val();
-                self.cur_next_t.next = self.ctx[i].next_t.val();
+                self.cur_slot.next = self.ctx[i].slot.val();
             }
         }
+        // Axis m's context word: the current slot, or the next one while promoting
+        // (a dwell's FIFO entry needs its T). Writes: a step's commit into the
+        // current slot, a setup's commit into the next one.
+        self.ctx_ram.clock.next = self.clock.val();
+        self.ctx_ram.raddr.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
+            | bit_cast::<CTX_ADDR_BITS, 1>((self.cur_slot.val() ^ (self.st.q.val() == self.k_promote.val())).into());
+        self.cur_rev.next = self.ctx_ram.r_rev.val();
+        self.cur_n.next = self.ctx_ram.r_n.val();
+        self.cur_i.next = self.ctx_ram.r_i.val();
+        self.cur_t.next = self.ctx_ram.r_t.val();
+        self.cur_e.next = self.ctx_ram.r_e.val();
+        self.cur_p.next = self.ctx_ram.r_p.val();
+        self.cur_b.next = self.ctx_ram.r_b.val();
+        self.cur_a.next = self.ctx_ram.r_a.val();
+        self.cur_uq.next = self.ctx_ram.r_uq.val();
+        self.cur_ur.next = self.ctx_ram.r_ur.val();
+        self.cur_uqs.next = self.ctx_ram.r_uqs.val();
+        self.cur_urs.next = self.ctx_ram.r_urs.val();
         if self.m.q.val() == self.c_last_axis.val() {
             self.next_m.next = 0.into();
         } else {
@@ -521,8 +521,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else {
             self.a_step.next = self.w_a.q.val() - self.w_b.q.val();
         }
-        self.tau.next = self.sqrt.root.val() - self.w_p.q.val();
-        self.rounded.next = bit_cast::<32, 64>((self.tau.val() + 8) >> 4);
+        // E = (τ' + 8) >> 4, τ' = x < 2^35.
+        self.rounded.next = bit_cast::<32, 36>((self.root.x.val() + 8) >> 4);
         self.i_next.next = self.w_i.q.val() + 1;
         if self.i_next.val() == self.w_n.q.val() {
             self.e_next.next = self.w_t.q.val();
@@ -659,10 +659,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             if self.s_dq.q.val().get_bit(127) {
                 // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
                 self.mul.a.next = self.s_vend.q.val();
-                self.mul.b.next = bit_cast::<64, 32>(self.w_t.q.val());
+                self.mul.b.next = self.w_t.q.val();
             } else {
                 self.mul.a.next = self.narrow.val();
-                self.mul.b.next = bit_cast::<64, 32>(self.s_v0.q.val());
+                self.mul.b.next = self.s_v0.q.val();
             }
             self.mul.start.next = true;
             self.st.d.next = self.k_x.val();
@@ -693,31 +693,26 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
         } else if self.st.q.val() == self.k_b.val() {
             if self.div.valid.val() {
-                self.w_b.d.next = self.div.quotient.val();
-                self.mul.a.next = bit_cast::<128, 64>(self.w_p.q.val());
-                self.mul.b.next = self.w_p.q.val();
-                self.mul.start.next = true;
-                self.st.d.next = self.k_p2s.val();
-            }
-        } else if self.st.q.val() == self.k_p2s.val() {
-            if self.mul.valid.val() {
+                // B' < 2^100 on the square-root paths (docs/model.md, "Widths").
+                self.w_b.d.next = self.div.quotient.val().get_bits::<100>(0);
                 self.w_i.d.next = 0.into();
                 self.w_e.d.next = 0.into();
                 if self.s_dq.q.val().get_bit(127) {
-                    self.s_p2.d.next = self.mul.product.val();
-                    self.mul.a.next = self.w_b.q.val();
-                    self.mul.b.next = bit_cast::<64, 32>(self.w_n.q.val());
+                    // Decelerating: C starts at n·B'.
+                    self.mul.a.next = bit_cast::<128, 100>(self.div.quotient.val().get_bits::<100>(0));
+                    self.mul.b.next = self.w_n.q.val();
                     self.mul.start.next = true;
                     self.st.d.next = self.k_nb.val();
                 } else {
-                    self.w_a.d.next = self.mul.product.val();
+                    // Accelerating: C starts at 0.
+                    self.w_a.d.next = 0.into();
                     self.w_kind.d.next = 2.into();
                     self.st.d.next = self.k_commit_setup.val();
                 }
             }
         } else if self.st.q.val() == self.k_nb.val() {
             if self.mul.valid.val() {
-                self.w_a.d.next = self.s_p2.q.val() + self.mul.product.val();
+                self.w_a.d.next = self.mul.product.val().get_bits::<100>(0);
                 self.w_kind.d.next = 3.into();
                 self.st.d.next = self.k_commit_setup.val();
             }
@@ -729,7 +724,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
             if self.cur_next_dwell.val() {
-                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.cur_next_t.val()) | self.c_last_bit.val();
+                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
                 self.push_now.next = true;
             }
             self.m.d.next = self.next_m.val();
@@ -741,11 +736,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
             self.s_anew.d.next = self.a_step.val();
-            self.sqrt.radicand.next = self.a_step.val();
-            self.sqrt.start.next = true;
+            self.root.c.next = self.a_step.val();
+            self.root.start.next = true;
             self.st.d.next = self.k_pwait.val();
         } else if self.st.q.val() == self.k_pwait.val() {
-            if self.sqrt.valid.val() {
+            if self.root.valid.val() {
                 self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
                     | self.c_step_bit.val()
                     | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
@@ -796,12 +791,29 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_drain.val() {
             // After an abort: wait until no unit still runs an abandoned operation.
-            if !(self.mul.busy.val() | self.div.busy.val() | self.sqrt.busy.val()) {
+            if !(self.mul.busy.val() | self.div.busy.val() | self.root.busy.val()) {
                 self.st.d.next = self.k_pick.val();
             }
         } else {
             self.st.d.next = self.k_pick.val();
         }
+
+        // ---- context memory writes (after the scheduler decided them) ---------
+        self.ctx_ram.we.next = self.commit.val() | self.nwe_now.val();
+        self.ctx_ram.waddr.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
+            | bit_cast::<CTX_ADDR_BITS, 1>((self.cur_slot.val() ^ self.nwe_now.val()).into());
+        self.ctx_ram.w_rev.next = self.w_rev.q.val();
+        self.ctx_ram.w_n.next = self.w_n.q.val();
+        self.ctx_ram.w_i.next = self.w_i.q.val();
+        self.ctx_ram.w_t.next = self.w_t.q.val();
+        self.ctx_ram.w_e.next = self.w_e.q.val();
+        self.ctx_ram.w_p.next = self.w_p.q.val();
+        self.ctx_ram.w_b.next = self.w_b.q.val();
+        self.ctx_ram.w_a.next = self.w_a.q.val();
+        self.ctx_ram.w_uq.next = self.w_uq.q.val();
+        self.ctx_ram.w_ur.next = self.w_ur.q.val();
+        self.ctx_ram.w_uqs.next = self.w_uqs.q.val();
+        self.ctx_ram.w_urs.next = self.w_urs.q.val();
 
         // ---- per-axis wiring ------------------------------------------------
         // The last element of each chain holds the whole bus (last assignment wins).
@@ -870,18 +882,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].new_dwell.next = self.w_dwell.q.val();
             self.ctx[i].new_kind.next = self.w_kind.q.val();
-            self.ctx[i].new_rev.next = self.w_rev.q.val();
-            self.ctx[i].new_n.next = self.w_n.q.val();
-            self.ctx[i].new_i.next = self.w_i.q.val();
-            self.ctx[i].new_t.next = self.w_t.q.val();
-            self.ctx[i].new_e.next = self.w_e.q.val();
-            self.ctx[i].new_p.next = self.w_p.q.val();
-            self.ctx[i].new_b.next = self.w_b.q.val();
-            self.ctx[i].new_a.next = self.w_a.q.val();
-            self.ctx[i].new_uq.next = self.w_uq.q.val();
-            self.ctx[i].new_ur.next = self.w_ur.q.val();
-            self.ctx[i].new_uqs.next = self.w_uqs.q.val();
-            self.ctx[i].new_urs.next = self.w_urs.q.val();
             self.ctx[i].new_err.next = self.s_code.q.val();
             self.step_bus[i].value.next = self.axes[i].step.val();
             self.dir_bus[i].value.next = self.axes[i].dir.val();

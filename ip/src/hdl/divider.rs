@@ -2,7 +2,8 @@
 //! 128-bit quotient and a 64-bit remainder, `R` radix-2 digits per clock.
 //!
 //! Restoring division: each digit shifts one numerator bit into the partial
-//! remainder and keeps a quotient bit where `rem ≥ den`. Equals u128 `/` and `%`,
+//! remainder and keeps a quotient bit where `rem ≥ den`, decided by the borrow of
+//! the one 66-bit subtraction `rem − den` (a single carry chain per digit). Equals u128 `/` and `%`,
 //! which the reference model's setup uses. Dividing by 0 gives an all-ones quotient
 //! and the numerator's low bits as remainder (the scheduler never does it: D = 0
 //! takes the uniform path).
@@ -35,7 +36,7 @@ pub struct DivDigit {
     pub rem_out: Signal<Out, Bits<REM_BITS>>,
     pub num_out: Signal<Out, Bits<DIV_NUM_BITS>>,
     rem_sh: Signal<Local, Bits<REM_BITS>>,
-    den_w: Signal<Local, Bits<REM_BITS>>,
+    diff: Signal<Local, Bits<66>>,
 }
 
 impl Logic for DivDigit {
@@ -43,13 +44,14 @@ impl Logic for DivDigit {
     fn update(&mut self) {
         self.rem_sh.next =
             (self.rem_in.val() << 1) | bit_cast::<REM_BITS, 1>(self.num_in.val().get_bits::<1>(127));
-        self.den_w.next = bit_cast::<REM_BITS, DIV_DEN_BITS>(self.den.val());
-        if self.rem_sh.val() >= self.den_w.val() {
-            self.rem_out.next = self.rem_sh.val() - self.den_w.val();
-            self.num_out.next = (self.num_in.val() << 1) | 1;
-        } else {
+        // One subtraction; its borrow (bit 65) is the comparison rem_sh < den.
+        self.diff.next = bit_cast::<66, REM_BITS>(self.rem_sh.val()) - bit_cast::<66, DIV_DEN_BITS>(self.den.val());
+        if self.diff.val().get_bit(65) {
             self.rem_out.next = self.rem_sh.val();
             self.num_out.next = self.num_in.val() << 1;
+        } else {
+            self.rem_out.next = bit_cast::<REM_BITS, 66>(self.diff.val());
+            self.num_out.next = (self.num_in.val() << 1) | 1;
         }
     }
 }

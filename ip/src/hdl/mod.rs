@@ -3,11 +3,12 @@
 //! | block | file | latency |
 //! |---|---|---|
 //! | wide multiplier (custom Verilog leaf) and its registered form | `mul_wide.rs` | 0 / 1 cycle |
-//! | sequential multiplier, 128 × 64 → 128 bits, R bits per cycle | `mul_seq.rs` | `1 + 64/R` cycles |
+//! | sequential multiplier, 128 × 32 → 128 bits, R bits per cycle | `mul_seq.rs` | `1 + 32/R` cycles |
 //! | divider, 128-bit numerator by 64-bit denominator, R digits per cycle | `divider.rs` | `1 + 128/R` cycles |
-//! | integer square root, 128-bit radicand, R digits per cycle | `sqrt.rs` | `1 + 64/R` cycles |
+//! | offset root ⌊√(p² + c)⌋ − p, 36 digits, R per cycle | `root.rs` | `1 + 36/R` cycles |
 //! | control of an iterative unit (start, fixed cycles, valid) | `iterate.rs` | `1 + cycles` |
-//! | register FIFO (period FIFOs, segment queues), show-ahead | `reg_fifo.rs` | 0 (head) |
+//! | distributed RAM, synchronous write, asynchronous read (custom Verilog leaf) | `lut_ram.rs` | 0 (read) |
+//! | FIFO in LUT RAM (period FIFOs, segment queues), show-ahead | `ram_fifo.rs` | 0 (head) |
 //! | step generator, and the FIFO plus generator (`StepAxis`) | `step_gen.rs` | edges at release + E_i |
 //! | per-axis scheduler context, in registers | `context.rs` | 1 cycle (write) |
 //! | synchronised start of masked axes | `sync_start.rs` | 1 cycle |
@@ -49,15 +50,17 @@ pub mod baseline;
 pub mod bit_insert;
 pub mod cdc;
 pub mod context;
+pub mod context_ram;
 pub mod core;
 pub mod divider;
 pub mod exmc;
 pub mod iterate;
 pub mod mul_seq;
 pub mod mul_wide;
-pub mod reg_fifo;
+pub mod lut_ram;
+pub mod ram_fifo;
 pub mod regfile;
-pub mod sqrt;
+pub mod root;
 pub mod status_sync;
 pub mod step_gen;
 pub mod sync_start;

@@ -1,8 +1,8 @@
 //! Sequential multiplier: `product = a × b mod 2^128`, a 128-bit multiplicand by a
-//! 64-bit multiplier, `R` multiplier bits per clock (shift and add, no DSP blocks).
+//! 32-bit multiplier, `R` multiplier bits per clock (shift and add, no DSP blocks).
 //!
-//! Every product of the per-segment setup fits it: v0·T, T·RMAX, T², v·T², P'² and
-//! n·B' (docs/model.md, "Widths"), so one unit serves the whole setup. Ports and
+//! The setup's wide products have a multiplier of at most 32 bits: v0·T² (v0),
+//! (v_end·T·2^32)·T (T) and n·B' (n), each < 2^100 (docs/model.md, "Widths"). Ports and
 //! timing as [`super::divider::Divider`]: pulse `start` while idle; `product` and
 //! `valid` follow [`mul_seq_latency`]`(R)` cycles later.
 
@@ -10,7 +10,7 @@ use super::iterate::Iterate;
 use rust_hdl::prelude::*;
 
 pub const MUL_A_BITS: usize = 128;
-pub const MUL_B_BITS: usize = 64;
+pub const MUL_B_BITS: usize = 32;
 
 /// Cycles from the `start` edge to `valid` for `r` bits per cycle.
 pub const fn mul_seq_latency(r: usize) -> usize {

@@ -25,7 +25,7 @@
 //! * `reset` (synchronous) stops the axis and clears position, `underrun` and the
 //!   counters.
 
-use super::reg_fifo::ENTRY_BITS;
+use super::ram_fifo::ENTRY_BITS;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock, Default)]
@@ -207,7 +207,7 @@ pub struct StepAxis<const DEPTH: usize> {
     pub under_count: Signal<Out, Bits<8>>,
     pub full: Signal<Out, Bit>,
     pub level: Signal<Out, Bits<8>>,
-    fifo: super::reg_fifo::PeriodFifo<DEPTH>,
+    fifo: super::ram_fifo::PeriodFifo<DEPTH>,
     gen: StepGen,
 }
 

@@ -19,8 +19,11 @@
 //!   decelerate (D < 0): the same acceleration run backwards from the end speed,
 //!   `P'` from v_end instead of v0 (`P' = round(v_end·T·T·2^s / (2|D·2^32|))`, 0 for a
 //!   stop to rest), `A_i = P'² + (n − i)·B'`, `E_i = T − ((isqrt(A_i) − P' + 2^(s−1)) >> s)`.
-//!   `A_i` is an accumulator: `A_i = A_{i−1} ± B'` (the decelerating start value
-//!   `P'² + n·B'` costs one multiply at setup). `E_n = T` is forced.
+//!   The hardware keeps `C_i = A_i − P'²` rather than A_i: an accumulator,
+//!   `C_i = C_{i−1} ± B'` (0 when accelerating, `n·B'` when decelerating, one multiply
+//!   at setup), and it computes `τ'_i = isqrt(P'² + C_i) − P'` directly by the
+//!   [`offset_root`] recurrence: 36 digits on a 67-bit remainder, where `isqrt(A_i)`
+//!   takes 64 digits. The result is the same integer. `E_n = T` is forced.
 //!
 //!   Why backwards: written forwards, `P'² − i·B'` is a small difference of two large
 //!   rounded numbers near the end of a deceleration to rest, where ∂τ/∂P = 1 − P/S
@@ -31,7 +34,8 @@
 //!   uniform (|D| tiny) and uses this path too; see the error bound below.
 //!
 //! # Widths
-//! `S = isqrt(A) < 2^64` ([`ROOT_BITS`]) and `A < 2^128`, for the whole documented
+//! `S = isqrt(A) < 2^64` ([`ROOT_BITS`]), `A < 2^128`, `C = A − P'² < 2^100`
+//! ([`ACC_BITS`]) and `τ' = S − P' < 2^36` ([`OFFSET_ROOT_BITS`]), for the whole documented
 //! range (T ≤ 2^30, n ≤ 2^24, v0 < ½ step/tick): the sqrt path is taken only when
 //! `P' + 2T' < 2^64`, and then `A ≤ (P' + T')² + n/2 < 2^128`. `B' < 2^101`,
 //! `P' < 2^64`, `T' = T·2^s ≤ 2^34`. The uniform path needs `2·n·T < 2^56`.
@@ -49,6 +53,47 @@ use super::segment::{Segment, RATE_FRAC_BITS};
 pub const TAU_FRAC_BITS: u32 = 4;
 /// Width of the square root's result: S < 2^ROOT_BITS.
 pub const ROOT_BITS: u32 = 64;
+/// Digits of the offset root: τ' = isqrt(P'² + C) − P' < 2^OFFSET_ROOT_BITS
+/// (τ' ≤ T' + 1 ≤ 2^34 + 1 on the square-root paths).
+pub const OFFSET_ROOT_BITS: u32 = 36;
+/// Width of the accumulator C = A − P'² and of B': C, B' < 2^ACC_BITS on the
+/// square-root paths (C ≤ 2P'T' + T'² + n/2 < 2^100).
+pub const ACC_BITS: u32 = 100;
+
+/// The offset root: `x = isqrt(p² + c) − p`, for `x < 2^OFFSET_ROOT_BITS`, by the
+/// digit recurrence the hardware runs ([`crate::hdl::root`]), bit for bit.
+///
+/// Digit b (from `OFFSET_ROOT_BITS − 1` down to 0) keeps bit b of x when
+/// `c − x² − 2px ≥ 2^b·(2p + 2x + 2^b)`, x holding the bits above b. Scaled by 2^−b,
+/// the remainder `rem` stays below 2^67 (it is < 4(p + x) + 2^(b+2) and p + x < 2^64)
+/// and the trial `2p + 2x + 2^b` below 2^66, so each digit is one 67-bit subtraction,
+/// where `isqrt` of the 128-bit radicand would need 64 digits. Panics when the root
+/// does not fit (x ≥ 2^OFFSET_ROOT_BITS) or c ≥ 2^ACC_BITS: the segment validation
+/// rules both out (docs/model.md, "Widths").
+pub fn offset_root(p: u64, c: u128) -> u64 {
+    const L: u32 = OFFSET_ROOT_BITS;
+    assert!(c < 1u128 << ACC_BITS, "offset root: C = {c} needs more than {ACC_BITS} bits");
+    let p = p as u128;
+    let mut rem = c >> L; // the bits above the first digit's
+    let mut trial = 2 * p + (1u128 << (L - 1)); // 2p + 2x + 2^b with x = 0, b = L − 1
+    let mut x = 0u128;
+    for b in (0..L).rev() {
+        let rem_sh = (rem << 1) | ((c >> b) & 1);
+        debug_assert!(rem_sh < 1u128 << 67 && trial < 1u128 << 66);
+        let half = if b > 0 { 1u128 << (b - 1) } else { 0 };
+        if rem_sh >= trial {
+            rem = rem_sh - trial;
+            x |= 1 << b;
+            trial = trial + (1 << b) + half;
+        } else {
+            rem = rem_sh;
+            trial -= half;
+        }
+    }
+    // rem = c − x² − 2px now; x + 1 must not fit, else the root has more digits.
+    assert!(rem <= 2 * (p + x), "offset root: x ≥ 2^{L} (p = {p}, c = {c})");
+    x as u64
+}
 /// Proven bound on |E_i − t_i| in ticks for every edge of a valid segment.
 pub const EDGE_ERROR_BOUND_TICKS: f64 = 0.625;
 
@@ -110,6 +155,9 @@ impl SegmentPlan {
         plan.p_scaled = p;
         plan.b_scaled = div_round(t_sq << (RATE_FRAC_BITS + 2 * s), d_mag);
         plan.kind = if d > 0 { PlanKind::Accelerate } else { PlanKind::Decelerate };
+        // The hardware's accumulator C (and B' ≤ C_n) has ACC_BITS bits: C_n = n·B' is
+        // its largest value (the decelerating start value).
+        assert!(plan.b_scaled * n < 1u128 << ACC_BITS, "C_n = n·B' needs more than {ACC_BITS} bits: {plan:?}");
         plan
     }
 
@@ -132,20 +180,20 @@ impl SegmentPlan {
         self.segment.n_steps()
     }
 
-    /// The accumulator A_i for step i (sqrt paths only): P'² + i·B' accelerating,
-    /// P'² + (n − i)·B' decelerating.
+    /// The accumulator C_i = A_i − P'² for step i (sqrt paths only): i·B'
+    /// accelerating, (n − i)·B' decelerating. The hardware keeps C, not A: C < 2^ACC_BITS.
     pub fn accumulator(&self, i: u32) -> u128 {
-        let p2 = self.p_scaled * self.p_scaled;
         match self.kind {
-            PlanKind::Accelerate => p2 + self.b_scaled * i as u128,
-            PlanKind::Decelerate => p2 + self.b_scaled * (self.n_steps() - i) as u128,
+            PlanKind::Accelerate => self.b_scaled * i as u128,
+            PlanKind::Decelerate => self.b_scaled * (self.n_steps() - i) as u128,
             _ => 0,
         }
     }
 
-    /// E_i from the accumulator value of step i (sqrt paths only).
+    /// E_i from the accumulator C_i of step i (sqrt paths only):
+    /// τ'_i = isqrt(P'² + C_i) − P', by [`offset_root`].
     fn edge_from_acc(&self, acc: u128) -> u64 {
-        let tau_scaled = acc.isqrt() - self.p_scaled;
+        let tau_scaled = offset_root(self.p_scaled as u64, acc) as u128;
         let rounded = ((tau_scaled + (1 << (TAU_FRAC_BITS - 1))) >> TAU_FRAC_BITS) as u64;
         match self.kind {
             PlanKind::Accelerate => rounded,

@@ -18,5 +18,7 @@ pub mod segment;
 pub mod units;
 
 pub use axis::{AxisRun, FifoEntry, Rejected};
-pub use integer::{PlanKind, SegmentPlan, EDGE_ERROR_BOUND_TICKS, ROOT_BITS, TAU_FRAC_BITS};
+pub use integer::{
+    offset_root, PlanKind, SegmentPlan, ACC_BITS, EDGE_ERROR_BOUND_TICKS, OFFSET_ROOT_BITS, ROOT_BITS, TAU_FRAC_BITS,
+};
 pub use segment::{Limits, Segment, SegmentError, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};

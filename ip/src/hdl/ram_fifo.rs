@@ -1,17 +1,25 @@
-//! Register FIFO, `DEPTH` entries of `W` bits, show-ahead (the head entry is on
-//! `head` whenever `empty` is low). The per-axis period FIFO ([`PeriodFifo`]) and the
-//! per-axis segment queues are instances.
+//! FIFO in LUT RAM, `DEPTH` entries of `W` bits (DEPTH ≤ 32), show-ahead (the head
+//! entry is on `head` whenever `empty` is low). The per-axis period FIFO
+//! ([`PeriodFifo`]) and the per-axis segment queues are instances.
+//!
+//! The entries live in a 32-word [`LutRam`] (asynchronous read at the read pointer),
+//! so a deeper FIFO costs memory bits, not flip-flops and a DEPTH:1 multiplexer; only
+//! the pointers and the count are registers.
 //!
 //! Period entry layout ([`pack_entry`]): bits 31..0 ticks, bit 32 step (1: the entry
 //! ends in a STEP edge; 0: a dwell), bit 33 reverse (direction of that step), bit 34
 //! last (the entry ends its segment; the step generator counts segments done on it).
 //! `push` is ignored when full and `pop` when empty; both in one cycle is allowed.
-//! `reset` (synchronous) empties it. `level` is the number of entries held.
+//! `reset` (synchronous) empties it. `level` is the number of entries held. Latency:
+//! an entry pushed at an edge is on `head` from that edge when the FIFO was empty.
 
+use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
 /// Width of a period entry.
 pub const ENTRY_BITS: usize = 35;
+/// Address bits of the RAM behind every FIFO: 32 words.
+const ADDR_BITS: usize = 5;
 
 /// Packs an entry as the FIFO stores it.
 pub fn pack_entry(ticks: u32, step: bool, reverse: bool, last: bool) -> u64 {
@@ -19,10 +27,10 @@ pub fn pack_entry(ticks: u32, step: bool, reverse: bool, last: bool) -> u64 {
 }
 
 /// The per-axis period FIFO.
-pub type PeriodFifo<const DEPTH: usize> = RegFifo<ENTRY_BITS, DEPTH>;
+pub type PeriodFifo<const DEPTH: usize> = RamFifo<ENTRY_BITS, DEPTH>;
 
 #[derive(LogicBlock)]
-pub struct RegFifo<const W: usize, const DEPTH: usize> {
+pub struct RamFifo<const W: usize, const DEPTH: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub push: Signal<In, Bit>,
@@ -32,20 +40,20 @@ pub struct RegFifo<const W: usize, const DEPTH: usize> {
     pub empty: Signal<Out, Bit>,
     pub full: Signal<Out, Bit>,
     pub level: Signal<Out, Bits<8>>,
-    mem: [DFF<Bits<W>>; DEPTH],
-    wr: DFF<Bits<8>>,
-    rd: DFF<Bits<8>>,
+    ram: LutRam<W, ADDR_BITS>,
+    wr: DFF<Bits<ADDR_BITS>>,
+    rd: DFF<Bits<ADDR_BITS>>,
     count: DFF<Bits<8>>,
     do_push: Signal<Local, Bit>,
     do_pop: Signal<Local, Bit>,
-    last: Constant<Bits<8>>,
+    last: Constant<Bits<ADDR_BITS>>,
     depth: Constant<Bits<8>>,
 }
 
-impl<const W: usize, const DEPTH: usize> Default for RegFifo<W, DEPTH> {
+impl<const W: usize, const DEPTH: usize> Default for RamFifo<W, DEPTH> {
     fn default() -> Self {
-        assert!((2..=64).contains(&DEPTH), "RegFifo<{W}, {DEPTH}>: depth outside 2..=64");
-        RegFifo {
+        assert!((2..=1 << ADDR_BITS).contains(&DEPTH), "RamFifo<{W}, {DEPTH}>: depth outside 2..=32");
+        RamFifo {
             clock: Default::default(),
             reset: Default::default(),
             push: Default::default(),
@@ -55,7 +63,7 @@ impl<const W: usize, const DEPTH: usize> Default for RegFifo<W, DEPTH> {
             empty: Default::default(),
             full: Default::default(),
             level: Default::default(),
-            mem: std::array::from_fn(|_| Default::default()),
+            ram: Default::default(),
             wr: Default::default(),
             rd: Default::default(),
             count: Default::default(),
@@ -67,28 +75,21 @@ impl<const W: usize, const DEPTH: usize> Default for RegFifo<W, DEPTH> {
     }
 }
 
-impl<const W: usize, const DEPTH: usize> Logic for RegFifo<W, DEPTH> {
+impl<const W: usize, const DEPTH: usize> Logic for RamFifo<W, DEPTH> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, wr, rd, count);
-        for i in 0..DEPTH {
-            self.mem[i].clock.next = self.clock.val();
-            self.mem[i].d.next = self.mem[i].q.val();
-        }
         self.empty.next = self.count.q.val() == 0;
         self.full.next = self.count.q.val() == self.depth.val();
         self.level.next = self.count.q.val();
         self.do_push.next = self.push.val() & (self.count.q.val() != self.depth.val());
         self.do_pop.next = self.pop.val() & (self.count.q.val() != 0);
-        self.head.next = 0.into();
-        for i in 0..DEPTH {
-            if self.rd.q.val().index() == i {
-                self.head.next = self.mem[i].q.val();
-            }
-            if self.do_push.val() & (self.wr.q.val().index() == i) {
-                self.mem[i].d.next = self.entry_in.val();
-            }
-        }
+        self.ram.clock.next = self.clock.val();
+        self.ram.we.next = self.do_push.val();
+        self.ram.waddr.next = self.wr.q.val();
+        self.ram.wdata.next = self.entry_in.val();
+        self.ram.raddr.next = self.rd.q.val();
+        self.head.next = self.ram.rdata.val();
         if self.do_push.val() {
             if self.wr.q.val() == self.last.val() {
                 self.wr.d.next = 0.into();
