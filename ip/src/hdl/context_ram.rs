@@ -24,6 +24,7 @@
 //! Five RAMs of at most 128 bits share the addresses (rust-hdl simulates values up
 //! to 128 bits fast): 521 bits per word.
 
+use super::bits_to_u128;
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
@@ -94,9 +95,9 @@ impl ContextRam {
     /// scheduler's state; the hardware has no such port).
     pub fn word(&self, addr: usize) -> ContextWord {
         let lo = |x: u128, at: u32, bits: u32| ((x >> at) & ((1u128 << bits) - 1)) as u64;
-        let pnt = bits_u128(self.ram_pnt.word(addr));
-        let ie = bits_u128(self.ram_ie.word(addr));
-        let u = bits_u128(self.ram_u.word(addr));
+        let pnt = bits_to_u128(self.ram_pnt.word(addr));
+        let ie = bits_to_u128(self.ram_ie.word(addr));
+        let u = bits_to_u128(self.ram_u.word(addr));
         ContextWord {
             rev: lo(u, 64, 1) == 1,
             n: lo(pnt, 64, 32) as u32,
@@ -104,20 +105,14 @@ impl ContextRam {
             t: lo(pnt, 96, 32) as u32,
             e: lo(ie, 32, 32) as u32,
             p: lo(pnt, 0, 64),
-            b: bits_u128(self.ram_b.word(addr)),
-            a: bits_u128(self.ram_a.word(addr)),
+            b: bits_to_u128(self.ram_b.word(addr)),
+            a: bits_to_u128(self.ram_a.word(addr)),
             uq: lo(ie, 64, 32) as u32,
             ur: lo(ie, 96, 32) as u32,
             uqs: lo(u, 0, 32) as u32,
             urs: lo(u, 32, 32) as u32,
         }
     }
-}
-
-/// A rust-hdl value of up to 128 bits as u128.
-fn bits_u128<const N: usize>(x: Bits<N>) -> u128 {
-    let d = num_bigint::BigUint::from(x).to_u64_digits();
-    d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
 }
 
 impl Logic for ContextRam {

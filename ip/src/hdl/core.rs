@@ -1,5 +1,5 @@
 //! The TDM core: K axes served by one shared multiply / divide / square-root unit,
-//! scheduled round robin by a Gray-coded FSM (paper Fig. 7, DESIGN.md §1).
+//! scheduled round robin by a Gray-coded FSM (the paper's Fig. 7; docs/architecture.md).
 //!
 //! Per axis: a segment queue (`QDEPTH` × 96 bits), a context ([`AxisContext`]), and a
 //! period FIFO with its step generator ([`StepAxis`]). Shared: one [`MulSeq`], one

@@ -1,4 +1,4 @@
-//! EXMC / FSMC slave, asynchronous SRAM mode 1, 16-bit data (DESIGN.md §4).
+//! EXMC / FSMC slave, asynchronous SRAM mode 1, 16-bit data (docs/registers.md, "The bus").
 //!
 //! Runs in `clock` (the bus clock, unrelated to the MCU's HCLK). The strobes `ne`,
 //! `noe`, `nwe`, the address and the data pins all pass through the same two

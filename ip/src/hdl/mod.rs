@@ -1,4 +1,4 @@
-//! The HDL blocks of the core, one block per file (DESIGN.md §9).
+//! The HDL blocks of the core, one block per file, each with its three-way test.
 //!
 //! | block | file | latency |
 //! |---|---|---|
@@ -44,6 +44,13 @@ macro_rules! core_connect_ports {
             self.connect_all();
         }
     };
+}
+
+/// A rust-hdl value of up to 128 bits as u128 (for simulations and tests that
+/// inspect wide signals or memory words).
+pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
+    let d = num_bigint::BigUint::from(x).to_u64_digits();
+    d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
 }
 
 pub mod baseline;

@@ -1,6 +1,6 @@
 //! Wide unsigned multiplier: a leaf block with hand-written Verilog.
 //!
-//! rust-hdl 0.46 only multiplies 16×16 bits (DESIGN.md §6), so this leaf's `hdl()`
+//! rust-hdl 0.46 only multiplies 16×16 bits, so this leaf's `hdl()`
 //! returns `p = a * b` as custom Verilog, and its `update()` models the same product
 //! in u64. `A + B ≤ P ≤ 64` is checked at construction, so the product never wraps.
 //! Combinational; [`MulReg`] puts the register behind it (latency 1, which lets

@@ -1,4 +1,4 @@
-//! The whole IP core as exported: `tdm_stepper` (DESIGN.md §1).
+//! The whole IP core as exported: `tdm_stepper` (docs/architecture.md).
 //!
 //! ```text
 //!  bus_clk domain                          | clk domain

@@ -5,7 +5,7 @@
 //! chain back to back with no gap and the error never accumulates. The periods
 //! pushed into the axis FIFO are `Δ_i = E_i − E_{i−1}` (with `E_0 = 0`).
 //!
-//! # The algorithm (DESIGN.md §2)
+//! # The algorithm (docs/model.md)
 //! All time quantities carry [`TAU_FRAC_BITS`] = s fractional bits ("scaled ticks",
 //! written with a prime). With `D·2^32 = n·2^32 − v0_rate·T`:
 //!
@@ -14,7 +14,7 @@
 //!   `P' = round(v0_rate·T²·2^s / (2·|D·2^32|))` (= |P|·2^s, P = v0·B/2 ticks).
 //! * **Per step** (an add and an integer square root):
 //!   accelerate (D > 0): `A_i = P'² + i·B'`, `τ'_i = isqrt(A_i) − P'`,
-//!   `E_i = ⌊τ'_i / 2^s + ½⌋ = (τ'_i + 2^(s−1)) >> s`, i.e. ⌊τ_i⌋ of DESIGN.md taken
+//!   `E_i = ⌊τ'_i / 2^s + ½⌋ = (τ'_i + 2^(s−1)) >> s`, i.e. ⌊τ_i⌋ taken
 //!   on τ_i + ½ so that the edge sits on the nearest tick;
 //!   decelerate (D < 0): the same acceleration run backwards from the end speed,
 //!   `P'` from v_end instead of v0 (`P' = round(v_end·T·T·2^s / (2|D·2^32|))`, 0 for a

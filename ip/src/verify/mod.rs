@@ -1,6 +1,6 @@
 //! Running exported Verilog: one generated testbench for Verilator and Icarus.
 //!
-//! A block is checked three ways (DESIGN.md §5): against the reference model, in
+//! A block is checked three ways: against the reference model, in
 //! rust-hdl simulation, and as exported Verilog. [`run`] does the third: it writes a
 //! testbench that reads one row of input values per clock cycle (`$readmemh`) and
 //! prints the outputs of every cycle (`$fwrite`), runs it in the chosen simulator and

@@ -126,11 +126,7 @@ pub fn three_ways<B: rust_hdl::prelude::Block>(
     }
 }
 
-/// A rust-hdl value of up to 128 bits as u128.
-pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
-    let d = num_bigint::BigUint::from(x).to_u64_digits();
-    d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
-}
+pub use tdm_stepper::hdl::bits_to_u128;
 
 /// One clock cycle of a rust-hdl block with a `clock` input, by a hand-written loop.
 pub fn tick_core<const R: usize, const D: usize, const Q: usize>(u: &mut tdm_stepper::hdl::core::TdmCore<1, R, D, Q>) {
