@@ -126,6 +126,7 @@ pub fn three_ways<B: rust_hdl::prelude::Block>(
     }
 }
 
+#[allow(unused_imports)] // not every test binary inspects wide values
 pub use tdm_stepper::hdl::bits_to_u128;
 
 /// One clock cycle of a rust-hdl block with a `clock` input, by a hand-written loop.
