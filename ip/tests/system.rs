@@ -152,7 +152,12 @@ fn paper_experiment_through_the_bus_in_verilator() {
     }
     // An axis not yet started takes two segments into its current and next slots
     // (setting them up and filling its period FIFO); the third waits in the queue.
+    // Wait for both axes' two setups and FIFO fills, one axis after the other, and
+    // the status crossing.
+    let settle_clk = 2 * (2 * tdm_stepper::hdl::core::t_setup(R, true) + DEPTH * t_calc_sqrt(R)) as u64 + 500;
+    let pushed_ps = b.now_ps();
     b.idle(2_000);
+    b.idle_until_ps(pushed_ps + settle_clk * 2 * CLOCKS.clk_half_ps);
     let levels: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
     b.write_reg("START", 0, 0b11);
     let end = AxisRun::run(&axes[0], &Limits::default()).end_tick.max(AxisRun::run(&axes[1], &Limits::default()).end_tick);
@@ -467,7 +472,8 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
 fn underrun_is_flagged_on_the_late_axis_only_and_loses_no_step() {
     let tick_ps = 2 * CLOCKS.clk_half_ps;
     let min_period = 2 * t_calc_sqrt(R) as u32; // K·t_calc for K = 2
-    let (fast, slow) = (10u32, 40u32);
+    // A period far below K·t_calc, and one half again above it.
+    let (fast, slow) = (10u32, min_period + min_period / 2);
     assert!(fast < min_period && slow >= min_period);
     let (n0, n1) = (200i32, 100i32);
     let mut b = bus();
