@@ -149,6 +149,8 @@ pub struct Block {
     pub luts: u64,
     pub ffs: u64,
     pub dsps: u64,
+    /// Block RAMs (xc7 RAMB18/36, ECP5 DP16KD), which are not LUTs.
+    pub brams: u64,
     pub carry: u64,
 }
 
@@ -537,12 +539,13 @@ pub fn block_of(module: &str) -> &'static str {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
     };
-    const BLOCKS: [(&str, &str); 13] = [
+    const BLOCKS: [(&str, &str); 14] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
-        ("core$queues$", "per-axis segment queues"),
+        ("core$ctx_ram", "per-axis contexts (current and next segment)"),
+        ("core$seg_ram", "segment queues (one RAM for every axis)"),
         ("core$axes$", "per-axis step generators and period FIFOs"),
         ("core$div", "shared divider"),
-        ("core$sqrt", "shared square root"),
+        ("core$root", "shared offset root"),
         ("core$mul", "shared multipliers"),
         (
             "core",
@@ -597,6 +600,7 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
                     luts: 0,
                     ffs: 0,
                     dsps: 0,
+                    brams: 0,
                     carry: 0,
                 });
                 blocks.last_mut().unwrap()
@@ -605,6 +609,7 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
         b.luts += n * r.luts;
         b.ffs += n * r.ffs;
         b.dsps += n * r.dsps;
+        b.brams += n * r.brams;
         b.carry += n * r.carry;
         for (ty, k) in c {
             if cells(ty).is_some() {
@@ -620,12 +625,12 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
 /// modules, small helpers) is flattened into them, so that a block is optimised as it
 /// is in the flattened design (a register's hold multiplexer becomes its clock enable).
 pub fn breakdown_blocks_kept(axes: usize) -> Vec<String> {
-    let mut m: Vec<String> = ["core", "core$div", "core$sqrt", "core$mul", "core$mulw", "regs", "status", "cmd_fifo", "exmc"]
+    let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$seg_ram", "regs", "status", "cmd_fifo", "exmc"]
         .iter()
         .map(|b| format!("tdm_stepper${b}"))
         .collect();
     for a in 0..axes {
-        for b in ["ctx", "queues", "axes"] {
+        for b in ["ctx", "axes"] {
             m.push(format!("tdm_stepper$core${b}${a}"));
         }
     }
@@ -830,7 +835,7 @@ pub fn markdown(s: &Sweep) -> String {
     for f in families {
         let unit = if f == Family::Xc7 { "LUT6" } else { "LUT4" };
         m += &format!("## {} (`{}`)\n\n", f.name(), f.synth());
-        m += &format!("| K | TDM {unit} | TDM FF | TDM DSP | baseline {unit} | baseline FF | baseline DSP | LUT saving | TDM {unit} per extra axis |\n|---|---|---|---|---|---|---|---|---|\n");
+        m += &format!("| K | TDM {unit} | TDM FF | TDM DSP | TDM BRAM | baseline {unit} | baseline FF | baseline DSP | baseline BRAM | LUT saving | TDM {unit} per extra axis |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
         let mut prev: Option<(usize, u64)> = None;
         for &k in &ks {
             let t = point(s, f, Arch::Tdm, k);
@@ -848,13 +853,15 @@ pub fn markdown(s: &Sweep) -> String {
                 prev = Some((k, t.luts));
             }
             m += &format!(
-                "| {k} | {} | {} | {} | {} | {} | {} | {saving} | {marginal} |\n",
+                "| {k} | {} | {} | {} | {} | {} | {} | {} | {} | {saving} | {marginal} |\n",
                 c(t, |r| r.luts),
                 c(t, |r| r.ffs),
                 c(t, |r| r.dsps),
+                c(t, |r| r.brams),
                 c(b, |r| r.luts),
                 c(b, |r| r.ffs),
-                c(b, |r| r.dsps)
+                c(b, |r| r.dsps),
+                c(b, |r| r.brams)
             );
         }
         m += "\n";
@@ -988,6 +995,13 @@ pub fn breakdown_markdown(bs: &[Breakdown]) -> String {
             );
         }
         m += "\n";
+    }
+    // Block RAMs are not LUTs: say where they went, so that a LUT saving that is really
+    // a move into block RAM is visible.
+    for b in &ok {
+        for x in b.blocks.iter().filter(|x| x.brams > 0) {
+            m += &format!("\nK = {}: {} uses {} block RAM(s) (RAMB18/36), not counted above.\n", b.axes, x.name, x.brams);
+        }
     }
     m + "\n"
 }

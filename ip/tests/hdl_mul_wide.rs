@@ -1,4 +1,4 @@
-//! MulReg three ways: the model (a·b one cycle later), rust-hdl simulation, and the
+//! MulReg three ways: the model (a·b MUL_REG_LATENCY cycles later), rust-hdl simulation, and the
 //! exported Verilog in Verilator and Icarus, on the same random stimulus.
 
 mod common;
@@ -11,6 +11,7 @@ use tdm_stepper::verify::{Port, TbSpec};
 const A: usize = 32;
 const B: usize = 31;
 const P: usize = 63;
+// and the core's own shape, 32 × 32 → 64, in `mul_reg_core_shape`.
 const CYCLES: usize = 2000;
 
 fn stimulus() -> Vec<Vec<u128>> {
@@ -26,9 +27,9 @@ fn stimulus() -> Vec<Vec<u128>> {
     rows
 }
 
-/// Cycle k shows the product of row k − 1; before the first edge, nothing defined.
+/// Cycle k shows the product of row k − MUL_REG_LATENCY; before that, nothing defined.
 fn model(rows: &[Vec<u128>]) -> Vec<Vec<Option<u128>>> {
-    (0..rows.len()).map(|k| vec![(k >= MUL_REG_LATENCY).then(|| rows[k - 1][0] * rows[k - 1][1])]).collect()
+    (0..rows.len()).map(|k| vec![(k >= MUL_REG_LATENCY).then(|| rows[k - MUL_REG_LATENCY][0] * rows[k - MUL_REG_LATENCY][1])]).collect()
 }
 
 fn uut() -> MulReg<A, B, P> {
@@ -56,5 +57,42 @@ fn mul_reg_three_ways() {
         &spec,
         &rows,
         &model(&rows),
+    );
+}
+
+#[test]
+fn mul_reg_core_shape() {
+    let rows: Vec<Vec<u128>> = {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let mut v = vec![vec![u32::MAX as u128, u32::MAX as u128], vec![1 << 31, 1 << 31], vec![0xffff, 0x1_0000]];
+        while v.len() < 500 {
+            v.push(vec![(rng.next() >> 32) as u128, (rng.next() >> (32 + rng.next() % 32)) as u128]);
+        }
+        v
+    };
+    let want: Vec<Vec<Option<u128>>> = (0..rows.len())
+        .map(|k| vec![(k >= MUL_REG_LATENCY).then(|| rows[k - MUL_REG_LATENCY][0] * rows[k - MUL_REG_LATENCY][1])])
+        .collect();
+    let spec = TbSpec { clock: "clock".into(), inputs: vec![Port::new("a", 32), Port::new("b", 32)], outputs: vec![Port::new("p", 64)] };
+    let uut = || {
+        let mut u = MulReg::<32, 32, 64>::default();
+        u.clock.connect();
+        u.a.connect();
+        u.b.connect();
+        u.connect_all();
+        u
+    };
+    three_ways(
+        "mul_wide_core",
+        uut,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.a.next = Bits::<32>::from(r[0] as u64);
+            u.b.next = Bits::<32>::from(r[1] as u64);
+        },
+        |u| vec![u.p.val().to_u64() as u128],
+        &spec,
+        &rows,
+        &want,
     );
 }

@@ -38,10 +38,11 @@
 use super::bit_insert::{BitInsert, BitPick};
 use super::context::AxisContext;
 use super::context_ram::{ContextRam, ContextWord, CTX_ADDR_BITS, CTX_MAX_AXES};
-use super::divider::{div_latency, Divider};
-use super::mul_seq::{mul_seq_latency, MulSeq};
+use super::divider::{div_latency, Divider, DIV_NUM_BITS};
+use super::mul_seq::{mul_seq_latency, MulSeq, MUL_A_BITS};
 use super::mul_wide::{MulReg, MUL_REG_LATENCY};
-use super::ram_fifo::{RamFifo, ENTRY_BITS};
+use super::block_ram::BlockRam;
+use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::step_gen::StepAxis;
 use super::sync_start::SyncStart;
@@ -59,24 +60,35 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 pub const T_CALC_UNIFORM: usize = 3;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
-/// segment, from S_CHECK to its commit: three 32×32 products on the registered
-/// wide-multiplier leaf (v0·T, T·RMAX, T²), one on the sequential multiplier (v·T²;
+/// segment, from S_CHECK to its commit: three 32×32 products issued back to back into
+/// the pipelined multiplier (v0·T, T·RMAX, T²; the last arrives 2 + MUL_REG_LATENCY
+/// cycles after the first is issued), one on the sequential multiplier (v·T²;
 /// two with n·B' when decelerating) and two divides (P', B'), each issued in the
 /// cycle its operand arrives. Measured by tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
     let wide = if decelerating { 2 } else { 1 };
-    2 + 3 * MUL_REG_LATENCY + wide * mul_seq_latency(r) + 2 * div_latency(r)
+    2 + (2 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
+
+// The fallback test reads the quotient's bits 103..64 by literal widths (rust-hdl
+// writes a Rust constant's name into the Verilog).
+const _: () = assert!(DIV_NUM_BITS == 104);
 
 /// Width of a queued segment: v0 (31..0), T (63..32), steps (95..64).
 pub const SEGMENT_BITS: usize = 96;
+/// Deepest segment queue (a power of two: axis i's queue starts at i·QDEPTH).
+pub const MAX_QUEUE_DEPTH: usize = 32;
+/// Address bits of the segment RAM: up to 16 axes × 32 entries.
+pub const SEG_ADDR_BITS: usize = 9;
+const _: () = assert!(CTX_MAX_AXES * MAX_QUEUE_DEPTH == 1 << SEG_ADDR_BITS);
+
 /// Width of the FSM state register.
 pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 19] = [
-    "PICK", "S_CHECK", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
+pub const STATES: [&str; 20] = [
+    "PICK", "S_CHECK", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
     "S_DRAIN",
 ];
 
@@ -128,7 +140,18 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// The scheduler's state register (Gray code), for waveforms.
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
 
-    queues: [RamFifo<SEGMENT_BITS, QDEPTH>; K],
+    /// Every axis's segment queue in one RAM: axis i's entries at i·QDEPTH + 0..QDEPTH.
+    /// Its registered read port holds axis m's head from PICK into S_CHECK.
+    seg_ram: BlockRam<SEGMENT_BITS, SEG_ADDR_BITS>,
+    // Write and read pointers, kept below QDEPTH by a mask (rust-hdl cannot widen an
+    // array element inside a loop, so they have the RAM's address width; the bits above
+    // the mask are constant 0 and synthesis removes them).
+    q_wr: [DFF<Bits<SEG_ADDR_BITS>>; K],
+    q_rd: [DFF<Bits<SEG_ADDR_BITS>>; K],
+    q_count: [DFF<Bits<8>>; K],
+    q_base: [Constant<Bits<SEG_ADDR_BITS>>; K],
+    c_qmask: Constant<Bits<SEG_ADDR_BITS>>,
+    c_qdepth: Constant<Bits<8>>,
     axes: [StepAxis<DEPTH>; K],
     /// Per-axis context flags; public so that simulations can inspect them.
     pub ctx: [AxisContext; K],
@@ -170,12 +193,19 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_urs: DFF<Bits<32>>,
     // Setup temporaries.
     s_v0: DFF<Bits<32>>,
-    s_dq: DFF<Bits<128>>,
-    s_dmag: DFF<Bits<128>>,
-    s_vend: DFF<Bits<128>>,
-    s_t2: DFF<Bits<128>>,
+    // D·2^32, its magnitude, v_end·T·2^32 and T²: |values| < 2^61 (docs/model.md,
+    // "Widths"), so 64 bits two's complement.
+    s_dq: DFF<Bits<64>>,
+    s_dmag: DFF<Bits<64>>,
+    s_vend: DFF<Bits<64>>,
+    s_t2: DFF<Bits<64>>,
     s_anew: DFF<Bits<100>>,
     s_code: DFF<Bits<8>>,
+    /// A period entry computed in P_WAIT or U_STEP, pushed into axis m's FIFO one cycle
+    /// later (in S_COMMIT_STEP, m unchanged), so that no path runs from the arithmetic
+    /// into the FIFO RAMs in one cycle.
+    pe_valid: DFF<Bit>,
+    pe_entry: DFF<Bits<ENTRY_BITS>>,
 
     // Axis m, through the multiplexers.
     cur_kind: Signal<Local, Bits<2>>,
@@ -191,7 +221,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cur_ur: Signal<Local, Bits<32>>,
     cur_uqs: Signal<Local, Bits<32>>,
     cur_urs: Signal<Local, Bits<32>>,
-    cur_head: Signal<Local, Bits<SEGMENT_BITS>>,
     cur_queued: Signal<Local, Bit>,
     cur_full: Signal<Local, Bit>,
     cur_next_valid: Signal<Local, Bit>,
@@ -207,12 +236,13 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     h_steps: Signal<Local, Bits<32>>,
     h_n: Signal<Local, Bits<32>>,
     // Datapath.
-    dq: Signal<Local, Bits<128>>,
-    vend: Signal<Local, Bits<128>>,
-    n128: Signal<Local, Bits<128>>,
-    narrow: Signal<Local, Bits<128>>,
-    t128: Signal<Local, Bits<128>>,
-    p_test: Signal<Local, Bits<128>>,
+    dq: Signal<Local, Bits<64>>,
+    vend: Signal<Local, Bits<64>>,
+    n64: Signal<Local, Bits<64>>,
+    narrow: Signal<Local, Bits<64>>,
+    t_num: Signal<Local, Bits<DIV_NUM_BITS>>,
+    p_test: Signal<Local, Bits<65>>,
+    p_wide: Signal<Local, Bit>,
     a_step: Signal<Local, Bits<100>>,
     rounded: Signal<Local, Bits<32>>,
     e_next: Signal<Local, Bits<32>>,
@@ -238,6 +268,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     flush: Signal<Local, Bit>,
     k_pick: Constant<Bits<STATE_BITS>>,
     k_check: Constant<Bits<STATE_BITS>>,
+    k_issue_tr: Constant<Bits<STATE_BITS>>,
     k_vt: Constant<Bits<STATE_BITS>>,
     k_tr: Constant<Bits<STATE_BITS>>,
     k_dwell: Constant<Bits<STATE_BITS>>,
@@ -261,6 +292,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     /// A core whose every emitted period is at least `limits.min_period_ticks`.
     pub fn new(limits: Limits) -> Self {
         assert!((1..=CTX_MAX_AXES).contains(&K), "TdmCore: K = {K} outside 1..={CTX_MAX_AXES}");
+        assert!(
+            QDEPTH.is_power_of_two() && (2..=MAX_QUEUE_DEPTH).contains(&QDEPTH),
+            "TdmCore: queue depth {QDEPTH} is not a power of two in 2..={MAX_QUEUE_DEPTH}"
+        );
         TdmCore {
             clock: Default::default(),
             reset: Default::default(),
@@ -292,7 +327,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             sel_underruns: Default::default(),
             sel_busy: Default::default(),
             fsm_state: Default::default(),
-            queues: std::array::from_fn(|_| Default::default()),
+            seg_ram: BlockRam::new(K * QDEPTH),
+            q_wr: std::array::from_fn(|_| Default::default()),
+            q_rd: std::array::from_fn(|_| Default::default()),
+            q_count: std::array::from_fn(|_| Default::default()),
+            q_base: std::array::from_fn(|i| Constant::new(((i * QDEPTH) as u64).into())),
+            c_qmask: Constant::new(((QDEPTH - 1) as u64).into()),
+            c_qdepth: Constant::new((QDEPTH as u64).into()),
             axes: std::array::from_fn(|_| Default::default()),
             ctx: std::array::from_fn(|_| Default::default()),
             ctx_ram: Default::default(),
@@ -335,6 +376,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_t2: Default::default(),
             s_anew: Default::default(),
             s_code: Default::default(),
+            pe_valid: Default::default(),
+            pe_entry: Default::default(),
             cur_kind: Default::default(),
             cur_rev: Default::default(),
             cur_n: Default::default(),
@@ -348,7 +391,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cur_ur: Default::default(),
             cur_uqs: Default::default(),
             cur_urs: Default::default(),
-            cur_head: Default::default(),
             cur_queued: Default::default(),
             cur_full: Default::default(),
             cur_next_valid: Default::default(),
@@ -364,10 +406,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             h_n: Default::default(),
             dq: Default::default(),
             vend: Default::default(),
-            n128: Default::default(),
+            n64: Default::default(),
             narrow: Default::default(),
-            t128: Default::default(),
+            t_num: Default::default(),
             p_test: Default::default(),
+            p_wide: Default::default(),
             a_step: Default::default(),
             rounded: Default::default(),
             e_next: Default::default(),
@@ -391,6 +434,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             flush: Default::default(),
             k_pick: state("PICK"),
             k_check: state("S_CHECK"),
+            k_issue_tr: state("S_ISSUE_TR"),
             k_vt: state("S_VT"),
             k_tr: state("S_TR"),
             k_dwell: state("S_DWELL"),
@@ -429,7 +473,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_entry
         );
         self.mulw.clock.next = self.clock.val();
         self.mulw.a.next = 0.into();
@@ -448,6 +492,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.root.p.next = self.w_p.q.val();
         self.push_now.next = false;
         self.push_entry.next = 0.into();
+        self.pe_valid.d.next = false;
         self.pop_now.next = false;
         self.commit.next = false;
         self.promote_now.next = false;
@@ -458,8 +503,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
 
         // ---- axis m through the multiplexers --------------------------------
         self.cur_kind.next = 0.into();
-        self.cur_head.next = 0.into();
         self.cur_queued.next = false;
+        self.seg_ram.raddr.next = 0.into();
         self.cur_full.next = true;
         self.cur_next_valid.next = false;
         self.cur_next_dwell.next = false;
@@ -467,8 +512,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         for i in 0..K {
             if self.m.q.val().index() == i {
                 self.cur_kind.next = self.ctx[i].kind.val();
-                self.cur_head.next = self.queues[i].head.val();
-                self.cur_queued.next = !self.queues[i].empty.val();
+                self.cur_queued.next = self.q_count[i].q.val() != 0;
+                self.seg_ram.raddr.next = self.q_base[i].val() | self.q_rd[i].q.val();
                 self.cur_full.next = self.axes[i].full.val();
                 self.cur_next_valid.next = self.ctx[i].next_valid.val();
                 self.cur_next_dwell.next = self.ctx[i].next_dwell.val();
@@ -500,22 +545,27 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         }
 
         // ---- datapath -------------------------------------------------------
-        self.h_v0.next = self.cur_head.val().get_bits::<32>(0);
-        self.h_t.next = self.cur_head.val().get_bits::<32>(32);
-        self.h_steps.next = self.cur_head.val().get_bits::<32>(64);
+        // Axis m's queue head: read at the edge that ends PICK, so valid in S_CHECK.
+        self.h_v0.next = self.seg_ram.rdata.val().get_bits::<32>(0);
+        self.h_t.next = self.seg_ram.rdata.val().get_bits::<32>(32);
+        self.h_steps.next = self.seg_ram.rdata.val().get_bits::<32>(64);
         if self.h_steps.val().get_bit(31) {
             self.h_n.next = (!self.h_steps.val()) + 1;
         } else {
             self.h_n.next = self.h_steps.val();
         }
-        self.n128.next = bit_cast::<128, 32>(self.w_n.q.val());
-        self.t128.next = bit_cast::<128, 32>(self.w_t.q.val());
+        self.n64.next = bit_cast::<64, 32>(self.w_n.q.val());
+        self.t_num.next = bit_cast::<DIV_NUM_BITS, 32>(self.w_t.q.val());
         // The registered 32×32 product (v0·T, T·RMAX, T²), one cycle after its operands.
-        self.narrow.next = bit_cast::<128, 64>(self.mulw.p.val());
+        self.narrow.next = self.mulw.p.val();
         // D·2^32 = n·2^32 − v0·T and v_end·T·2^32 = 2n·2^32 − v0·T (two's complement).
-        self.dq.next = (self.n128.val() << 32) - self.narrow.val();
-        self.vend.next = (self.n128.val() << 33) - self.narrow.val();
-        self.p_test.next = self.div.quotient.val() + (self.t128.val() << 5);
+        self.dq.next = (self.n64.val() << 32) - self.narrow.val();
+        self.vend.next = (self.n64.val() << 33) - self.narrow.val();
+        // P' + 2T' ≥ 2^64 (the fallback test) without a 128-bit adder: the quotient's high
+        // half, or the carry out of its low half plus 2T'.
+        self.p_test.next = bit_cast::<65, 64>(self.div.quotient.val().get_bits::<64>(0))
+            + (bit_cast::<65, 32>(self.w_t.q.val()) << 5);
+        self.p_wide.next = (self.div.quotient.val().get_bits::<40>(64) != 0) | self.p_test.val().get_bit(64);
         if self.w_kind.q.val() == 2 {
             self.a_step.next = self.w_a.q.val() + self.w_b.q.val();
         } else {
@@ -600,23 +650,28 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             } else {
                 self.mulw.a.next = self.h_v0.val();
                 self.mulw.b.next = self.h_t.val();
-                self.st.d.next = self.k_vt.val();
+                self.st.d.next = self.k_issue_tr.val();
             }
+        } else if self.st.q.val() == self.k_issue_tr.val() {
+            // The three 32×32 products go into the pipelined multiplier back to back.
+            self.mulw.a.next = self.w_t.q.val();
+            self.mulw.b.next = self.c_rmax.val();
+            self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
-            // v0·T arrived (MulReg, one cycle).
+            // v0·T arrived (MulReg, two cycles after S_CHECK issued it).
             self.s_dq.d.next = self.dq.val();
             self.s_vend.d.next = self.vend.val();
-            if self.dq.val().get_bit(127) {
+            if self.dq.val().get_bit(63) {
                 self.s_dmag.d.next = (!self.dq.val()) + 1;
             } else {
                 self.s_dmag.d.next = self.dq.val();
             }
-            if self.vend.val().get_bit(127) {
+            if self.vend.val().get_bit(63) {
                 self.s_code.d.next = 2.into();
                 self.st.d.next = self.k_reject.val();
             } else {
                 self.mulw.a.next = self.w_t.q.val();
-                self.mulw.b.next = self.c_rmax.val();
+                self.mulw.b.next = self.w_t.q.val();
                 self.st.d.next = self.k_tr.val();
             }
         } else if self.st.q.val() == self.k_tr.val() {
@@ -627,13 +682,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             } else if self.w_n.q.val() == 0 {
                 self.st.d.next = self.k_dwell.val();
             } else if self.s_dq.q.val() == 0 {
-                self.div.numerator.next = self.t128.val() << 1;
+                self.div.numerator.next = self.t_num.val() << 1;
                 self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
                 self.div.start.next = true;
                 self.st.d.next = self.k_udiv.val();
             } else {
-                self.mulw.a.next = self.w_t.q.val();
-                self.mulw.b.next = self.w_t.q.val();
+                // T² arrives in S_T2 (issued in S_VT).
                 self.st.d.next = self.k_t2.val();
             }
         } else if self.st.q.val() == self.k_dwell.val() {
@@ -644,7 +698,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_commit_setup.val();
         } else if self.st.q.val() == self.k_udiv.val() {
             if self.div.valid.val() {
-                self.w_uqs.d.next = bit_cast::<32, 128>(self.div.quotient.val());
+                self.w_uqs.d.next = bit_cast::<32, DIV_NUM_BITS>(self.div.quotient.val());
                 self.w_urs.d.next = bit_cast::<32, 64>(self.div.remainder.val());
                 self.w_uq.d.next = 0.into();
                 self.w_ur.d.next = self.w_n.q.val();
@@ -656,12 +710,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_t2.val() {
             // T² arrived; v·T² needs the wide multiplier.
             self.s_t2.d.next = self.narrow.val();
-            if self.s_dq.q.val().get_bit(127) {
+            if self.s_dq.q.val().get_bit(63) {
                 // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
-                self.mul.a.next = self.s_vend.q.val();
+                self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.s_vend.q.val());
                 self.mul.b.next = self.w_t.q.val();
             } else {
-                self.mul.a.next = self.narrow.val();
+                self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.narrow.val());
                 self.mul.b.next = self.s_v0.q.val();
             }
             self.mul.start.next = true;
@@ -669,24 +723,27 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_x.val() {
             if self.mul.valid.val() {
                 // P' = round(v·T²·2^4 / (2|D·2^32|))
-                self.div.numerator.next = (self.mul.product.val() << 4) + self.s_dmag.q.val();
-                self.div.denominator.next = bit_cast::<64, 128>(self.s_dmag.q.val() << 1);
+                self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4)
+                    + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
+                self.div.denominator.next = self.s_dmag.q.val() << 1;
                 self.div.start.next = true;
                 self.st.d.next = self.k_p.val();
             }
         } else if self.st.q.val() == self.k_p.val() {
             if self.div.valid.val() {
-                if self.p_test.val().get_bits::<64>(64) != 0 {
+                if self.p_wide.val() {
                     // P' + 2T' does not fit the root: the nearly-uniform fallback.
-                    self.div.numerator.next = self.t128.val() << 1;
+                    self.div.numerator.next = self.t_num.val() << 1;
                     self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
                     self.div.start.next = true;
                     self.st.d.next = self.k_udiv.val();
                 } else {
                     self.w_p.d.next = self.div.quotient.val().get_bits::<64>(0);
                     // B' = round(T²·2^40 / |D·2^32|) = (T²·2^41 + |D|) / (2|D|)
-                    self.div.numerator.next = (self.s_t2.q.val() << 41) + self.s_dmag.q.val();
-                    self.div.denominator.next = bit_cast::<64, 128>(self.s_dmag.q.val() << 1);
+                    self.div.numerator.next =
+                        (bit_cast::<DIV_NUM_BITS, 64>(self.s_t2.q.val()) << 41)
+                            + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
+                    self.div.denominator.next = self.s_dmag.q.val() << 1;
                     self.div.start.next = true;
                     self.st.d.next = self.k_b.val();
                 }
@@ -697,9 +754,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_b.d.next = self.div.quotient.val().get_bits::<100>(0);
                 self.w_i.d.next = 0.into();
                 self.w_e.d.next = 0.into();
-                if self.s_dq.q.val().get_bit(127) {
+                if self.s_dq.q.val().get_bit(63) {
                     // Decelerating: C starts at n·B'.
-                    self.mul.a.next = bit_cast::<128, 100>(self.div.quotient.val().get_bits::<100>(0));
+                    self.mul.a.next = self.div.quotient.val().get_bits::<MUL_A_BITS>(0);
                     self.mul.b.next = self.w_n.q.val();
                     self.mul.start.next = true;
                     self.st.d.next = self.k_nb.val();
@@ -712,7 +769,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
         } else if self.st.q.val() == self.k_nb.val() {
             if self.mul.valid.val() {
-                self.w_a.d.next = self.mul.product.val().get_bits::<100>(0);
+                self.w_a.d.next = self.mul.product.val();
                 self.w_kind.d.next = 3.into();
                 self.st.d.next = self.k_commit_setup.val();
             }
@@ -741,16 +798,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pwait.val();
         } else if self.st.q.val() == self.k_pwait.val() {
             if self.root.valid.val() {
-                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
                     | self.c_step_bit.val()
                     | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
-                self.push_now.next = true;
+                self.pe_valid.d.next = true;
                 self.w_a.d.next = self.s_anew.q.val();
                 self.w_e.d.next = self.e_next.val();
                 self.w_i.d.next = self.i_next.val();
                 if self.i_next.val() == self.w_n.q.val() {
                     self.w_kind.d.next = 0.into();
-                    self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                    self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
                         | self.c_step_bit.val()
                         | self.c_last_bit.val()
                         | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
@@ -772,16 +829,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.e_next.next = self.w_t.q.val();
                 self.w_kind.d.next = 0.into();
             }
-            self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+            self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
                 | self.c_step_bit.val()
                 | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
             if self.i_next.val() == self.w_n.q.val() {
-                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+                self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
                     | self.c_step_bit.val()
                     | self.c_last_bit.val()
                     | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
             }
-            self.push_now.next = true;
+            self.pe_valid.d.next = true;
             self.w_e.d.next = self.e_next.val();
             self.w_i.d.next = self.i_next.val();
             self.st.d.next = self.k_commit_step.val();
@@ -838,13 +895,19 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
         self.flush.next = self.reset.val() | self.abort.val();
+        self.seg_ram.clock.next = self.clock.val();
+        self.seg_ram.we.next = false;
+        self.seg_ram.waddr.next = 0.into();
+        self.seg_ram.wdata.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
+            | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_t.val()) << 32)
+            | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
         for i in 0..K {
             self.taken[i].clock.next = self.clock.val();
             self.rejected[i].clock.next = self.clock.val();
             self.taken[i].d.next = self.taken[i].q.val();
             self.rejected[i].d.next = self.rejected[i].q.val();
             if self.abort.val() {
-                self.taken[i].d.next = self.taken[i].q.val() + self.queues[i].level.val();
+                self.taken[i].d.next = self.taken[i].q.val() + self.q_count[i].q.val();
             } else if self.pop_now.val() & (self.m.q.val().index() == i) {
                 self.taken[i].d.next = self.taken[i].q.val() + 1;
             }
@@ -855,23 +918,51 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.taken[i].d.next = 0.into();
                 self.rejected[i].d.next = 0.into();
             }
-            self.queues[i].clock.next = self.clock.val();
-            self.queues[i].reset.next = self.flush.val();
-            self.queues[i].entry_in.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
-                | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_t.val()) << 32)
-                | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
-            self.queues[i].push.next = self.cmd_valid.val() & (self.cmd_axis.val().index() == i);
-            self.queues[i].pop.next = self.pop_now.val() & (self.m.q.val().index() == i);
+            // Axis i's queue: pointers and count here, entries in seg_ram. A push when
+            // full and a pop when empty are ignored; both in one cycle is allowed.
+            self.q_wr[i].clock.next = self.clock.val();
+            self.q_rd[i].clock.next = self.clock.val();
+            self.q_count[i].clock.next = self.clock.val();
+            self.q_wr[i].d.next = self.q_wr[i].q.val();
+            self.q_rd[i].d.next = self.q_rd[i].q.val();
+            self.q_count[i].d.next = self.q_count[i].q.val();
             if self.cmd_axis.val().index() == i {
-                self.cmd_ready.next = !self.queues[i].full.val();
+                self.cmd_ready.next = self.q_count[i].q.val() != self.c_qdepth.val();
+                self.seg_ram.waddr.next = self.q_base[i].val() | self.q_wr[i].q.val();
+                if self.cmd_valid.val() & (self.q_count[i].q.val() != self.c_qdepth.val()) {
+                    self.seg_ram.we.next = true;
+                    self.q_wr[i].d.next = (self.q_wr[i].q.val() + 1) & self.c_qmask.val();
+                    self.q_count[i].d.next = self.q_count[i].q.val() + 1;
+                }
+            }
+            if self.pop_now.val() & (self.m.q.val().index() == i) & (self.q_count[i].q.val() != 0) {
+                self.q_rd[i].d.next = (self.q_rd[i].q.val() + 1) & self.c_qmask.val();
+                // A push in the same cycle (to this axis) leaves the count as it was.
+                if self.cmd_valid.val()
+                    & (self.cmd_axis.val().index() == i)
+                    & (self.q_count[i].q.val() != self.c_qdepth.val())
+                {
+                    self.q_count[i].d.next = self.q_count[i].q.val();
+                } else {
+                    self.q_count[i].d.next = self.q_count[i].q.val() - 1;
+                }
+            }
+            if self.flush.val() {
+                self.q_wr[i].d.next = 0.into();
+                self.q_rd[i].d.next = 0.into();
+                self.q_count[i].d.next = 0.into();
             }
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
             self.axes[i].abort.next = self.abort.val();
-            self.axes[i].push.next = self.push_now.val() & (self.m.q.val().index() == i);
-            self.axes[i].entry_in.next = self.push_entry.val();
+            self.axes[i].push.next = (self.push_now.val() | self.pe_valid.q.val()) & (self.m.q.val().index() == i);
+            if self.pe_valid.q.val() {
+                self.axes[i].entry_in.next = self.pe_entry.q.val();
+            } else {
+                self.axes[i].entry_in.next = self.push_entry.val();
+            }
             self.axes[i].more.next =
-                (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | !self.queues[i].empty.val();
+                (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | (self.q_count[i].q.val() != 0);
             self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
             self.axes[i].go.next = self.go_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
@@ -890,15 +981,15 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.busy_bus[i].value.next = self.axes[i].active.val()
                 | (self.ctx[i].kind.val() != 0)
                 | self.ctx[i].next_valid.val()
-                | !self.queues[i].empty.val();
+                | (self.q_count[i].q.val() != 0);
             // Satisfied: a full FIFO, or nothing to compute.
             self.sat_bus[i].value.next = self.axes[i].full.val()
-                | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & self.queues[i].empty.val());
+                | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & (self.q_count[i].q.val() == 0));
             self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
             if self.sel_axis.val().index() == i {
                 self.sel_position.next = self.axes[i].position.val();
                 self.sel_error.next = self.ctx[i].err.val();
-                self.sel_queue.next = self.queues[i].level.val();
+                self.sel_queue.next = self.q_count[i].q.val();
                 self.sel_fifo.next = self.axes[i].level.val();
                 self.sel_taken.next = self.taken[i].q.val();
                 self.sel_rejected.next = self.rejected[i].q.val();
@@ -935,11 +1026,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sync.start_mask.next = self.start_mask.val();
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
+            self.pe_valid.d.next = false;
         }
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
             self.cmd_err.d.next = false;
+            self.pe_valid.d.next = false;
         }
     }
 }

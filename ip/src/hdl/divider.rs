@@ -1,10 +1,12 @@
-//! Iterative unsigned divider: 128-bit numerator by 64-bit denominator, giving a
-//! 128-bit quotient and a 64-bit remainder, `R` radix-2 digits per clock.
+//! Iterative unsigned divider: 104-bit numerator by 64-bit denominator, giving a
+//! 104-bit quotient and a 64-bit remainder, `R` radix-2 digits per clock. The setup's
+//! numerators are < 2^102 (docs/model.md, "Widths"); 104 digits keep R = 1, 2, 4 and 8
+//! whole.
 //!
 //! Restoring division: each digit shifts one numerator bit into the partial
 //! remainder and keeps a quotient bit where `rem ≥ den`, decided by the borrow of
-//! the one 66-bit subtraction `rem − den` (a single carry chain per digit). Equals u128 `/` and `%`,
-//! which the reference model's setup uses. Dividing by 0 gives an all-ones quotient
+//! the one 66-bit subtraction `rem − den` (a single carry chain per digit). Equals u128 `/` and `%` on
+//! numerators < 2^104, which the reference model's setup uses. Dividing by 0 gives an all-ones quotient
 //! and the numerator's low bits as remainder (the scheduler never does it: D = 0
 //! takes the uniform path).
 //!
@@ -14,12 +16,12 @@
 use super::iterate::Iterate;
 use rust_hdl::prelude::*;
 
-pub const DIV_NUM_BITS: usize = 128;
+pub const DIV_NUM_BITS: usize = 104;
 pub const DIV_DEN_BITS: usize = 64;
 const REM_BITS: usize = DIV_DEN_BITS + 1;
-// DivDigit reads numerator bit 127 by a literal index (rust-hdl writes a Rust
+// DivDigit reads numerator bit 103 by a literal index (rust-hdl writes a Rust
 // constant's name into the Verilog).
-const _: () = assert!(DIV_NUM_BITS == 128);
+const _: () = assert!(DIV_NUM_BITS == 104);
 
 /// Cycles from the `start` edge to `valid` for `r` digits per cycle.
 pub const fn div_latency(r: usize) -> usize {
@@ -43,7 +45,7 @@ impl Logic for DivDigit {
     #[hdl_gen]
     fn update(&mut self) {
         self.rem_sh.next =
-            (self.rem_in.val() << 1) | bit_cast::<REM_BITS, 1>(self.num_in.val().get_bits::<1>(127));
+            (self.rem_in.val() << 1) | bit_cast::<REM_BITS, 1>(self.num_in.val().get_bits::<1>(103));
         // One subtraction; its borrow (bit 65) is the comparison rem_sh < den.
         self.diff.next = bit_cast::<66, REM_BITS>(self.rem_sh.val()) - bit_cast::<66, DIV_DEN_BITS>(self.den.val());
         if self.diff.val().get_bit(65) {

@@ -55,6 +55,7 @@ pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
 
 pub mod baseline;
 pub mod bit_insert;
+pub mod block_ram;
 pub mod cdc;
 pub mod context;
 pub mod context_ram;

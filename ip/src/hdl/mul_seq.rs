@@ -1,15 +1,17 @@
-//! Sequential multiplier: `product = a × b mod 2^128`, a 128-bit multiplicand by a
+//! Sequential multiplier: `product = a × b mod 2^100`, a 100-bit multiplicand by a
 //! 32-bit multiplier, `R` multiplier bits per clock (shift and add, no DSP blocks).
 //!
 //! The setup's wide products have a multiplier of at most 32 bits: v0·T² (v0),
-//! (v_end·T·2^32)·T (T) and n·B' (n), each < 2^100 (docs/model.md, "Widths"). Ports and
+//! (v_end·T·2^32)·T (T) and n·B' (n), each < 2^100 (docs/model.md, "Widths"), so
+//! 100 bits hold every product exactly and each bit is one 100-bit adder. Ports and
 //! timing as [`super::divider::Divider`]: pulse `start` while idle; `product` and
 //! `valid` follow [`mul_seq_latency`]`(R)` cycles later.
 
 use super::iterate::Iterate;
 use rust_hdl::prelude::*;
 
-pub const MUL_A_BITS: usize = 128;
+pub const MUL_A_BITS: usize = 100;
+const _: () = assert!(MUL_A_BITS == crate::model::ACC_BITS as usize);
 pub const MUL_B_BITS: usize = 32;
 
 /// Cycles from the `start` edge to `valid` for `r` bits per cycle.
