@@ -629,7 +629,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.m.d.next = self.next_m.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // Range checks, in the model's order; then v0·T.
+            // Range checks, in the model's order; v0·T goes into the multiplier whatever
+            // they find (a rejected segment's product is never read), so that the checks
+            // are not on the path from the queue RAM into the multiplier.
+            self.mulw.a.next = self.h_v0.val();
+            self.mulw.b.next = self.h_t.val();
             self.s_v0.d.next = self.h_v0.val();
             self.w_dwell.d.next = false;
             self.w_t.d.next = self.h_t.val();
@@ -648,8 +652,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.s_code.d.next = 6.into();
                 self.st.d.next = self.k_reject.val();
             } else {
-                self.mulw.a.next = self.h_v0.val();
-                self.mulw.b.next = self.h_t.val();
                 self.st.d.next = self.k_issue_tr.val();
             }
         } else if self.st.q.val() == self.k_issue_tr.val() {

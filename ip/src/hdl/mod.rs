@@ -2,13 +2,14 @@
 //!
 //! | block | file | latency |
 //! |---|---|---|
-//! | wide multiplier (custom Verilog leaf) and its registered form | `mul_wide.rs` | 0 / 1 cycle |
-//! | sequential multiplier, 128 × 32 → 128 bits, R bits per cycle | `mul_seq.rs` | `1 + 32/R` cycles |
-//! | divider, 128-bit numerator by 64-bit denominator, R digits per cycle | `divider.rs` | `1 + 128/R` cycles |
+//! | pipelined 32×32 multiplier (custom Verilog leaf) | `mul_wide.rs` | 2 cycles |
+//! | sequential multiplier, 100 × 32 → 100 bits, R bits per cycle | `mul_seq.rs` | `1 + 32/R` cycles |
+//! | divider, 104-bit numerator by 64-bit denominator, R digits per cycle | `divider.rs` | `1 + 104/R` cycles |
 //! | offset root ⌊√(p² + c)⌋ − p, 36 digits, R per cycle | `root.rs` | `1 + 36/R` cycles |
 //! | control of an iterative unit (start, fixed cycles, valid) | `iterate.rs` | `1 + cycles` |
 //! | distributed RAM, synchronous write, asynchronous read (custom Verilog leaf) | `lut_ram.rs` | 0 (read) |
-//! | FIFO in LUT RAM (period FIFOs, segment queues), show-ahead | `ram_fifo.rs` | 0 (head) |
+//! | RAM with a registered read (custom Verilog leaf): the segment queues | `block_ram.rs` | 1 (read) |
+//! | FIFO in LUT RAM (period FIFOs), show-ahead | `ram_fifo.rs` | 0 (head) |
 //! | step generator, and the FIFO plus generator (`StepAxis`) | `step_gen.rs` | edges at release + E_i |
 //! | per-axis scheduler context, in registers | `context.rs` | 1 cycle (write) |
 //! | synchronised start of masked axes | `sync_start.rs` | 1 cycle |
