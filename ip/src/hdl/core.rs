@@ -206,21 +206,10 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// into the FIFO RAMs in one cycle.
     pe_valid: DFF<Bit>,
     pe_entry: DFF<Bits<ENTRY_BITS>>,
+    step_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
     // Axis m, through the multiplexers.
     cur_kind: Signal<Local, Bits<2>>,
-    cur_rev: Signal<Local, Bit>,
-    cur_n: Signal<Local, Bits<32>>,
-    cur_i: Signal<Local, Bits<32>>,
-    cur_t: Signal<Local, Bits<32>>,
-    cur_e: Signal<Local, Bits<32>>,
-    cur_p: Signal<Local, Bits<64>>,
-    cur_b: Signal<Local, Bits<100>>,
-    cur_a: Signal<Local, Bits<100>>,
-    cur_uq: Signal<Local, Bits<32>>,
-    cur_ur: Signal<Local, Bits<32>>,
-    cur_uqs: Signal<Local, Bits<32>>,
-    cur_urs: Signal<Local, Bits<32>>,
     cur_queued: Signal<Local, Bit>,
     cur_full: Signal<Local, Bit>,
     cur_next_valid: Signal<Local, Bit>,
@@ -378,19 +367,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_code: Default::default(),
             pe_valid: Default::default(),
             pe_entry: Default::default(),
+            step_entry: Default::default(),
             cur_kind: Default::default(),
-            cur_rev: Default::default(),
-            cur_n: Default::default(),
-            cur_i: Default::default(),
-            cur_t: Default::default(),
-            cur_e: Default::default(),
-            cur_p: Default::default(),
-            cur_b: Default::default(),
-            cur_a: Default::default(),
-            cur_uq: Default::default(),
-            cur_ur: Default::default(),
-            cur_uqs: Default::default(),
-            cur_urs: Default::default(),
             cur_queued: Default::default(),
             cur_full: Default::default(),
             cur_next_valid: Default::default(),
@@ -526,18 +504,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.ctx_ram.clock.next = self.clock.val();
         self.ctx_ram.raddr.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
             | bit_cast::<CTX_ADDR_BITS, 1>((self.cur_slot.val() ^ (self.st.q.val() == self.k_promote.val())).into());
-        self.cur_rev.next = self.ctx_ram.r_rev.val();
-        self.cur_n.next = self.ctx_ram.r_n.val();
-        self.cur_i.next = self.ctx_ram.r_i.val();
-        self.cur_t.next = self.ctx_ram.r_t.val();
-        self.cur_e.next = self.ctx_ram.r_e.val();
-        self.cur_p.next = self.ctx_ram.r_p.val();
-        self.cur_b.next = self.ctx_ram.r_b.val();
-        self.cur_a.next = self.ctx_ram.r_a.val();
-        self.cur_uq.next = self.ctx_ram.r_uq.val();
-        self.cur_ur.next = self.ctx_ram.r_ur.val();
-        self.cur_uqs.next = self.ctx_ram.r_uqs.val();
-        self.cur_urs.next = self.ctx_ram.r_urs.val();
         if self.m.q.val() == self.c_last_axis.val() {
             self.next_m.next = 0.into();
         } else {
@@ -595,18 +561,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
             self.w_kind.d.next = self.cur_kind.val();
-            self.w_rev.d.next = self.cur_rev.val();
-            self.w_n.d.next = self.cur_n.val();
-            self.w_i.d.next = self.cur_i.val();
-            self.w_t.d.next = self.cur_t.val();
-            self.w_e.d.next = self.cur_e.val();
-            self.w_p.d.next = self.cur_p.val();
-            self.w_b.d.next = self.cur_b.val();
-            self.w_a.d.next = self.cur_a.val();
-            self.w_uq.d.next = self.cur_uq.val();
-            self.w_ur.d.next = self.cur_ur.val();
-            self.w_uqs.d.next = self.cur_uqs.val();
-            self.w_urs.d.next = self.cur_urs.val();
+            self.w_rev.d.next = self.ctx_ram.r_rev.val();
+            self.w_n.d.next = self.ctx_ram.r_n.val();
+            self.w_i.d.next = self.ctx_ram.r_i.val();
+            self.w_t.d.next = self.ctx_ram.r_t.val();
+            self.w_e.d.next = self.ctx_ram.r_e.val();
+            self.w_p.d.next = self.ctx_ram.r_p.val();
+            self.w_b.d.next = self.ctx_ram.r_b.val();
+            self.w_a.d.next = self.ctx_ram.r_a.val();
+            self.w_uq.d.next = self.ctx_ram.r_uq.val();
+            self.w_ur.d.next = self.ctx_ram.r_ur.val();
+            self.w_uqs.d.next = self.ctx_ram.r_uqs.val();
+            self.w_urs.d.next = self.ctx_ram.r_urs.val();
             if (self.cur_kind.val() != 0) & !self.cur_full.val() {
                 // Axis m's next period.
                 if self.cur_kind.val() == 1 {
@@ -800,19 +766,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pwait.val();
         } else if self.st.q.val() == self.k_pwait.val() {
             if self.root.valid.val() {
-                self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
-                    | self.c_step_bit.val()
-                    | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
                 self.pe_valid.d.next = true;
                 self.w_a.d.next = self.s_anew.q.val();
                 self.w_e.d.next = self.e_next.val();
                 self.w_i.d.next = self.i_next.val();
                 if self.i_next.val() == self.w_n.q.val() {
                     self.w_kind.d.next = 0.into();
-                    self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
-                        | self.c_step_bit.val()
-                        | self.c_last_bit.val()
-                        | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
                 }
                 self.st.d.next = self.k_commit_step.val();
             }
@@ -831,15 +790,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.e_next.next = self.w_t.q.val();
                 self.w_kind.d.next = 0.into();
             }
-            self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
-                | self.c_step_bit.val()
-                | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
-            if self.i_next.val() == self.w_n.q.val() {
-                self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
-                    | self.c_step_bit.val()
-                    | self.c_last_bit.val()
-                    | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
-            }
             self.pe_valid.d.next = true;
             self.w_e.d.next = self.e_next.val();
             self.w_i.d.next = self.i_next.val();
@@ -855,6 +805,17 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
         } else {
             self.st.d.next = self.k_pick.val();
+        }
+
+        // The period entry of P_WAIT and U_STEP, Δ = E − E_prev with its step, direction
+        // and last flags; pushed when pe_valid. Formed here, after the scheduler, because
+        // U_STEP sets e_next.
+        self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+            | self.c_step_bit.val()
+            | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
+        self.pe_entry.d.next = self.step_entry.val();
+        if self.i_next.val() == self.w_n.q.val() {
+            self.pe_entry.d.next = self.step_entry.val() | self.c_last_bit.val();
         }
 
         // ---- context memory writes (after the scheduler decided them) ---------
