@@ -490,3 +490,100 @@ fn fsm_state_constants_are_a_gray_sequence() {
     sorted.dedup();
     assert_eq!(sorted.len(), codes.len(), "state codes are distinct");
 }
+
+/// One axis's stream of 1 ms segments for a host that plans ahead: a random walk of
+/// speeds between rest and `v_max` (accelerating, decelerating and cruising segments),
+/// dwells at rest, and a direction change now and then at rest; it ends at rest. Each
+/// segment starts at the end speed of the one before (rounded down to Q0.32; one that
+/// aimed at rest ends below 2^33/T and the next starts from 0).
+fn streaming_segments(t: u32, v_max: u64, count: usize, seed: u64) -> Vec<Segment> {
+    let mut rng = Rng(seed);
+    let two32 = 1u64 << 32;
+    let (mut v, mut reverse) = (0u64, false);
+    let mut segs = Vec::with_capacity(count);
+    // The end speed lands up to one step's worth (2^33/T) above the aim: aim below v_max.
+    let top = v_max - (2 * two32).div_ceil(t as u64);
+    for j in 0..count {
+        let aim = match rng.next() % 6 {
+            _ if j + 1 == count => 0,
+            0 => 0,
+            1 => v.min(top),
+            2 => top,
+            _ => rng.next() % (top + 1),
+        };
+        if v == 0 && (aim == 0 || rng.next() % 2 == 0) {
+            if rng.next() % 2 == 0 {
+                reverse = !reverse;
+            }
+            segs.push(Segment::dwell(t));
+            continue;
+        }
+        // θ = ⌈(v + aim)·T / 2^33⌉, so the end speed 2θ/T − v is at least `aim` (never
+        // below rest) and below v_max.
+        let n = ((v + aim) as u128 * t as u128).div_ceil(2 * two32 as u128) as u64;
+        segs.push(Segment::new(v as u32, t, if reverse { -(n as i32) } else { n as i32 }));
+        v = ((2 * n as u128 * two32 as u128 - v as u128 * t as u128) / t as u128) as u64;
+        if aim == 0 {
+            // Below one step per T/2: the host counts the axis at rest.
+            v = 0;
+        }
+        assert!(v <= v_max, "end speed {v} above {v_max}");
+    }
+    segs
+}
+
+/// Streaming, the way a LinuxCNC- or Klipper-style host drives a step generator: 16
+/// axes, each fed 100 segments of 1 ms at the export's default 50 MHz clock (100 ms)
+/// at up to half the documented maximum step rate (twice `min_period_ticks`), pushed
+/// as the move goes on, about eight segments ahead, so that no queue ever holds all of
+/// them. Every segment is accepted, no axis underruns, every edge equals the model.
+#[test]
+fn sixteen_axes_stream_one_ms_segments_for_100_ms() {
+    use tdm_stepper::export::{ExportOptions, QUEUE_DEPTH, RADIX_BITS};
+    const K: usize = 16;
+    const COUNT: usize = 100;
+    const AHEAD: usize = 8;
+    let opts = ExportOptions { axes: K, ..Default::default() };
+    let t = opts.clock_hz / 1000;
+    let v_max = (1u64 << 32) / (2 * opts.min_period_ticks());
+    let limits = Limits::default();
+    let axes: Vec<Vec<Segment>> = (0..K).map(|a| streaming_segments(t, v_max, COUNT, 0x5713_ea11 + a as u64)).collect();
+    for (a, segs) in axes.iter().enumerate() {
+        assert!(segs.iter().all(|s| s.validate(&limits).is_ok()), "axis {a}: the stream holds an invalid segment");
+        let run = AxisRun::run(segs, &limits);
+        assert!(run.end_tick >= 100 * t as u64, "axis {a}: the stream is shorter than 100 ms");
+        let shortest = run.edge_ticks.windows(2).map(|w| w[1] - w[0]).min().unwrap();
+        assert!(shortest >= 2 * opts.min_period_ticks() - 1, "axis {a}: a {shortest}-tick period is above half the maximum rate");
+    }
+    // The stream covers what the issue asks for on every axis.
+    let kinds = |segs: &[Segment]| {
+        let acc = segs.iter().any(|s| s.steps != 0 && (2 * (s.steps.unsigned_abs() as u64) << 32) > 2 * s.v0_rate as u64 * s.t_ticks as u64);
+        let dec = segs.iter().any(|s| s.steps != 0 && (2 * (s.steps.unsigned_abs() as u64) << 32) < 2 * s.v0_rate as u64 * s.t_ticks as u64);
+        let dwell = segs.iter().any(|s| s.steps == 0);
+        let both = segs.iter().any(|s| s.steps > 0) && segs.iter().any(|s| s.steps < 0);
+        acc && dec && dwell && both
+    };
+    for (a, segs) in axes.iter().enumerate() {
+        assert!(kinds(segs), "axis {a} lacks acceleration, deceleration, dwells or both directions");
+    }
+
+    // Reset, the first AHEAD segments of every axis, a synchronised start, then each
+    // later segment j pushed (j − AHEAD) ms after the start: its queue holds about AHEAD.
+    let cycles = cycles_for(&axes);
+    let mut ev = events::<K>(&axes.iter().map(|s| s[..AHEAD].to_vec()).collect::<Vec<_>>(), cycles);
+    let start = ev.iter().find(|e| e.1[6] == 1).unwrap().0;
+    for j in AHEAD..COUNT {
+        for (a, segs) in axes.iter().enumerate() {
+            let s = segs[j];
+            let c = start + (j - AHEAD) as u64 * t as u64 + 2 + 2 * a as u64;
+            ev.push((c, vec![0, 1, a as u128, s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0, 0, 0, 0, 0]));
+            ev.push((c + 1, vec![0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]));
+        }
+    }
+    ev.sort_by_key(|e| e.0);
+    assert!(ev.windows(2).all(|w| w[0].0 < w[1].0), "two stimulus events on one cycle");
+    let verilog = generate_verilog(&uut_rq::<K, RADIX_BITS, QUEUE_DEPTH>());
+    let dir = sim_dir("core_k16_streaming", Simulator::Verilator);
+    let got = run_sparse(Simulator::Verilator, &dir, &verilog, &spec::<K>(), &ev, cycles).unwrap();
+    check_against_model::<K>(&axes, &got, cycles, "16-axis streaming");
+}

@@ -595,9 +595,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.m.d.next = self.next_m.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // Range checks, in the model's order; v0·T goes into the multiplier whatever
-            // they find (a rejected segment's product is never read), so that the checks
-            // are not on the path from the queue RAM into the multiplier.
+            // Range checks, in the model's order, into s_code (0: in range); S_ISSUE_TR acts
+            // on it, so the comparisons end in a register, not in the state register. v0·T
+            // goes into the multiplier whatever they find (a rejected segment's product is
+            // never read), so the checks are not on the path from the queue RAM into it.
             self.mulw.a.next = self.h_v0.val();
             self.mulw.b.next = self.h_t.val();
             self.s_v0.d.next = self.h_v0.val();
@@ -607,44 +608,44 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_rev.d.next = self.h_steps.val().get_bit(31);
             if self.h_t.val() == 0 {
                 self.s_code.d.next = 1.into();
-                self.st.d.next = self.k_reject.val();
             } else if self.h_t.val() > self.c_max_t.val() {
                 self.s_code.d.next = 4.into();
-                self.st.d.next = self.k_reject.val();
             } else if self.h_n.val() > self.c_max_n.val() {
                 self.s_code.d.next = 5.into();
-                self.st.d.next = self.k_reject.val();
             } else if self.h_v0.val() > self.c_max_v0.val() {
                 self.s_code.d.next = 6.into();
-                self.st.d.next = self.k_reject.val();
             } else {
-                self.st.d.next = self.k_issue_tr.val();
+                self.s_code.d.next = 0.into();
             }
+            self.st.d.next = self.k_issue_tr.val();
         } else if self.st.q.val() == self.k_issue_tr.val() {
             // The three 32×32 products go into the pipelined multiplier back to back.
             self.mulw.a.next = self.w_t.q.val();
             self.mulw.b.next = self.c_rmax.val();
-            self.st.d.next = self.k_vt.val();
-        } else if self.st.q.val() == self.k_vt.val() {
-            // v0·T arrived (MulReg, two cycles after S_CHECK issued it).
-            self.s_dq.d.next = self.dq.val();
-            self.s_vend.d.next = self.vend.val();
-            if self.dq.val().get_bit(63) {
-                self.s_dmag.d.next = (!self.dq.val()) + 1;
-            } else {
-                self.s_dmag.d.next = self.dq.val();
-            }
-            if self.vend.val().get_bit(63) {
-                self.s_code.d.next = 2.into();
+            if self.s_code.q.val() != 0 {
                 self.st.d.next = self.k_reject.val();
             } else {
-                self.mulw.a.next = self.w_t.q.val();
-                self.mulw.b.next = self.w_t.q.val();
-                self.st.d.next = self.k_tr.val();
+                self.st.d.next = self.k_vt.val();
             }
+        } else if self.st.q.val() == self.k_vt.val() {
+            // v0·T arrived (MulReg, two cycles after S_CHECK issued it). T² is issued
+            // whatever the reversal test finds; S_TR acts on it.
+            self.s_dq.d.next = self.dq.val();
+            self.s_vend.d.next = self.vend.val();
+            self.mulw.a.next = self.w_t.q.val();
+            self.mulw.b.next = self.w_t.q.val();
+            self.st.d.next = self.k_tr.val();
         } else if self.st.q.val() == self.k_tr.val() {
             // T·RMAX arrived.
-            if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.narrow.val()) {
+            if self.s_dq.q.val().get_bit(63) {
+                self.s_dmag.d.next = (!self.s_dq.q.val()) + 1;
+            } else {
+                self.s_dmag.d.next = self.s_dq.q.val();
+            }
+            if self.s_vend.q.val().get_bit(63) {
+                self.s_code.d.next = 2.into();
+                self.st.d.next = self.k_reject.val();
+            } else if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.narrow.val()) {
                 self.s_code.d.next = 3.into();
                 self.st.d.next = self.k_reject.val();
             } else if self.w_n.q.val() == 0 {
