@@ -60,14 +60,14 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 pub const T_CALC_UNIFORM: usize = 3;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
-/// segment, from S_CHECK to its commit: three 32×32 products issued back to back into
-/// the pipelined multiplier (v0·T, T·RMAX, T²; the last arrives 2 + MUL_REG_LATENCY
-/// cycles after the first is issued), one on the sequential multiplier (v·T²;
+/// segment, from S_CHECK to its commit: the range checks, then three 32×32 products
+/// issued back to back into the pipelined multiplier from registered operands (v0·T,
+/// T·RMAX, T²; the last arrives 2 + MUL_REG_LATENCY cycles after the first is issued), one on the sequential multiplier (v·T²;
 /// two with n·B' when decelerating) and two divides (P', B'), each issued in the
 /// cycle its operand arrives. Measured by tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
     let wide = if decelerating { 2 } else { 1 };
-    2 + (2 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
+    3 + (2 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
 
 // The fallback test reads the quotient's bits 103..64 by literal widths (rust-hdl
@@ -87,8 +87,8 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 20] = [
-    "PICK", "S_CHECK", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
+pub const STATES: [&str; 21] = [
+    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
     "S_DRAIN",
 ];
 
@@ -257,6 +257,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     flush: Signal<Local, Bit>,
     k_pick: Constant<Bits<STATE_BITS>>,
     k_check: Constant<Bits<STATE_BITS>>,
+    k_issue_vt: Constant<Bits<STATE_BITS>>,
     k_issue_tr: Constant<Bits<STATE_BITS>>,
     k_vt: Constant<Bits<STATE_BITS>>,
     k_tr: Constant<Bits<STATE_BITS>>,
@@ -412,6 +413,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             flush: Default::default(),
             k_pick: state("PICK"),
             k_check: state("S_CHECK"),
+            k_issue_vt: state("S_ISSUE_VT"),
             k_issue_tr: state("S_ISSUE_TR"),
             k_vt: state("S_VT"),
             k_tr: state("S_TR"),
@@ -595,12 +597,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.m.d.next = self.next_m.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // Range checks, in the model's order, into s_code (0: in range); S_ISSUE_TR acts
-            // on it, so the comparisons end in a register, not in the state register. v0·T
-            // goes into the multiplier whatever they find (a rejected segment's product is
-            // never read), so the checks are not on the path from the queue RAM into it.
-            self.mulw.a.next = self.h_v0.val();
-            self.mulw.b.next = self.h_t.val();
+            // Range checks, in the model's order, into s_code (0: in range); S_ISSUE_VT
+            // acts on it. The queue RAM's outputs end in registers here (the checks, v0,
+            // T, n), so neither the state register nor the multiplier sees the RAM's
+            // clock-to-out.
             self.s_v0.d.next = self.h_v0.val();
             self.w_dwell.d.next = false;
             self.w_t.d.next = self.h_t.val();
@@ -617,18 +617,24 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             } else {
                 self.s_code.d.next = 0.into();
             }
-            self.st.d.next = self.k_issue_tr.val();
-        } else if self.st.q.val() == self.k_issue_tr.val() {
-            // The three 32×32 products go into the pipelined multiplier back to back.
-            self.mulw.a.next = self.w_t.q.val();
-            self.mulw.b.next = self.c_rmax.val();
+            self.st.d.next = self.k_issue_vt.val();
+        } else if self.st.q.val() == self.k_issue_vt.val() {
+            // The three 32×32 products go into the pipelined multiplier back to back;
+            // v0·T first, whatever the checks found (a rejected segment's product is
+            // never read).
+            self.mulw.a.next = self.s_v0.q.val();
+            self.mulw.b.next = self.w_t.q.val();
             if self.s_code.q.val() != 0 {
                 self.st.d.next = self.k_reject.val();
             } else {
-                self.st.d.next = self.k_vt.val();
+                self.st.d.next = self.k_issue_tr.val();
             }
+        } else if self.st.q.val() == self.k_issue_tr.val() {
+            self.mulw.a.next = self.w_t.q.val();
+            self.mulw.b.next = self.c_rmax.val();
+            self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
-            // v0·T arrived (MulReg, two cycles after S_CHECK issued it). T² is issued
+            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it). T² is issued
             // whatever the reversal test finds; S_TR acts on it.
             self.s_dq.d.next = self.dq.val();
             self.s_vend.d.next = self.vend.val();
