@@ -1,5 +1,5 @@
 //! Iterative offset root: `x = ⌊√(p² + c)⌋ − p`, the per-step square root of the
-//! core, `R` radix-2 digits per clock (R divides 36).
+//! core, `R` radix-2 digits per clock as R/2 radix-4 pairs (R even, dividing 36).
 //!
 //! The square-root paths need τ' = isqrt(P'² + C) − P' with P' < 2^64 known at setup
 //! and τ' < 2^36 (docs/model.md, "Widths"). Finding only τ' takes 36 digits instead
@@ -8,7 +8,10 @@
 //! `rem·2 + c_b ≥ trial`, with `trial = 2p + 2x + 2^b` held in a register and stepped
 //! by adders that run beside the subtraction (`+ 2^b + 2^(b−1)` when the bit is kept,
 //! `− 2^(b−1)` when not). This is exactly [`crate::model::offset_root`], which the
-//! reference model uses, and which equals `u128::isqrt(p² + c) − p`.
+//! reference model uses, and which equals `u128::isqrt(p² + c) − p`. Two digits are
+//! done per [`RootPair`], which compares all outcomes of the second digit beside the
+//! first, so each cycle of R = 2 holds one 70-bit carry chain and a 4:1 select
+//! instead of two chained 68-bit subtractions.
 //!
 //! Ports: pulse `start` with `p` and `c` valid while idle; `x` and `valid` follow
 //! [`root_latency`]`(R)` cycles later and stay until the next start. `busy` is high
@@ -29,6 +32,10 @@ pub const ROOT_X_BITS: usize = 36;
 const REM_BITS: usize = 67;
 /// The trial 2p + 2x + 2^b.
 const TRIAL_BITS: usize = 66;
+/// A pair's working width: rem4 < 2^68 and 3t + 3m/2 < 2^68, with a borrow bit above.
+const PAIR_BITS: usize = 70;
+// The borrow is read by a literal index (bit 69).
+const _: () = assert!(PAIR_BITS == 70);
 // The digit reads bit 35 of the shifting low part of c by a literal index, and the
 // load splits c at bit 36 (rust-hdl writes a Rust constant's name into the Verilog).
 const _: () = assert!(ROOT_X_BITS == 36 && ROOT_C_BITS == 100 && ROOT_P_BITS == 64);
@@ -40,52 +47,89 @@ pub const fn root_latency(r: usize) -> usize {
     1 + ROOT_X_BITS / r
 }
 
-/// One radix-2 digit, combinational.
+/// Two radix-2 digits (one radix-4 digit), combinational. Digit b and digit b − 1 of
+/// the single-digit recurrence, with the second digit's outcome for both values of the
+/// first compared at once, so one cycle holds one carry chain, not two in series. With
+/// `m = 2^b`, `t` the trial and `rem4 = 4·rem + (next two bits of c)` (in units of
+/// m/2), the pair of digits d = 0..3 keeps the largest d with
+///
+/// * d ≥ 1: `rem4 ≥ t − m/2` (first digit dropped, second kept),
+/// * d ≥ 2: `rem4 ≥ 2t` (first kept: the single digit's own test, doubled),
+/// * d = 3: `rem4 ≥ 3t + 3m/2` (both kept),
+///
+/// and the remainder is rem4 minus that threshold (rem4 when d = 0). The trial steps
+/// by `−3m/4, +m/4, +5m/4, +9m/4` for d = 0..3: exactly two single digits' updates
+/// (`− m/2` or `+ 3m/2`, then `∓` a quarter), formed from `t − m/2` and `t + 3m/2`,
+/// which the comparisons need anyway. The thresholds grow with d (t > m), so the
+/// three tests are nested. m ≥ 2 in every pair (36 digits from 2^35), so m/2 is exact;
+/// the quarter m/4 is exact except after the last pair, whose trial is not read.
 #[derive(LogicBlock, Default)]
-pub struct RootDigit {
+pub struct RootPair {
     pub rem_in: Signal<In, Bits<REM_BITS>>,
     pub trial_in: Signal<In, Bits<TRIAL_BITS>>,
     /// 2^b, one-hot.
     pub mask_in: Signal<In, Bits<ROOT_X_BITS>>,
     pub x_in: Signal<In, Bits<ROOT_X_BITS>>,
-    /// The bits of c below the next digit, the next one at the top (bit 35).
+    /// The bits of c below the next digit, the next two at the top (bits 35, 34).
     pub c_in: Signal<In, Bits<ROOT_X_BITS>>,
     pub rem_out: Signal<Out, Bits<REM_BITS>>,
     pub trial_out: Signal<Out, Bits<TRIAL_BITS>>,
     pub mask_out: Signal<Out, Bits<ROOT_X_BITS>>,
     pub x_out: Signal<Out, Bits<ROOT_X_BITS>>,
     pub c_out: Signal<Out, Bits<ROOT_X_BITS>>,
-    rem_sh: Signal<Local, Bits<REM_BITS>>,
-    diff: Signal<Local, Bits<68>>,
-    half: Signal<Local, Bits<TRIAL_BITS>>,
-    keep_step: Signal<Local, Bits<TRIAL_BITS>>,
+    rem4: Signal<Local, Bits<PAIR_BITS>>,
+    t_w: Signal<Local, Bits<PAIR_BITS>>,
+    m_w: Signal<Local, Bits<PAIR_BITS>>,
+    /// t − m/2 and t + 3m/2.
+    t_lo: Signal<Local, Bits<PAIR_BITS>>,
+    t_hi: Signal<Local, Bits<PAIR_BITS>>,
+    /// rem4 − (t − m/2), rem4 − 2t, rem4 − 2t − (t + 3m/2); the top bit is the borrow.
+    d1: Signal<Local, Bits<PAIR_BITS>>,
+    d2: Signal<Local, Bits<PAIR_BITS>>,
+    d3: Signal<Local, Bits<PAIR_BITS>>,
+    /// m/4 and 3m/4.
+    quarter: Signal<Local, Bits<PAIR_BITS>>,
+    three_q: Signal<Local, Bits<PAIR_BITS>>,
 }
 
-impl Logic for RootDigit {
+impl Logic for RootPair {
     #[hdl_gen]
     fn update(&mut self) {
-        self.rem_sh.next =
-            (self.rem_in.val() << 1) | bit_cast::<REM_BITS, 1>(self.c_in.val().get_bits::<1>(35));
-        // One subtraction; its borrow (bit 67) is the comparison.
-        self.diff.next = bit_cast::<68, REM_BITS>(self.rem_sh.val()) - bit_cast::<68, TRIAL_BITS>(self.trial_in.val());
-        // 2^(b−1) and 2^b + 2^(b−1) (an OR: the mask is one-hot).
-        self.half.next = bit_cast::<TRIAL_BITS, ROOT_X_BITS>(self.mask_in.val() >> 1);
-        self.keep_step.next = bit_cast::<TRIAL_BITS, ROOT_X_BITS>(self.mask_in.val() | (self.mask_in.val() >> 1));
-        self.mask_out.next = self.mask_in.val() >> 1;
-        self.c_out.next = self.c_in.val() << 1;
-        if self.diff.val().get_bit(67) {
-            self.rem_out.next = self.rem_sh.val();
-            self.x_out.next = self.x_in.val();
-            self.trial_out.next = self.trial_in.val() - self.half.val();
-        } else {
-            self.rem_out.next = bit_cast::<REM_BITS, 68>(self.diff.val());
+        self.rem4.next = (bit_cast::<PAIR_BITS, REM_BITS>(self.rem_in.val()) << 2)
+            | bit_cast::<PAIR_BITS, 2>(self.c_in.val().get_bits::<2>(34));
+        self.t_w.next = bit_cast::<PAIR_BITS, TRIAL_BITS>(self.trial_in.val());
+        self.m_w.next = bit_cast::<PAIR_BITS, ROOT_X_BITS>(self.mask_in.val());
+        self.quarter.next = self.m_w.val() >> 2;
+        self.three_q.next = (self.m_w.val() >> 1) | (self.m_w.val() >> 2);
+        // Beside the comparisons: they do not wait for each other's borrow.
+        self.t_lo.next = self.t_w.val() - (self.m_w.val() >> 1);
+        self.t_hi.next = self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 1));
+        self.d1.next = self.rem4.val() - self.t_lo.val();
+        self.d2.next = self.rem4.val() - (self.t_w.val() << 1);
+        self.d3.next = self.d2.val() - self.t_hi.val();
+        self.mask_out.next = self.mask_in.val() >> 2;
+        self.c_out.next = self.c_in.val() << 2;
+        if !self.d3.val().get_bit(69) {
+            self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d3.val());
+            self.x_out.next = self.x_in.val() | self.mask_in.val() | (self.mask_in.val() >> 1);
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_hi.val() + self.three_q.val());
+        } else if !self.d2.val().get_bit(69) {
+            self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d2.val());
             self.x_out.next = self.x_in.val() | self.mask_in.val();
-            self.trial_out.next = self.trial_in.val() + self.keep_step.val();
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_hi.val() - self.quarter.val());
+        } else if !self.d1.val().get_bit(69) {
+            self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d1.val());
+            self.x_out.next = self.x_in.val() | (self.mask_in.val() >> 1);
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() + self.three_q.val());
+        } else {
+            self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.rem4.val());
+            self.x_out.next = self.x_in.val();
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() - self.quarter.val());
         }
     }
 }
 
-/// The iterative offset root with `R` digits per cycle.
+/// The iterative offset root with `R` digits per cycle (`R / 2` pairs; R even).
 #[derive(LogicBlock)]
 pub struct OffsetRoot<const R: usize> {
     pub clock: Signal<In, Clock>,
@@ -95,7 +139,7 @@ pub struct OffsetRoot<const R: usize> {
     pub x: Signal<Out, Bits<ROOT_X_BITS>>,
     pub valid: Signal<Out, Bit>,
     pub busy: Signal<Out, Bit>,
-    digits: [RootDigit; R],
+    pairs: Vec<RootPair>,
     rem: DFF<Bits<REM_BITS>>,
     trial: DFF<Bits<TRIAL_BITS>>,
     mask: DFF<Bits<ROOT_X_BITS>>,
@@ -107,7 +151,7 @@ pub struct OffsetRoot<const R: usize> {
 
 impl<const R: usize> Default for OffsetRoot<R> {
     fn default() -> Self {
-        assert!(R >= 1 && ROOT_X_BITS % R == 0, "OffsetRoot<{R}>: R must divide {ROOT_X_BITS}");
+        assert!(R >= 2 && R % 2 == 0 && ROOT_X_BITS % R == 0, "OffsetRoot<{R}>: R must be even and divide {ROOT_X_BITS}");
         OffsetRoot {
             clock: Default::default(),
             start: Default::default(),
@@ -116,7 +160,7 @@ impl<const R: usize> Default for OffsetRoot<R> {
             x: Default::default(),
             valid: Default::default(),
             busy: Default::default(),
-            digits: std::array::from_fn(|_| Default::default()),
+            pairs: (0..R / 2).map(|_| Default::default()).collect(),
             rem: Default::default(),
             trial: Default::default(),
             mask: Default::default(),
@@ -134,30 +178,30 @@ impl<const R: usize> Logic for OffsetRoot<R> {
         dff_setup!(self, clock, rem, trial, mask, acc, clow);
         self.ctl.clock.next = self.clock.val();
         self.ctl.start.next = self.start.val();
-        // The digit chain: digit 0 reads the registers, digit i reads digit i - 1.
-        self.digits[0].rem_in.next = self.rem.q.val();
-        self.digits[0].trial_in.next = self.trial.q.val();
-        self.digits[0].mask_in.next = self.mask.q.val();
-        self.digits[0].x_in.next = self.acc.q.val();
-        self.digits[0].c_in.next = self.clow.q.val();
-        for i in 1..R {
-            self.digits[i].rem_in.next = self.digits[i - 1].rem_out.val();
-            self.digits[i].trial_in.next = self.digits[i - 1].trial_out.val();
-            self.digits[i].mask_in.next = self.digits[i - 1].mask_out.val();
-            self.digits[i].x_in.next = self.digits[i - 1].x_out.val();
-            self.digits[i].c_in.next = self.digits[i - 1].c_out.val();
+        // The pair chain: pair 0 reads the registers, pair i reads pair i - 1.
+        self.pairs[0].rem_in.next = self.rem.q.val();
+        self.pairs[0].trial_in.next = self.trial.q.val();
+        self.pairs[0].mask_in.next = self.mask.q.val();
+        self.pairs[0].x_in.next = self.acc.q.val();
+        self.pairs[0].c_in.next = self.clow.q.val();
+        for i in 1..self.pairs.len() {
+            self.pairs[i].rem_in.next = self.pairs[i - 1].rem_out.val();
+            self.pairs[i].trial_in.next = self.pairs[i - 1].trial_out.val();
+            self.pairs[i].mask_in.next = self.pairs[i - 1].mask_out.val();
+            self.pairs[i].x_in.next = self.pairs[i - 1].x_out.val();
+            self.pairs[i].c_in.next = self.pairs[i - 1].c_out.val();
         }
         self.x.next = self.acc.q.val();
         self.valid.next = self.ctl.valid.val();
         self.busy.next = self.ctl.busy.val();
         if self.ctl.step.val() {
-            // The last digit's outputs win: later assignments override earlier ones.
-            for i in 0..R {
-                self.rem.d.next = self.digits[i].rem_out.val();
-                self.trial.d.next = self.digits[i].trial_out.val();
-                self.mask.d.next = self.digits[i].mask_out.val();
-                self.acc.d.next = self.digits[i].x_out.val();
-                self.clow.d.next = self.digits[i].c_out.val();
+            // The last pair's outputs win: later assignments override earlier ones.
+            for i in 0..self.pairs.len() {
+                self.rem.d.next = self.pairs[i].rem_out.val();
+                self.trial.d.next = self.pairs[i].trial_out.val();
+                self.mask.d.next = self.pairs[i].mask_out.val();
+                self.acc.d.next = self.pairs[i].x_out.val();
+                self.clow.d.next = self.pairs[i].c_out.val();
             }
         } else if self.ctl.load.val() {
             // rem = c >> 36 (the first digit shifts in bit 35); trial = 2p + 2^35.
