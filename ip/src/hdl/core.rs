@@ -87,8 +87,8 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 21] = [
-    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE",
+pub const STATES: [&str; 22] = [
+    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
     "S_DRAIN",
 ];
 
@@ -205,6 +205,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// later (in S_COMMIT_STEP, m unchanged), so that no path runs from the arithmetic
     /// into the FIFO RAMs in one cycle.
     pe_valid: DFF<Bit>,
+    /// The step's last flag, and E before the step (Δ = w_e − s_eprev in S_COMMIT_STEP).
+    pe_last: DFF<Bit>,
+    s_eprev: DFF<Bits<32>>,
+    /// A promoted dwell's entry, pushed in S_PUSH_DWELL.
+    pd_valid: DFF<Bit>,
     pe_entry: DFF<Bits<ENTRY_BITS>>,
     step_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
@@ -240,8 +245,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     u_q1: Signal<Local, Bits<32>>,
     u_r1: Signal<Local, Bits<32>>,
     // Actions on axis m.
-    push_now: Signal<Local, Bit>,
-    push_entry: Signal<Local, Bits<ENTRY_BITS>>,
     pop_now: Signal<Local, Bit>,
     commit: Signal<Local, Bit>,
     err_now: Signal<Local, Bit>,
@@ -275,6 +278,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_ustep: Constant<Bits<STATE_BITS>>,
     k_commit_step: Constant<Bits<STATE_BITS>>,
     k_promote: Constant<Bits<STATE_BITS>>,
+    k_push_dwell: Constant<Bits<STATE_BITS>>,
     k_drain: Constant<Bits<STATE_BITS>>,
 }
 
@@ -367,6 +371,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_anew: Default::default(),
             s_code: Default::default(),
             pe_valid: Default::default(),
+            pe_last: Default::default(),
+            s_eprev: Default::default(),
+            pd_valid: Default::default(),
             pe_entry: Default::default(),
             step_entry: Default::default(),
             cur_kind: Default::default(),
@@ -397,8 +404,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             two_n: Default::default(),
             u_q1: Default::default(),
             u_r1: Default::default(),
-            push_now: Default::default(),
-            push_entry: Default::default(),
             pop_now: Default::default(),
             commit: Default::default(),
             err_now: Default::default(),
@@ -431,6 +436,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_ustep: state("U_STEP"),
             k_commit_step: state("S_COMMIT_STEP"),
             k_promote: state("S_PROMOTE"),
+            k_push_dwell: state("S_PUSH_DWELL"),
             k_drain: state("S_DRAIN"),
         }
     }
@@ -453,7 +459,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_entry
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pe_entry
         );
         self.mulw.clock.next = self.clock.val();
         self.mulw.a.next = 0.into();
@@ -470,9 +476,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.div.denominator.next = 0.into();
         self.root.c.next = self.s_anew.q.val();
         self.root.p.next = self.w_p.q.val();
-        self.push_now.next = false;
-        self.push_entry.next = 0.into();
         self.pe_valid.d.next = false;
+        self.pd_valid.d.next = false;
         self.pop_now.next = false;
         self.commit.next = false;
         self.promote_now.next = false;
@@ -756,9 +761,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
             if self.cur_next_dwell.val() {
-                self.push_entry.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
-                self.push_now.next = true;
+                // The dwell's one entry, registered: pushed from S_PUSH_DWELL, so the
+                // context RAM's read is not on a path into the period FIFOs.
+                self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
+                self.pd_valid.d.next = true;
+                self.st.d.next = self.k_push_dwell.val();
+            } else {
+                self.m.d.next = self.next_m.val();
+                self.st.d.next = self.k_pick.val();
             }
+        } else if self.st.q.val() == self.k_push_dwell.val() {
             self.m.d.next = self.next_m.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_reject.val() {
@@ -774,6 +786,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_pwait.val() {
             if self.root.valid.val() {
                 self.pe_valid.d.next = true;
+                self.s_eprev.d.next = self.w_e.q.val();
                 self.w_a.d.next = self.s_anew.q.val();
                 self.w_e.d.next = self.e_next.val();
                 self.w_i.d.next = self.i_next.val();
@@ -798,6 +811,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_kind.d.next = 0.into();
             }
             self.pe_valid.d.next = true;
+            self.s_eprev.d.next = self.w_e.q.val();
             self.w_e.d.next = self.e_next.val();
             self.w_i.d.next = self.i_next.val();
             self.st.d.next = self.k_commit_step.val();
@@ -814,15 +828,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pick.val();
         }
 
-        // The period entry of P_WAIT and U_STEP, Δ = E − E_prev with its step, direction
-        // and last flags; pushed when pe_valid. Formed here, after the scheduler, because
-        // U_STEP sets e_next.
-        self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.e_next.val() - self.w_e.q.val())
+        // The period entry of P_WAIT and U_STEP, pushed in S_COMMIT_STEP (pe_valid):
+        // Δ = E − E_prev from registers (w_e holds the new E, s_eprev the one before),
+        // with its step, direction and last flags.
+        self.pe_last.d.next = self.i_next.val() == self.w_n.q.val();
+        self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
             | self.c_step_bit.val()
             | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
-        self.pe_entry.d.next = self.step_entry.val();
-        if self.i_next.val() == self.w_n.q.val() {
-            self.pe_entry.d.next = self.step_entry.val() | self.c_last_bit.val();
+        if self.pe_last.q.val() {
+            self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
+                | self.c_step_bit.val()
+                | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33)
+                | self.c_last_bit.val();
         }
 
         // ---- context memory writes (after the scheduler decided them) ---------
@@ -925,11 +942,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
             self.axes[i].abort.next = self.abort.val();
-            self.axes[i].push.next = (self.push_now.val() | self.pe_valid.q.val()) & (self.m.q.val().index() == i);
+            self.axes[i].push.next = (self.pe_valid.q.val() | self.pd_valid.q.val()) & (self.m.q.val().index() == i);
             if self.pe_valid.q.val() {
-                self.axes[i].entry_in.next = self.pe_entry.q.val();
+                self.axes[i].entry_in.next = self.step_entry.val();
             } else {
-                self.axes[i].entry_in.next = self.push_entry.val();
+                self.axes[i].entry_in.next = self.pe_entry.q.val();
             }
             self.axes[i].more.next =
                 (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | (self.q_count[i].q.val() != 0);
@@ -997,12 +1014,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
             self.pe_valid.d.next = false;
+        self.pd_valid.d.next = false;
         }
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
+        self.pd_valid.d.next = false;
         }
     }
 }
