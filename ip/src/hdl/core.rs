@@ -205,6 +205,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// later (in S_COMMIT_STEP, m unchanged), so that no path runs from the arithmetic
     /// into the FIFO RAMs in one cycle.
     pe_valid: DFF<Bit>,
+    /// The pipelined multiplier's operands.
+    op_a: DFF<Bits<32>>,
+    op_b: DFF<Bits<32>>,
     /// The step's last flag, and E before the step (Δ = w_e − s_eprev in S_COMMIT_STEP).
     pe_last: DFF<Bit>,
     s_eprev: DFF<Bits<32>>,
@@ -371,6 +374,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_anew: Default::default(),
             s_code: Default::default(),
             pe_valid: Default::default(),
+            op_a: Default::default(),
+            op_b: Default::default(),
             pe_last: Default::default(),
             s_eprev: Default::default(),
             pd_valid: Default::default(),
@@ -459,11 +464,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pe_entry
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pe_entry, op_a, op_b
         );
         self.mulw.clock.next = self.clock.val();
-        self.mulw.a.next = 0.into();
-        self.mulw.b.next = 0.into();
+        // The pipelined multiplier's operands come from registers, loaded one state
+        // ahead of each product's issue: no state decode or operand select sits in
+        // front of the multiplier.
+        self.mulw.a.next = self.op_a.q.val();
+        self.mulw.b.next = self.op_b.q.val();
         self.mul.clock.next = self.clock.val();
         self.div.clock.next = self.clock.val();
         self.root.clock.next = self.clock.val();
@@ -522,10 +530,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.h_v0.next = self.seg_ram.rdata.val().get_bits::<32>(0);
         self.h_t.next = self.seg_ram.rdata.val().get_bits::<32>(32);
         self.h_steps.next = self.seg_ram.rdata.val().get_bits::<32>(64);
-        if self.h_steps.val().get_bit(31) {
-            self.h_n.next = (!self.h_steps.val()) + 1;
+        // |steps| of the head registered in S_CHECK (w_n holds the signed count there).
+        if self.w_rev.q.val() {
+            self.h_n.next = (!self.w_n.q.val()) + 1;
         } else {
-            self.h_n.next = self.h_steps.val();
+            self.h_n.next = self.w_n.q.val();
         }
         self.n64.next = bit_cast::<64, 32>(self.w_n.q.val());
         self.t_num.next = bit_cast::<DIV_NUM_BITS, 32>(self.w_t.q.val());
@@ -602,49 +611,50 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.m.d.next = self.next_m.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // Range checks, in the model's order, into s_code (0: in range); S_ISSUE_VT
-            // acts on it. The queue RAM's outputs end in registers here (the checks, v0,
-            // T, n), so neither the state register nor the multiplier sees the RAM's
-            // clock-to-out.
+            // The queue head goes into registers (v0, T, the signed step count and its
+            // sign), and v0·T's operands into the multiplier's: nothing else follows
+            // the RAM's clock-to-out.
             self.s_v0.d.next = self.h_v0.val();
+            self.op_a.d.next = self.h_v0.val();
+            self.op_b.d.next = self.h_t.val();
             self.w_dwell.d.next = false;
             self.w_t.d.next = self.h_t.val();
-            self.w_n.d.next = self.h_n.val();
+            self.w_n.d.next = self.h_steps.val();
             self.w_rev.d.next = self.h_steps.val().get_bit(31);
-            if self.h_t.val() == 0 {
+            self.st.d.next = self.k_issue_vt.val();
+        } else if self.st.q.val() == self.k_issue_vt.val() {
+            // v0·T goes into the multiplier whatever the checks find (a rejected
+            // segment's product is never read); load T·RMAX's operands. Range checks,
+            // in the model's order, into s_code (0: in range); S_ISSUE_TR acts on it.
+            self.op_a.d.next = self.w_t.q.val();
+            self.op_b.d.next = self.c_rmax.val();
+            self.w_n.d.next = self.h_n.val();
+            if self.w_t.q.val() == 0 {
                 self.s_code.d.next = 1.into();
-            } else if self.h_t.val() > self.c_max_t.val() {
+            } else if self.w_t.q.val() > self.c_max_t.val() {
                 self.s_code.d.next = 4.into();
             } else if self.h_n.val() > self.c_max_n.val() {
                 self.s_code.d.next = 5.into();
-            } else if self.h_v0.val() > self.c_max_v0.val() {
+            } else if self.s_v0.q.val() > self.c_max_v0.val() {
                 self.s_code.d.next = 6.into();
             } else {
                 self.s_code.d.next = 0.into();
             }
-            self.st.d.next = self.k_issue_vt.val();
-        } else if self.st.q.val() == self.k_issue_vt.val() {
-            // The three 32×32 products go into the pipelined multiplier back to back;
-            // v0·T first, whatever the checks found (a rejected segment's product is
-            // never read).
-            self.mulw.a.next = self.s_v0.q.val();
-            self.mulw.b.next = self.w_t.q.val();
+            self.st.d.next = self.k_issue_tr.val();
+        } else if self.st.q.val() == self.k_issue_tr.val() {
+            // T·RMAX goes in; load T²'s operands.
+            self.op_a.d.next = self.w_t.q.val();
+            self.op_b.d.next = self.w_t.q.val();
             if self.s_code.q.val() != 0 {
                 self.st.d.next = self.k_reject.val();
             } else {
-                self.st.d.next = self.k_issue_tr.val();
+                self.st.d.next = self.k_vt.val();
             }
-        } else if self.st.q.val() == self.k_issue_tr.val() {
-            self.mulw.a.next = self.w_t.q.val();
-            self.mulw.b.next = self.c_rmax.val();
-            self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
-            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it). T² is issued
+            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it). T² goes in
             // whatever the reversal test finds; S_TR acts on it.
             self.s_dq.d.next = self.dq.val();
             self.s_vend.d.next = self.vend.val();
-            self.mulw.a.next = self.w_t.q.val();
-            self.mulw.b.next = self.w_t.q.val();
             self.st.d.next = self.k_tr.val();
         } else if self.st.q.val() == self.k_tr.val() {
             // T·RMAX arrived.

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Mutation checks: each line below breaks the design in one place on purpose, and the
+# named test must then fail. A mutant that survives means the tests do not hold that
+# behaviour. Runs in a scratch git worktree (the repository tree is not touched), one
+# mutant at a time; takes about 3 to 5 minutes per mutant on a 2-core machine.
+#
+#   scripts/mutants.sh            # all mutants
+#   scripts/mutants.sh 3 7        # only mutants 3 and 7
+#
+# Exit status: 0 when every mutant was killed, 1 when one survived or did not apply.
+set -uo pipefail
+repo="$(cd "$(dirname "$0")/.." && pwd)"
+work="${MUTANTS_WORK:-$(mktemp -d /tmp/tdm-mutants.XXXXXX)}"
+export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
+
+# id # file # perl -0pe substitution # test binary # test name filter # what it breaks
+mutants=(
+  "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_dmag.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
+  "2#ip/src/hdl/core.rs#s/\(bit_cast::<65, 32>\(self.w_t.q.val\(\)\) << 5\)/(bit_cast::<65, 32>(self.w_t.q.val()) << 4)/#hdl_core_setup#setup_state_equals#fallback threshold P' + T' instead of P' + 2T'"
+  "3#ip/src/hdl/step_gen.rs#s/self.head_half.next = self.head_ticks.val\(\) >> 1;/self.head_half.next = self.head_ticks.val() >> 2;/#hdl_step_gen#short_segments_both_axes#STEP pulse a quarter period"
+  "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 1\)/(self.count.q.val() == 2)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
+  "5#ip/src/hdl/step_gen.rs#s/self.under.d.next = true;/self.under.d.next = false;/#hdl_step_gen#starved_fifo_flags_underrun#underrun never flagged"
+  "6#ip/src/hdl/step_gen.rs#s/if self.abort.val\(\) \{/if self.abort.val() & self.reset.val() {/#system#interrupts_random_traffic_and_abort#abort ignored by the step generators"
+  "7#ip/src/hdl/exmc.rs#s/if !self.nwe2.q.val\(\) & !self.nwe3.q.val\(\) & !self.ne2.q.val\(\) & !self.ne3.q.val\(\) \{/if !self.nwe2.q.val() & !self.ne2.q.val() {/#system#bad_input_through_the_bus#bus write captured on a single sample"
+  "8#ip/src/hdl/root.rs#s/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>\(self.t_lo.val\(\) \+ self.three_q.val\(\)\);/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() + self.quarter.val());/#hdl_root#root_two_digits#root pair: wrong trial step after digits 01"
+  "9#ip/src/hdl/root.rs#s/self.d3.next = self.d2.val\(\) - self.t_hi.val\(\);/self.d3.next = self.d2.val() - self.t_lo.val();/#hdl_root#root_two_digits#root pair: wrong threshold for digits 11"
+  "10#ip/src/hdl/core.rs#s/self.s_code.d.next = 5.into\(\);/self.s_code.d.next = 4.into();/#hdl_core#two_axes_match#range check reports the wrong code"
+  "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
+  "12#ip/src/hdl/core.rs#s/self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
+  "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#sixteen_axes_stream#no setup ahead of time"
+)
+
+only=("$@")
+git -C "$repo" worktree add --detach "$work/tree" HEAD >/dev/null 2>&1 || { echo "cannot make a worktree in $work"; exit 1; }
+trap 'git -C "$repo" worktree remove --force "$work/tree" >/dev/null 2>&1' EXIT
+tree="$work/tree"
+status=0
+for m in "${mutants[@]}"; do
+  IFS='#' read -r id file subst test filter what <<<"$m"
+  if [ ${#only[@]} -gt 0 ] && [[ ! " ${only[*]} " == *" $id "* ]]; then continue; fi
+  git -C "$tree" checkout -q -- .
+  before=$(sha1sum "$tree/$file")
+  perl -0pi -e "$subst" "$tree/$file"
+  if [ "$before" = "$(sha1sum "$tree/$file")" ]; then
+    echo "mutant $id ($what): DID NOT APPLY to $file"
+    status=1
+    continue
+  fi
+  start=$(date +%s)
+  if (cd "$tree" && cargo test --release -q --test "$test" "$filter" >"$work/mutant-$id.log" 2>&1); then
+    echo "mutant $id ($what): SURVIVED $test::$filter ($(( $(date +%s) - start )) s, log $work/mutant-$id.log)"
+    status=1
+  else
+    if grep -q "test result: FAILED\|panicked" "$work/mutant-$id.log"; then
+      echo "mutant $id ($what): killed by $test::$filter ($(( $(date +%s) - start )) s)"
+    else
+      echo "mutant $id ($what): build failed, see $work/mutant-$id.log"
+      status=1
+    fi
+  fi
+done
+git -C "$tree" checkout -q -- .
+exit $status
