@@ -83,6 +83,8 @@ pub struct RegFile<const K: usize> {
     st_t: [DFF<Bits<32>>; K],
     st_steps: [DFF<Bits<32>>; K],
     pushed: [DFF<Bits<8>>; K],
+    /// LEVEL ≥ the queue depth, registered (see "Pushes" below).
+    q_full: [DFF<Bit>; K],
     m_pos: [DFF<Bits<32>>; K],
     m_taken: [DFF<Bits<8>>; K],
     m_done: [DFF<Bits<8>>; K],
@@ -112,7 +114,7 @@ pub struct RegFile<const K: usize> {
     w_ax: Signal<Local, Bit>,
     w_axis: Signal<Local, Bits<4>>,
     w_off: Signal<Local, Bits<4>>,
-    w_level: Signal<Local, Bits<8>>,
+    w_full: Signal<Local, Bit>,
     w_data32: Signal<Local, Bits<32>>,
     r_ax: Signal<Local, Bit>,
     r_axis: Signal<Local, Bits<4>>,
@@ -224,6 +226,7 @@ impl<const K: usize> RegFile<K> {
             st_t: std::array::from_fn(|_| Default::default()),
             st_steps: std::array::from_fn(|_| Default::default()),
             pushed: std::array::from_fn(|_| Default::default()),
+            q_full: std::array::from_fn(|_| Default::default()),
             m_pos: std::array::from_fn(|_| Default::default()),
             m_taken: std::array::from_fn(|_| Default::default()),
             m_done: std::array::from_fn(|_| Default::default()),
@@ -252,7 +255,7 @@ impl<const K: usize> RegFile<K> {
             w_ax: Default::default(),
             w_axis: Default::default(),
             w_off: Default::default(),
-            w_level: Default::default(),
+            w_full: Default::default(),
             w_data32: Default::default(),
             r_ax: Default::default(),
             r_axis: Default::default(),
@@ -350,6 +353,8 @@ impl<const K: usize> Logic for RegFile<K> {
             self.st_t[i].clock.next = self.clock.val();
             self.st_steps[i].clock.next = self.clock.val();
             self.pushed[i].clock.next = self.clock.val();
+            self.q_full[i].clock.next = self.clock.val();
+            self.q_full[i].d.next = (self.pushed[i].q.val() - self.m_taken[i].q.val()) >= self.c_qdepth.val();
             self.m_pos[i].clock.next = self.clock.val();
             self.m_taken[i].clock.next = self.clock.val();
             self.m_done[i].clock.next = self.clock.val();
@@ -408,7 +413,7 @@ impl<const K: usize> Logic for RegFile<K> {
         self.o_rej.next = 0.into();
         self.o_under.next = 0.into();
         self.o_pushed.next = 0.into();
-        self.w_level.next = 0.into();
+        self.w_full.next = false;
         self.x_v0.next = 0.into();
         self.x_t.next = 0.into();
         self.x_steps.next = 0.into();
@@ -421,7 +426,7 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.o_pushed.next = self.pushed[i].q.val();
             }
             if self.w_axis.val().index() == i {
-                self.w_level.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
+                self.w_full.next = self.q_full[i].q.val();
                 self.x_v0.next = self.st_v0[i].q.val();
                 self.x_t.next = self.st_t[i].q.val();
                 self.x_steps.next = self.st_steps[i].q.val();
@@ -450,11 +455,17 @@ impl<const K: usize> Logic for RegFile<K> {
         }
 
         // ---- pushes ----------------------------------------------------------
+        // The queue-full test reads a registered flag, a cycle behind `pushed` and the
+        // mirror, so the level subtraction is off the path into the command FIFO. That
+        // is exact for pushes: the slave commits a write at most every third cycle
+        // (two samples with NWE low, one high), and the flag has seen the previous
+        // push by then. A segment the core takes in the cycle before a push is seen a
+        // cycle later, which can only refuse a push that would just have fitted.
         self.push_ok.next = false;
         if self.w_ax.val() & (self.w_off.val() == self.o_steps_hi.val()) & (self.w_axis.val() <= bit_cast::<4, 8>(self.c_last_axis.val())) {
             if !self.accepting.val() {
                 self.refused.d.next = true;
-            } else if self.cmd_full.val() | (self.w_level.val() >= self.c_qdepth.val()) {
+            } else if self.cmd_full.val() | self.w_full.val() {
                 self.ev_err.next = self.ev_err.val() | self.w_onehot.val();
             } else {
                 self.push_ok.next = true;
