@@ -178,13 +178,39 @@ pub struct Sweep {
     pub capacity: Vec<Capacity>,
 }
 
-/// Highest sustained step rate per axis.
+/// Highest sustained step rate per axis, and what the shared unit computes per second
+/// over all axes: periods (one per t_calc) and segment setups (one per t_setup of
+/// spare time; the decelerating setup, the longer one).
 #[derive(Clone, Debug, Serialize)]
 pub struct Capacity {
     pub axes: usize,
     pub min_period_ticks: u64,
     pub max_step_rate_hz_at_50mhz: f64,
     pub max_step_rate_hz_at_fmax: Option<f64>,
+    pub fmax_mhz: Option<f64>,
+    pub periods_per_s_at_50mhz: f64,
+    pub periods_per_s_at_fmax: Option<f64>,
+    pub t_setup_cycles: usize,
+    pub setups_per_s_at_50mhz: f64,
+    pub setups_per_s_at_fmax: Option<f64>,
+}
+
+/// The [`Capacity`] of K axes, with the `clk` Fmax when it was measured.
+pub fn capacity(axes: usize, fmax_mhz: Option<f64>) -> Capacity {
+    let t_calc = crate::hdl::core::t_calc_sqrt(export::RADIX_BITS) as f64;
+    let t_setup = crate::hdl::core::t_setup(export::RADIX_BITS, true);
+    Capacity {
+        axes,
+        min_period_ticks: ExportOptions { axes, ..Default::default() }.min_period_ticks(),
+        max_step_rate_hz_at_50mhz: max_step_rate_hz(axes, 50e6),
+        max_step_rate_hz_at_fmax: fmax_mhz.map(|f| max_step_rate_hz(axes, f * 1e6)),
+        fmax_mhz,
+        periods_per_s_at_50mhz: 50e6 / t_calc,
+        periods_per_s_at_fmax: fmax_mhz.map(|f| f * 1e6 / t_calc),
+        t_setup_cycles: t_setup,
+        setups_per_s_at_50mhz: 50e6 / t_setup as f64,
+        setups_per_s_at_fmax: fmax_mhz.map(|f| f * 1e6 / t_setup as f64),
+    }
 }
 
 /// f / (K·t_calc): the step rate an axis sustains without underrun (TDM).
@@ -794,16 +820,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     points.iter_mut().for_each(|p| rel(&mut p.log));
     fmax.iter_mut().for_each(|p| rel(&mut p.log));
     breakdown.iter_mut().for_each(|p| rel(&mut p.log));
-    let capacity = opts
-        .axes
-        .iter()
-        .map(|&k| Capacity {
-            axes: k,
-            min_period_ticks: ExportOptions { axes: k, ..Default::default() }.min_period_ticks(),
-            max_step_rate_hz_at_50mhz: max_step_rate_hz(k, 50e6),
-            max_step_rate_hz_at_fmax: fmax.iter().find(|f| f.axes == k).and_then(|f| f.max_step_rate_hz_at_fmax),
-        })
-        .collect();
+    let capacity = opts.axes.iter().map(|&k| capacity(k, fmax.iter().find(|f| f.axes == k).and_then(|f| f.fmax_clk_mhz))).collect();
     let sweep = Sweep { yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
     let files = write_outputs(&sweep, &opts.out).map_err(|e| format!("cannot write into {}: {e}", opts.out.display()))?;
     Ok((sweep, files))
@@ -914,15 +931,21 @@ pub fn markdown(s: &Sweep) -> String {
     if !s.breakdown.is_empty() {
         m += &breakdown_markdown(&s.breakdown);
     }
-    m += "## Axis capacity\n\nAn axis sustains periods down to K·t_calc ticks without underrun (measured by `tests/hdl_core.rs`, `underrun_exactly_when_k_t_calc_exceeds_the_period`).\n\n";
-    m += "| K | min period (ticks) | max steps/s per axis at 50 MHz | at Fmax |\n|---|---|---|---|\n";
+    m += "## Axis capacity\n\nAn axis sustains periods down to K·t_calc ticks without underrun (measured by `tests/hdl_core.rs`, `underrun_exactly_when_k_t_calc_exceeds_the_period`). Over all axes the shared unit computes one period per t_calc cycles, and sets up one segment per t_setup cycles of the time the periods leave it (`t_setup_is_what_the_constant_says`; the decelerating setup, the longer one): at a load u = K·t_calc/Δ, about f·(1 − u)/t_setup segments per second. Fmax is the ECP5 `clk` Fmax above.\n\n";
+    let na = || "—".to_string();
+    m += "| K | min period (ticks) | max steps/s per axis at 50 MHz | at Fmax | periods/s, all axes, at 50 MHz | at Fmax | t_setup (cycles) | segment setups/s, all axes, idle unit, at 50 MHz | at Fmax |\n|---|---|---|---|---|---|---|---|---|\n";
     for c in &s.capacity {
         m += &format!(
-            "| {} | {} | {:.0} | {} |\n",
+            "| {} | {} | {:.0} | {} | {:.0} | {} | {} | {:.0} | {} |\n",
             c.axes,
             c.min_period_ticks,
             c.max_step_rate_hz_at_50mhz,
-            c.max_step_rate_hz_at_fmax.map_or("—".to_string(), |v| format!("{v:.0}"))
+            c.max_step_rate_hz_at_fmax.map_or_else(na, |v| format!("{v:.0}")),
+            c.periods_per_s_at_50mhz,
+            c.periods_per_s_at_fmax.map_or_else(na, |v| format!("{v:.0}")),
+            c.t_setup_cycles,
+            c.setups_per_s_at_50mhz,
+            c.setups_per_s_at_fmax.map_or_else(na, |v| format!("{v:.0}")),
         );
     }
     m
