@@ -60,9 +60,10 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 pub const T_CALC_UNIFORM: usize = 3;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
-/// segment, from S_CHECK to its commit: the range checks, then three 32×32 products
-/// issued back to back into the pipelined multiplier from registered operands (v0·T,
-/// T·RMAX, T²; the last arrives 2 + MUL_REG_LATENCY cycles after the first is issued), one on the sequential multiplier (v·T²;
+/// segment, from S_CHECK to its commit: the head into registers, the range checks,
+/// three 32×32 products issued back to back into the pipelined multiplier from
+/// registered operands (v0·T, T·RMAX, T²; the last arrives 2 + MUL_REG_LATENCY cycles
+/// after the first is issued), one on the sequential multiplier (v·T²;
 /// two with n·B' when decelerating) and two divides (P', B'), each issued in the
 /// cycle its operand arrives. Measured by tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
@@ -201,9 +202,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_t2: DFF<Bits<64>>,
     s_anew: DFF<Bits<100>>,
     s_code: DFF<Bits<8>>,
-    /// A period entry computed in P_WAIT or U_STEP, pushed into axis m's FIFO one cycle
-    /// later (in S_COMMIT_STEP, m unchanged), so that no path runs from the arithmetic
-    /// into the FIFO RAMs in one cycle.
+    /// A step's E computed in P_WAIT or U_STEP: its entry is formed from registers and
+    /// pushed into axis m's FIFO one cycle later (in S_COMMIT_STEP, m unchanged), so
+    /// that no path runs from the arithmetic into the FIFO RAMs in one cycle.
     pe_valid: DFF<Bit>,
     /// The pipelined multiplier's operands.
     op_a: DFF<Bits<32>>,
@@ -213,7 +214,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_eprev: DFF<Bits<32>>,
     /// A promoted dwell's entry, pushed in S_PUSH_DWELL.
     pd_valid: DFF<Bit>,
-    pe_entry: DFF<Bits<ENTRY_BITS>>,
+    pd_entry: DFF<Bits<ENTRY_BITS>>,
     step_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
     // Axis m, through the multiplexers.
@@ -379,7 +380,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             pe_last: Default::default(),
             s_eprev: Default::default(),
             pd_valid: Default::default(),
-            pe_entry: Default::default(),
+            pd_entry: Default::default(),
             step_entry: Default::default(),
             cur_kind: Default::default(),
             cur_queued: Default::default(),
@@ -464,7 +465,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pe_entry, op_a, op_b
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -773,7 +774,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             if self.cur_next_dwell.val() {
                 // The dwell's one entry, registered: pushed from S_PUSH_DWELL, so the
                 // context RAM's read is not on a path into the period FIFOs.
-                self.pe_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
+                self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
                 self.pd_valid.d.next = true;
                 self.st.d.next = self.k_push_dwell.val();
             } else {
@@ -844,13 +845,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.pe_last.d.next = self.i_next.val() == self.w_n.q.val();
         self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
             | self.c_step_bit.val()
-            | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33);
-        if self.pe_last.q.val() {
-            self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
-                | self.c_step_bit.val()
-                | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33)
-                | self.c_last_bit.val();
-        }
+            | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33)
+            | (bit_cast::<ENTRY_BITS, 1>(self.pe_last.q.val().into()) << 34);
 
         // ---- context memory writes (after the scheduler decided them) ---------
         self.ctx_ram.we.next = self.commit.val() | self.nwe_now.val();
@@ -956,7 +952,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             if self.pe_valid.q.val() {
                 self.axes[i].entry_in.next = self.step_entry.val();
             } else {
-                self.axes[i].entry_in.next = self.pe_entry.q.val();
+                self.axes[i].entry_in.next = self.pd_entry.q.val();
             }
             self.axes[i].more.next =
                 (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | (self.q_count[i].q.val() != 0);
@@ -1024,14 +1020,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
             self.pe_valid.d.next = false;
-        self.pd_valid.d.next = false;
+            self.pd_valid.d.next = false;
         }
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
-        self.pd_valid.d.next = false;
+            self.pd_valid.d.next = false;
         }
     }
 }
