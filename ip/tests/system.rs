@@ -557,3 +557,78 @@ fn short_move_through_the_bus_rust_hdl_equals_verilator() {
     assert_eq!(strip(&reference), strip(&trace), "rust-hdl and Verilator traces differ");
     assert!(irq_edges(&trace).0.len() == 1, "masked done events of axis 1 raise irq once");
 }
+
+/// The register file's memories (staging and mirror in LUT RAM, addressed by axis),
+/// K = 4 in rust-hdl and in Verilator: every staging half-word and the mirror's
+/// POS and DONE_COUNT read 0 after reset (also after a second reset, with the
+/// memories still holding the words of before), a half-word reads back what was written to
+/// its own axis (writes interleaved over the axes, one half-word left unwritten), and
+/// pushes whose half-words were written axis by axis, interleaved, move each axis by
+/// its own segment, edge for edge as the model says.
+#[test]
+fn staging_and_mirror_memories_hold_each_axis_apart() {
+    const K: usize = 4;
+    let staging = ["V0_LO", "V0_HI", "T_LO", "T_HI", "STEPS_LO", "STEPS_HI"];
+    let value = |a: usize, j: usize| 0x1011u16 + 0x1000 * a as u16 + 0x100 * j as u16;
+    let skipped = (3usize, 1usize); // axis 3's V0_HI stays unwritten.
+    let mut b = bus();
+    let mut at_reset = Vec::new();
+    for a in 0..K {
+        for name in staging.iter().chain(["POS_LO", "POS_HI", "DONE_COUNT"].iter()) {
+            at_reset.push((a, *name, b.read_reg(name, a)));
+        }
+    }
+    // Before ENABLE a STEPS_HI write is refused as a push but still stored.
+    for j in 0..staging.len() {
+        for a in 0..K {
+            if (a, j) != skipped {
+                b.write_reg(staging[j], a, value(a, j));
+            }
+        }
+    }
+    let mut back = Vec::new();
+    for a in (0..K).rev() {
+        for (j, name) in staging.iter().enumerate() {
+            back.push((a, j, b.read_reg(name, a)));
+        }
+    }
+    // Pushes, each half-word written for every axis before the next half-word.
+    b.enable(ENABLE_WAIT);
+    let segs: Vec<Segment> = (0..K).map(|a| uniform(3_000 + 500 * a as u32, [7, -11, 13, -17][a])).collect();
+    for j in 0..staging.len() {
+        for (a, s) in segs.iter().enumerate() {
+            let words = [s.v0_rate as u16, (s.v0_rate >> 16) as u16, s.t_ticks as u16, (s.t_ticks >> 16) as u16, s.steps as u16, ((s.steps as u32) >> 16) as u16];
+            b.write_reg(staging[j], a, words[j]);
+        }
+    }
+    b.write_reg("START", 0, 0b1111);
+    let start = b.now_ps();
+    b.idle_until_ps(start + 6_000 * 2 * CLOCKS.clk_half_ps);
+    let pos: Vec<_> = (0..K).map(|a| b.read_position(a)).collect();
+    let done: Vec<_> = (0..K).map(|a| b.read_reg("DONE_COUNT", a)).collect();
+    // A second reset: the memories keep their words, the registers read 0 again.
+    b.reset(40);
+    for a in 0..K {
+        for name in staging.iter().chain(["POS_LO", "POS_HI", "DONE_COUNT"].iter()) {
+            at_reset.push((a, *name, b.read_reg(name, a)));
+        }
+    }
+    let cycles = cycles_after(&b, 50);
+    let reference = rust_hdl::<K>(&b, cycles);
+    let trace = verilator::<K>("system_regfile_memories", &b, cycles);
+    for (what, t) in [("rust-hdl", &reference), ("Verilator", &trace)] {
+        for &(a, name, id) in &at_reset {
+            assert_eq!(read16(&b, t, id), 0, "{what}: axis {a} {name} after reset");
+        }
+        for &(a, j, id) in &back {
+            let want = if (a, j) == skipped { 0 } else { value(a, j) };
+            assert_eq!(read16(&b, t, id), want, "{what}: axis {a} {} read back", staging[j]);
+        }
+        let axes: Vec<Vec<Segment>> = segs.iter().map(|s| vec![*s]).collect();
+        check_edges(t, &axes, what);
+        for a in 0..K {
+            assert_eq!(position(&b, t, pos[a]), Some(segs[a].steps), "{what}: axis {a} position");
+            assert_eq!(read16(&b, t, done[a]), 1, "{what}: axis {a} DONE_COUNT");
+        }
+    }
+}

@@ -9,9 +9,20 @@
 //! **Reads** are combinational on `rd_addr` (`rd_data`); the slave latches them. A
 //! read of POS_LO latches the position's high half for POS_HI.
 //!
+//! **Memories.** The staging registers and the mirror live in LUT RAM addressed by
+//! axis ([`LutRam`], 16 words: one more axis costs memory words, not flip-flops and
+//! K:1 multiplexers): one RAM per staging half-word, written by the bus, read at the
+//! writing axis while a write commits (a push takes the other five half-words) and
+//! at the read address otherwise; the mirror's position and done count read at the
+//! read address, and its done, rejected and underrun counters read at the status
+//! word's axis. Per axis, a flip-flop per staging half-word and one for the mirror
+//! say whether it was written since reset; one not written reads (and pushes) as 0,
+//! its reset value. The taken counter, busy flag, push counter and sticky flags stay
+//! in flip-flops: LEVEL, BUSY and the queue-full test need every axis at once.
+//!
 //! **Status** arrives one axis at a time (`st_valid`, `st_axis`, `st_word`, layout
 //! [`STATUS_BITS`](super::status_sync::STATUS_BITS), see the `W_*` constants) and is
-//! kept in a mirror. Comparing a new word with the mirror makes the events: a change
+//! kept in the mirror. Comparing a new word with the mirror makes the events: a change
 //! of the done, rejected or underrun counters sets IRQ_DONE, STATUS.ERROR (with the
 //! code) and STATUS.UNDERRUN; a change of the taken counter with LEVEL now ≤
 //! QLOW_LEVEL sets IRQ_QLOW. LEVEL is `pushed − taken` (8-bit counters), so a push
@@ -25,6 +36,7 @@
 //! while ENABLE and ENABLED are both 1 (else GSTATUS.REFUSED).
 
 use super::bit_insert::BitInsert;
+use super::lut_ram::LutRam;
 use super::status_sync::STATUS_BITS;
 use crate::regs::{self, CoreParams, ADDR_BITS};
 use rust_hdl::prelude::*;
@@ -79,17 +91,23 @@ pub struct RegFile<const K: usize> {
     pub enable: Signal<Out, Bit>,
     pub irq: Signal<Out, Bit>,
 
-    st_v0: [DFF<Bits<32>>; K],
-    st_t: [DFF<Bits<32>>; K],
-    st_steps: [DFF<Bits<32>>; K],
+    /// Staging, one LUT RAM per half-word register (V0_LO, V0_HI, T_LO, T_HI,
+    /// STEPS_LO, STEPS_HI), addressed by axis.
+    st_ram: [LutRam<16, 4>; 6],
+    /// Which staging half-words of each axis were written since reset (a half-word
+    /// not yet written reads, and pushes, as 0: its reset value).
+    st_vld: [DFF<Bits<6>>; K],
+    /// Mirror read by the bus: {done count (39..32), position (31..0)} at `r_axis`.
+    mb_ram: LutRam<40, 4>,
+    /// Mirror read by the event logic: {underruns, rejected, done} at `st_axis`.
+    mc_ram: LutRam<24, 4>,
+    /// A status word of this axis has arrived since reset (POS and DONE_COUNT read 0
+    /// before it).
+    m_vld: [DFF<Bit>; K],
     pushed: [DFF<Bits<8>>; K],
     /// LEVEL ≥ the queue depth, registered (see "Pushes" below).
     q_full: [DFF<Bit>; K],
-    m_pos: [DFF<Bits<32>>; K],
     m_taken: [DFF<Bits<8>>; K],
-    m_done: [DFF<Bits<8>>; K],
-    m_rej: [DFF<Bits<8>>; K],
-    m_under: [DFF<Bits<8>>; K],
     m_busy: [DFF<Bit>; K],
     f_under: [DFF<Bit>; K],
     f_over: [DFF<Bit>; K],
@@ -116,6 +134,16 @@ pub struct RegFile<const K: usize> {
     w_off: Signal<Local, Bits<4>>,
     w_full: Signal<Local, Bit>,
     w_data32: Signal<Local, Bits<32>>,
+    w_ok: Signal<Local, Bit>,
+    w_hw: Signal<Local, Bits<6>>,
+    h_vld: Signal<Local, Bits<6>>,
+    st_addr: Signal<Local, Bits<4>>,
+    h0: Signal<Local, Bits<16>>,
+    h1: Signal<Local, Bits<16>>,
+    h2: Signal<Local, Bits<16>>,
+    h3: Signal<Local, Bits<16>>,
+    h4: Signal<Local, Bits<16>>,
+    h5: Signal<Local, Bits<16>>,
     r_ax: Signal<Local, Bit>,
     r_axis: Signal<Local, Bits<4>>,
     r_off: Signal<Local, Bits<4>>,
@@ -142,21 +170,17 @@ pub struct RegFile<const K: usize> {
     x_t: Signal<Local, Bits<32>>,
     x_steps: Signal<Local, Bits<32>>,
     r_sel: Signal<Local, Bit>,
-    r_v0: Signal<Local, Bits<32>>,
-    r_t: Signal<Local, Bits<32>>,
-    r_steps: Signal<Local, Bits<32>>,
     r_level: Signal<Local, Bits<8>>,
     r_busy: Signal<Local, Bit>,
     r_fu: Signal<Local, Bit>,
     r_fo: Signal<Local, Bit>,
     r_fe: Signal<Local, Bit>,
     r_code: Signal<Local, Bits<4>>,
+    r_mvld: Signal<Local, Bit>,
     r_pos: Signal<Local, Bits<32>>,
     r_done: Signal<Local, Bits<8>>,
 
     c_one: Constant<Bits<16>>,
-    c_lo16: Constant<Bits<32>>,
-    c_hi16: Constant<Bits<32>>,
     c_qdepth: Constant<Bits<8>>,
     c_last_axis: Constant<Bits<8>>,
     v_magic: Constant<Bits<16>>,
@@ -222,16 +246,14 @@ impl<const K: usize> RegFile<K> {
             cmd_data: Default::default(),
             enable: Default::default(),
             irq: Default::default(),
-            st_v0: std::array::from_fn(|_| Default::default()),
-            st_t: std::array::from_fn(|_| Default::default()),
-            st_steps: std::array::from_fn(|_| Default::default()),
+            st_ram: std::array::from_fn(|_| Default::default()),
+            st_vld: std::array::from_fn(|_| Default::default()),
+            mb_ram: Default::default(),
+            mc_ram: Default::default(),
+            m_vld: std::array::from_fn(|_| Default::default()),
             pushed: std::array::from_fn(|_| Default::default()),
             q_full: std::array::from_fn(|_| Default::default()),
-            m_pos: std::array::from_fn(|_| Default::default()),
             m_taken: std::array::from_fn(|_| Default::default()),
-            m_done: std::array::from_fn(|_| Default::default()),
-            m_rej: std::array::from_fn(|_| Default::default()),
-            m_under: std::array::from_fn(|_| Default::default()),
             m_busy: std::array::from_fn(|_| Default::default()),
             f_under: std::array::from_fn(|_| Default::default()),
             f_over: std::array::from_fn(|_| Default::default()),
@@ -257,6 +279,16 @@ impl<const K: usize> RegFile<K> {
             w_off: Default::default(),
             w_full: Default::default(),
             w_data32: Default::default(),
+            w_ok: Default::default(),
+            w_hw: Default::default(),
+            h_vld: Default::default(),
+            st_addr: Default::default(),
+            h0: Default::default(),
+            h1: Default::default(),
+            h2: Default::default(),
+            h3: Default::default(),
+            h4: Default::default(),
+            h5: Default::default(),
             r_ax: Default::default(),
             r_axis: Default::default(),
             r_off: Default::default(),
@@ -283,20 +315,16 @@ impl<const K: usize> RegFile<K> {
             x_t: Default::default(),
             x_steps: Default::default(),
             r_sel: Default::default(),
-            r_v0: Default::default(),
-            r_t: Default::default(),
-            r_steps: Default::default(),
             r_level: Default::default(),
             r_busy: Default::default(),
             r_fu: Default::default(),
             r_fo: Default::default(),
             r_fe: Default::default(),
             r_code: Default::default(),
+            r_mvld: Default::default(),
             r_pos: Default::default(),
             r_done: Default::default(),
             c_one: c16(1),
-            c_lo16: Constant::new(0xFFFFu64.into()),
-            c_hi16: Constant::new(0xFFFF_0000u64.into()),
             c_qdepth: Constant::new((p.queue_depth as u64).into()),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
             v_magic: v("ID_MAGIC"),
@@ -349,31 +377,21 @@ impl<const K: usize> Logic for RegFile<K> {
             pos_latch, irq_q
         );
         for i in 0..K {
-            self.st_v0[i].clock.next = self.clock.val();
-            self.st_t[i].clock.next = self.clock.val();
-            self.st_steps[i].clock.next = self.clock.val();
+            self.st_vld[i].clock.next = self.clock.val();
+            self.m_vld[i].clock.next = self.clock.val();
             self.pushed[i].clock.next = self.clock.val();
             self.q_full[i].clock.next = self.clock.val();
             self.q_full[i].d.next = (self.pushed[i].q.val() - self.m_taken[i].q.val()) >= self.c_qdepth.val();
-            self.m_pos[i].clock.next = self.clock.val();
             self.m_taken[i].clock.next = self.clock.val();
-            self.m_done[i].clock.next = self.clock.val();
-            self.m_rej[i].clock.next = self.clock.val();
-            self.m_under[i].clock.next = self.clock.val();
             self.m_busy[i].clock.next = self.clock.val();
             self.f_under[i].clock.next = self.clock.val();
             self.f_over[i].clock.next = self.clock.val();
             self.f_err[i].clock.next = self.clock.val();
             self.f_code[i].clock.next = self.clock.val();
-            self.st_v0[i].d.next = self.st_v0[i].q.val();
-            self.st_t[i].d.next = self.st_t[i].q.val();
-            self.st_steps[i].d.next = self.st_steps[i].q.val();
+            self.st_vld[i].d.next = self.st_vld[i].q.val();
+            self.m_vld[i].d.next = self.m_vld[i].q.val();
             self.pushed[i].d.next = self.pushed[i].q.val();
-            self.m_pos[i].d.next = self.m_pos[i].q.val();
             self.m_taken[i].d.next = self.m_taken[i].q.val();
-            self.m_done[i].d.next = self.m_done[i].q.val();
-            self.m_rej[i].d.next = self.m_rej[i].q.val();
-            self.m_under[i].d.next = self.m_under[i].q.val();
             self.m_busy[i].d.next = self.m_busy[i].q.val();
             self.f_under[i].d.next = self.f_under[i].q.val();
             self.f_over[i].d.next = self.f_over[i].q.val();
@@ -405,33 +423,107 @@ impl<const K: usize> Logic for RegFile<K> {
         self.s_busy.next = self.st_word.val().get_bit(68);
         self.s_en.next = self.st_word.val().get_bit(69);
         self.s_onehot.next = self.c_one.val() << bit_cast::<16, 8>(self.st_axis.val());
+        self.w_ok.next = self.w_ax.val() & (self.w_axis.val() <= bit_cast::<4, 8>(self.c_last_axis.val()));
+        // Which staging half-word a write addresses (one-hot, V0_LO first).
+        self.w_hw.next = 0.into();
+        if self.w_off.val() == self.o_v0_lo.val() {
+            self.w_hw.next = 1.into();
+        }
+        if self.w_off.val() == self.o_v0_hi.val() {
+            self.w_hw.next = 2.into();
+        }
+        if self.w_off.val() == self.o_t_lo.val() {
+            self.w_hw.next = 4.into();
+        }
+        if self.w_off.val() == self.o_t_hi.val() {
+            self.w_hw.next = 8.into();
+        }
+        if self.w_off.val() == self.o_steps_lo.val() {
+            self.w_hw.next = 16.into();
+        }
+        if self.w_off.val() == self.o_steps_hi.val() {
+            self.w_hw.next = 32.into();
+        }
+
+        // ---- memories --------------------------------------------------------
+        // Staging: written at the writing axis, read at the same axis while a write
+        // commits (the push reads the other five half-words) and at the read axis
+        // otherwise (the slave latches a read at `rd`, which never coincides with
+        // `wr` when the bus keeps its documented timing).
+        if self.wr.val() {
+            self.st_addr.next = self.w_axis.val();
+        } else {
+            self.st_addr.next = self.r_axis.val();
+        }
+        for j in 0..6 {
+            self.st_ram[j].clock.next = self.clock.val();
+            self.st_ram[j].we.next = self.w_ok.val() & self.w_hw.val().get_bit(j);
+            self.st_ram[j].waddr.next = self.w_axis.val();
+            self.st_ram[j].wdata.next = self.wr_data.val();
+            self.st_ram[j].raddr.next = self.st_addr.val();
+        }
+        self.mb_ram.clock.next = self.clock.val();
+        self.mb_ram.we.next = self.st_valid.val();
+        self.mb_ram.waddr.next = self.st_axis.val().get_bits::<4>(0);
+        self.mb_ram.wdata.next = bit_cast::<40, 32>(self.s_pos.val()) | (bit_cast::<40, 8>(self.s_done.val()) << 32);
+        self.mb_ram.raddr.next = self.r_axis.val();
+        self.mc_ram.clock.next = self.clock.val();
+        self.mc_ram.we.next = self.st_valid.val();
+        self.mc_ram.waddr.next = self.st_axis.val().get_bits::<4>(0);
+        self.mc_ram.wdata.next = bit_cast::<24, 8>(self.s_done.val())
+            | (bit_cast::<24, 8>(self.s_rej.val()) << 8)
+            | (bit_cast::<24, 8>(self.s_under.val()) << 16);
+        self.mc_ram.raddr.next = self.st_axis.val().get_bits::<4>(0);
+        self.o_done.next = self.mc_ram.rdata.val().get_bits::<8>(0);
+        self.o_rej.next = self.mc_ram.rdata.val().get_bits::<8>(8);
+        self.o_under.next = self.mc_ram.rdata.val().get_bits::<8>(16);
 
         // The mirror's previous values for the axis in the status word, and the
         // level of the axis being written.
         self.o_taken.next = 0.into();
-        self.o_done.next = 0.into();
-        self.o_rej.next = 0.into();
-        self.o_under.next = 0.into();
         self.o_pushed.next = 0.into();
         self.w_full.next = false;
-        self.x_v0.next = 0.into();
-        self.x_t.next = 0.into();
-        self.x_steps.next = 0.into();
+        self.h_vld.next = 0.into();
         for i in 0..K {
             if self.st_axis.val().index() == i {
                 self.o_taken.next = self.m_taken[i].q.val();
-                self.o_done.next = self.m_done[i].q.val();
-                self.o_rej.next = self.m_rej[i].q.val();
-                self.o_under.next = self.m_under[i].q.val();
                 self.o_pushed.next = self.pushed[i].q.val();
             }
             if self.w_axis.val().index() == i {
                 self.w_full.next = self.q_full[i].q.val();
-                self.x_v0.next = self.st_v0[i].q.val();
-                self.x_t.next = self.st_t[i].q.val();
-                self.x_steps.next = self.st_steps[i].q.val();
+            }
+            if self.st_addr.val().index() == i {
+                self.h_vld.next = self.st_vld[i].q.val();
             }
         }
+        // The staging half-words at `st_addr`, 0 where not written since reset.
+        self.h0.next = 0.into();
+        self.h1.next = 0.into();
+        self.h2.next = 0.into();
+        self.h3.next = 0.into();
+        self.h4.next = 0.into();
+        self.h5.next = 0.into();
+        if self.h_vld.val().get_bit(0) {
+            self.h0.next = self.st_ram[0].rdata.val();
+        }
+        if self.h_vld.val().get_bit(1) {
+            self.h1.next = self.st_ram[1].rdata.val();
+        }
+        if self.h_vld.val().get_bit(2) {
+            self.h2.next = self.st_ram[2].rdata.val();
+        }
+        if self.h_vld.val().get_bit(3) {
+            self.h3.next = self.st_ram[3].rdata.val();
+        }
+        if self.h_vld.val().get_bit(4) {
+            self.h4.next = self.st_ram[4].rdata.val();
+        }
+        if self.h_vld.val().get_bit(5) {
+            self.h5.next = self.st_ram[5].rdata.val();
+        }
+        self.x_v0.next = bit_cast::<32, 16>(self.h0.val()) | (bit_cast::<32, 16>(self.h1.val()) << 16);
+        self.x_t.next = bit_cast::<32, 16>(self.h2.val()) | (bit_cast::<32, 16>(self.h3.val()) << 16);
+        self.x_steps.next = bit_cast::<32, 16>(self.h4.val()) | (self.w_data32.val() << 16);
 
         // ---- events from the status word -------------------------------------
         self.ev_done.next = 0.into();
@@ -462,7 +554,7 @@ impl<const K: usize> Logic for RegFile<K> {
         // push by then. A segment the core takes in the cycle before a push is seen a
         // cycle later, which can only refuse a push that would just have fitted.
         self.push_ok.next = false;
-        if self.w_ax.val() & (self.w_off.val() == self.o_steps_hi.val()) & (self.w_axis.val() <= bit_cast::<4, 8>(self.c_last_axis.val())) {
+        if self.w_ok.val() & (self.w_off.val() == self.o_steps_hi.val()) {
             if !self.accepting.val() {
                 self.refused.d.next = true;
             } else if self.cmd_full.val() | self.w_full.val() {
@@ -476,7 +568,7 @@ impl<const K: usize> Logic for RegFile<K> {
             self.cmd_write.next = true;
             self.cmd_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
                 | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
-                | (bit_cast::<CMD_BITS, 32>((self.x_steps.val() & self.c_lo16.val()) | (self.w_data32.val() << 16)) << 64)
+                | (bit_cast::<CMD_BITS, 32>(self.x_steps.val()) << 64)
                 | (bit_cast::<CMD_BITS, 4>(self.w_axis.val()) << 96);
         }
 
@@ -484,23 +576,8 @@ impl<const K: usize> Logic for RegFile<K> {
         for i in 0..K {
             // Staging writes.
             if self.w_ax.val() & (self.w_axis.val().index() == i) {
-                if self.w_off.val() == self.o_v0_lo.val() {
-                    self.st_v0[i].d.next = (self.st_v0[i].q.val() & self.c_hi16.val()) | self.w_data32.val();
-                }
-                if self.w_off.val() == self.o_v0_hi.val() {
-                    self.st_v0[i].d.next = (self.st_v0[i].q.val() & self.c_lo16.val()) | (self.w_data32.val() << 16);
-                }
-                if self.w_off.val() == self.o_t_lo.val() {
-                    self.st_t[i].d.next = (self.st_t[i].q.val() & self.c_hi16.val()) | self.w_data32.val();
-                }
-                if self.w_off.val() == self.o_t_hi.val() {
-                    self.st_t[i].d.next = (self.st_t[i].q.val() & self.c_lo16.val()) | (self.w_data32.val() << 16);
-                }
-                if self.w_off.val() == self.o_steps_lo.val() {
-                    self.st_steps[i].d.next = (self.st_steps[i].q.val() & self.c_hi16.val()) | self.w_data32.val();
-                }
+                self.st_vld[i].d.next = self.st_vld[i].q.val() | self.w_hw.val();
                 if self.w_off.val() == self.o_steps_hi.val() {
-                    self.st_steps[i].d.next = (self.st_steps[i].q.val() & self.c_lo16.val()) | (self.w_data32.val() << 16);
                     if self.push_ok.val() {
                         self.pushed[i].d.next = self.pushed[i].q.val() + 1;
                     } else if self.accepting.val() {
@@ -522,11 +599,8 @@ impl<const K: usize> Logic for RegFile<K> {
             }
             // The status word of axis i.
             if self.st_valid.val() & (self.st_axis.val().index() == i) {
-                self.m_pos[i].d.next = self.s_pos.val();
+                self.m_vld[i].d.next = true;
                 self.m_taken[i].d.next = self.s_taken.val();
-                self.m_done[i].d.next = self.s_done.val();
-                self.m_rej[i].d.next = self.s_rej.val();
-                self.m_under[i].d.next = self.s_under.val();
                 self.m_busy[i].d.next = self.s_busy.val();
                 if self.accepting.val() {
                     if self.s_rej.val() != self.o_rej.val() {
@@ -538,10 +612,6 @@ impl<const K: usize> Logic for RegFile<K> {
                     }
                 }
             }
-            // The POS_LO read latches the high half.
-            if self.rd.val() & self.r_ax.val() & (self.r_axis.val().index() == i) & (self.r_off.val() == self.o_pos_lo.val()) {
-                self.pos_latch.d.next = self.m_pos[i].q.val().get_bits::<16>(16);
-            }
             self.busy_bus[i].value.next =
                 ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
             if !self.ctrl_en.q.val() {
@@ -552,15 +622,10 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.f_code[i].d.next = 0.into();
             }
             if self.reset.val() {
-                self.st_v0[i].d.next = 0.into();
-                self.st_t[i].d.next = 0.into();
-                self.st_steps[i].d.next = 0.into();
+                self.st_vld[i].d.next = 0.into();
+                self.m_vld[i].d.next = false;
                 self.pushed[i].d.next = 0.into();
-                self.m_pos[i].d.next = 0.into();
                 self.m_taken[i].d.next = 0.into();
-                self.m_done[i].d.next = 0.into();
-                self.m_rej[i].d.next = 0.into();
-                self.m_under[i].d.next = 0.into();
                 self.m_busy[i].d.next = false;
                 self.f_under[i].d.next = false;
                 self.f_over[i].d.next = false;
@@ -690,9 +755,7 @@ impl<const K: usize> Logic for RegFile<K> {
             }
         }
         self.r_sel.next = false;
-        self.r_v0.next = 0.into();
-        self.r_t.next = 0.into();
-        self.r_steps.next = 0.into();
+        self.r_mvld.next = false;
         self.r_level.next = 0.into();
         self.r_busy.next = false;
         self.r_fu.next = false;
@@ -704,37 +767,44 @@ impl<const K: usize> Logic for RegFile<K> {
         for i in 0..K {
             if self.r_axis.val().index() == i {
                 self.r_sel.next = true;
-                self.r_v0.next = self.st_v0[i].q.val();
-                self.r_t.next = self.st_t[i].q.val();
-                self.r_steps.next = self.st_steps[i].q.val();
+                self.r_mvld.next = self.m_vld[i].q.val();
                 self.r_level.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
                 self.r_busy.next = ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
                 self.r_fu.next = self.f_under[i].q.val();
                 self.r_fo.next = self.f_over[i].q.val();
                 self.r_fe.next = self.f_err[i].q.val();
                 self.r_code.next = self.f_code[i].q.val();
-                self.r_pos.next = self.m_pos[i].q.val();
-                self.r_done.next = self.m_done[i].q.val();
             }
+        }
+        // The mirror's position and done count at the read axis, 0 until its first
+        // status word; the POS_LO read latches the high half.
+        self.r_pos.next = 0.into();
+        self.r_done.next = 0.into();
+        if self.r_mvld.val() {
+            self.r_pos.next = self.mb_ram.rdata.val().get_bits::<32>(0);
+            self.r_done.next = self.mb_ram.rdata.val().get_bits::<8>(32);
+        }
+        if self.rd.val() & self.r_ax.val() & self.r_sel.val() & (self.r_off.val() == self.o_pos_lo.val()) {
+            self.pos_latch.d.next = self.r_pos.val().get_bits::<16>(16);
         }
         if self.r_ax.val() & self.r_sel.val() {
             if self.r_off.val() == self.o_v0_lo.val() {
-                self.rd_data.next = self.r_v0.val().get_bits::<16>(0);
+                self.rd_data.next = self.h0.val();
             }
             if self.r_off.val() == self.o_v0_hi.val() {
-                self.rd_data.next = self.r_v0.val().get_bits::<16>(16);
+                self.rd_data.next = self.h1.val();
             }
             if self.r_off.val() == self.o_t_lo.val() {
-                self.rd_data.next = self.r_t.val().get_bits::<16>(0);
+                self.rd_data.next = self.h2.val();
             }
             if self.r_off.val() == self.o_t_hi.val() {
-                self.rd_data.next = self.r_t.val().get_bits::<16>(16);
+                self.rd_data.next = self.h3.val();
             }
             if self.r_off.val() == self.o_steps_lo.val() {
-                self.rd_data.next = self.r_steps.val().get_bits::<16>(0);
+                self.rd_data.next = self.h4.val();
             }
             if self.r_off.val() == self.o_steps_hi.val() {
-                self.rd_data.next = self.r_steps.val().get_bits::<16>(16);
+                self.rd_data.next = self.h5.val();
             }
             if self.r_off.val() == self.o_status.val() {
                 self.rd_data.next = bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))
