@@ -62,6 +62,10 @@ enum Command {
         /// Scratch folder for the simulator build.
         #[arg(long, default_value = "target/tdm-stepper-sim")]
         work: PathBuf,
+        /// Exit 0 even when an axis did not run as planned (a rejected segment, a
+        /// start that did not complete, an underrun, a move that did not finish).
+        #[arg(long)]
+        allow_problems: bool,
     },
     /// Synthesise the IP over axis counts, TDM against the baseline: sweep.json,
     /// sweep.md and SVG plots (LUT, FF, DSP, saving, cost per axis; Fmax with --fmax).
@@ -131,7 +135,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 println!("wrote {}", p.display());
             }
         }
-        Command::Sim { axes, moves, engine, vcd, vcd_window, report, work } => {
+        Command::Sim { axes, moves, engine, vcd, vcd_window, report, work, allow_problems } => {
             if vcd_window.is_some() && vcd.is_none() {
                 return Err("--vcd-window needs --vcd".into());
             }
@@ -155,9 +159,20 @@ fn run(cli: Cli) -> Result<(), String> {
                     a.max_period_error_pct_ge_500_ticks,
                     if a.underrun { "YES" } else { "no" }
                 );
+                for p in &a.problems {
+                    println!("axis {}: PROBLEM: {p}", a.axis);
+                }
             }
             for p in files {
                 println!("wrote {}", p.display());
+            }
+            if !r.ok && !allow_problems {
+                let bad: Vec<String> = r.axes.iter().filter(|a| !a.problems.is_empty()).map(|a| a.axis.to_string()).collect();
+                return Err(format!(
+                    "the move did not run as planned on axis {} (see PROBLEM above and in the report; --allow-problems exits 0)",
+                    bad.join(", ")
+                )
+                .into());
             }
         }
         Command::Sweep { axes, arch, family, fmax, breakdown, jobs, timeout_s, out, work, cached_only } => {

@@ -97,6 +97,11 @@ pub struct SimOptions {
     pub progress: bool,
 }
 
+/// STATUS bits (docs/registers.md).
+const STATUS_UNDERRUN: u16 = 1 << 6;
+const STATUS_OVERFLOW: u16 = 1 << 7;
+const STATUS_ERROR: u16 = 1 << 8;
+
 /// Parses `START_S:END_S`.
 pub fn parse_window(s: &str) -> Result<(f64, f64), String> {
     let (a, b) = s.split_once(':').ok_or_else(|| format!("--vcd-window {s:?}: expected START_S:END_S"))?;
@@ -161,6 +166,9 @@ pub struct AxisReport {
     pub underrun: bool,
     /// First edge − 1 − the model's first edge tick.
     pub release_cycle: Option<i64>,
+    /// What did not go as planned, one sentence each (empty: the move ran as planned,
+    /// every edge where the model puts it).
+    pub problems: Vec<String>,
 }
 
 /// The whole report.
@@ -175,6 +183,97 @@ pub struct Report {
     pub skew_ticks: Option<i64>,
     pub axes: Vec<AxisReport>,
     pub wall_seconds_build_and_run: f64,
+    /// The run's limit: clk cycles from START after which the positions are read. It
+    /// covers the planned move, and, when the plan asks for periods or segments near
+    /// what the shared unit serves, the time an underrunning move could take.
+    pub run_limit_ticks: u64,
+    /// No axis has a problem.
+    pub ok: bool,
+}
+
+/// Clk cycles from START within which every axis of the plan will have finished,
+/// even if it underruns. The planned end, plus margin; when some period is shorter
+/// than 2·K·t_calc or some segment shorter than 2·K·t_setup (so that an underrun is
+/// possible), every step and every setup is allowed the shared unit's whole round.
+pub fn run_limit_ticks(runs: &[AxisRun], k: usize) -> u64 {
+    let t_calc = crate::hdl::core::t_calc_sqrt(RADIX_BITS) as u64;
+    let t_setup = crate::hdl::core::t_setup(RADIX_BITS, true) as u64;
+    let k = k as u64;
+    let tight = runs.iter().any(|r| {
+        r.edge_ticks.windows(2).any(|w| w[1] - w[0] < 2 * k * t_calc)
+            || r.accepted.iter().any(|s| (s.t_ticks as u64) < 2 * k * t_setup)
+    });
+    let planned = runs.iter().map(|r| r.end_tick).max().unwrap_or(0);
+    let worst = if tight {
+        runs.iter()
+            .map(|r| r.end_tick + r.edge_ticks.len() as u64 * k * t_calc + r.accepted.len() as u64 * k * t_setup)
+            .max()
+            .unwrap_or(0)
+    } else {
+        planned
+    };
+    worst + 2_000 + 20 * k * RADIX_BITS as u64
+}
+
+/// The problems of one axis: rejections, a start that did not complete, an underrun,
+/// a refused push, a move that did not finish, an edge away from the model.
+fn axis_problems(run: &AxisRun, all: &[AxisRun], rises: &[u64], status: Option<u16>, position: Option<i32>) -> Vec<String> {
+    let mut p = Vec::new();
+    for r in &run.rejected {
+        p.push(format!("segment {} rejected, {}", r.index, r.error));
+    }
+    let Some(st) = status else {
+        p.push("STATUS could not be read (undefined bits)".to_string());
+        return p;
+    };
+    let code = (st >> 12) as u8;
+    if st & STATUS_ERROR != 0 && !run.rejected.iter().any(|r| r.error.code() == code) {
+        p.push(format!("STATUS.ERROR with code {code}, which the model does not predict"));
+    }
+    if st & STATUS_OVERFLOW != 0 {
+        p.push("a push was refused (STATUS.OVERFLOW: the queue was full)".to_string());
+    }
+    let underrun = st & STATUS_UNDERRUN != 0;
+    if underrun {
+        p.push("underrun: the shared unit did not keep up, so some STEP edges are late (periods below K·t_calc, or segments shorter than their setup)".to_string());
+    }
+    let expected = run.edge_ticks.len();
+    if rises.is_empty() && expected > 0 {
+        let blockers: Vec<String> = all
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.accepted.is_empty())
+            .map(|(j, _)| j.to_string())
+            .collect();
+        if blockers.is_empty() {
+            p.push(format!("did not start: no STEP edge of the {expected} planned"));
+        } else {
+            p.push(format!(
+                "did not start: START waits for every axis in its mask, and axis {} has no valid segment",
+                blockers.join(", ")
+            ));
+        }
+    } else if rises.len() != expected {
+        p.push(format!("did not finish: {} of {expected} steps by the end of the run", rises.len()));
+    }
+    if let Some(pos) = position {
+        if pos as i64 != run.position && !rises.is_empty() {
+            p.push(format!("position {pos} at the end, the plan says {}", run.position));
+        }
+    } else {
+        p.push("the position could not be read (undefined bits)".to_string());
+    }
+    if !underrun && rises.len() == expected && expected > 0 {
+        let l0 = rises[0] as i64 - 1 - run.edge_ticks[0] as i64;
+        if let Some(i) = (0..expected).find(|&i| rises[i] as i64 != l0 + 1 + run.edge_ticks[i] as i64) {
+            p.push(format!(
+                "step {i} rose at clk cycle {}, {} ticks from where the model puts it",
+                rises[i],
+                rises[i] as i64 - (l0 + 1 + run.edge_ticks[i] as i64)
+            ));
+        }
+    }
+    p
 }
 
 fn clocks_for(clock_hz: u32) -> Clocks {
@@ -228,8 +327,8 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     b.idle(100);
     b.write_reg("START", 0, ((1u32 << axes.len()) - 1) as u16);
     let start_ps = b.now_ps();
-    let end = runs.iter().map(|r| r.end_tick).max().unwrap_or(0);
-    b.idle_until_ps(start_ps + (end + 2_000 + 20 * k as u64 * RADIX_BITS as u64) * tick_ps);
+    let limit = run_limit_ticks(&runs, k);
+    b.idle_until_ps(start_ps + limit * tick_ps);
     let reads: Vec<((ReadId, ReadId), ReadId)> = (0..axes.len()).map(|a| (b.read_position(a), b.read_reg("STATUS", a))).collect();
     let cycles = b.now_ps() / tick_ps + 100;
 
@@ -300,20 +399,23 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
             }
         }
         let status = b.value(&trace, reads[a].1);
+        let final_position = position(&b, &trace, reads[a].0);
+        let problems = axis_problems(run, &runs, &rises, status, final_position);
         reports.push(AxisReport {
             axis: a,
             segments: axes[a].clone(),
             rejected: run.rejected.iter().map(|r| (r.index, r.error.code())).collect(),
             steps: rises.len(),
-            final_position: position(&b, &trace, reads[a].0),
+            final_position,
             expected_position: run.position,
             edge_cycles: rises,
             max_edge_error_ticks: max_e,
             max_period_error_pct: max_p,
             max_period_error_pct_ge_500_ticks: max_p500,
             status,
-            underrun: status.is_some_and(|s| s & (1 << 6) != 0),
+            underrun: status.is_some_and(|s| s & STATUS_UNDERRUN != 0),
             release_cycle: release,
+            problems,
         });
     }
     let releases: Vec<i64> = reports.iter().filter_map(|r| r.release_cycle).collect();
@@ -325,8 +427,10 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
         clk_cycles: cycles,
         simulated_seconds: cycles as f64 / moves.clock_hz as f64,
         skew_ticks: skew,
+        ok: reports.iter().all(|r| r.problems.is_empty()),
         axes: reports,
         wall_seconds_build_and_run: wall,
+        run_limit_ticks: limit,
     };
     let mut written = Vec::new();
     if let Some(dir) = opts.report.parent().filter(|p| !p.as_os_str().is_empty()) {
@@ -395,7 +499,14 @@ fn write_svg(r: &Report, runs: &[AxisRun], path: &Path) -> Result<(), Box<dyn st
     for (ax, area) in r.axes.iter().zip(root.split_evenly((rows, 1))) {
         let run = &runs[ax.axis];
         let (top, bottom) = area.split_vertically(260);
-        let Some(l0) = ax.release_cycle else { continue };
+        // What went wrong, in words, over the plots (or instead of them).
+        let Some(l0) = ax.release_cycle else {
+            area.draw(&Text::new(format!("axis {}: no STEP edge", ax.axis), (20, 30), ("sans-serif", 20).into_font().color(&RED)))?;
+            for (i, p) in ax.problems.iter().enumerate() {
+                area.draw(&Text::new(p.clone(), (20, 60 + 22 * i as i32), ("sans-serif", 15).into_font().color(&RED)))?;
+            }
+            continue;
+        };
         let x = &run.exact_ticks;
         let e: Vec<f64> = ax.edge_cycles.iter().map(|&c| (c as i64 - l0 - 1) as f64).collect();
         let n = x.len().min(e.len());
@@ -425,6 +536,9 @@ fn write_svg(r: &Report, runs: &[AxisRun], path: &Path) -> Result<(), Box<dyn st
             .build_cartesian_2d(0f64..t_end, -lim..lim)?;
         c2.configure_mesh().x_desc("time (s)").y_desc("ticks").draw()?;
         c2.draw_series(err.iter().map(|&p| Circle::new(p, 1, RED.filled())))?;
+        for (i, p) in ax.problems.iter().enumerate() {
+            top.draw(&Text::new(format!("PROBLEM: {p}"), (80, 36 + 18 * i as i32), ("sans-serif", 14).into_font().color(&RED)))?;
+        }
     }
     root.present()?;
     Ok(())

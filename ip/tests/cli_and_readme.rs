@@ -196,3 +196,51 @@ fn sim_engines_agree_on_a_short_move() {
         assert_eq!(reports[0]["axes"][a]["edge_cycles"], reports[1]["axes"][a]["edge_cycles"], "axis {a}: engines differ");
     }
 }
+
+/// `sim` tells the truth: a rejected segment (and the start it blocks) and an
+/// underrun are printed on the axis's console line with the reason, in the report
+/// and in the SVG, and make the exit status non-zero unless --allow-problems; an
+/// underrunning move still runs to its end.
+#[test]
+fn sim_reports_rejections_blocked_starts_and_underruns() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_cli");
+    let rejected = write_moves(
+        "rejected.json",
+        r#"{"clock_hz": 1000000, "axes": [
+            {"trapezoid": {"steps": 20, "t_acc_s": 0.002, "t_cruise_s": 0, "t_dec_s": 0.002}},
+            {"segments": [{"v0_steps_per_s": 100000, "t_s": 0.001, "steps": 10}]}]}"#,
+    );
+    // 300 steps at 20 ticks each: below K·t_calc, so the axis underruns.
+    let fast = write_moves("fast.json", r#"{"clock_hz": 1000000, "axes": [{"segments": [{"v0_steps_per_s": 50000, "t_s": 0.006, "steps": 300}]}]}"#);
+    let run = |moves: &PathBuf, name: &str, extra: &[&str]| {
+        let report = dir.join(format!("report_{name}.json"));
+        let work = dir.join("work_truth");
+        let out = bin().arg("sim").arg("--moves").arg(moves).arg("--report").arg(&report).arg("--work").arg(&work).args(extra).output().unwrap();
+        let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+        let svg = std::fs::read_to_string(report.with_extension("svg")).unwrap();
+        (out, r, svg)
+    };
+
+    let (out, r, svg) = run(&rejected, "rejected", &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "exit 0 with a rejected segment:\n{stdout}");
+    assert!(stdout.contains("axis 1: PROBLEM: segment 0 rejected, error 2"), "{stdout}");
+    assert!(stdout.contains("axis 0: PROBLEM: did not start: START waits for every axis in its mask, and axis 1 has no valid segment"), "{stdout}");
+    assert!(stderr.contains("did not run as planned on axis 0, 1"), "{stderr}");
+    assert_eq!(r["ok"], false);
+    assert_eq!(r["axes"][0]["steps"], 0, "axis 0 moved although axis 1's start could not complete");
+    assert!(svg.contains("no STEP edge") && svg.contains("rejected"), "the SVG does not say what went wrong");
+
+    let (out, r, _) = run(&fast, "fast", &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(!out.status.success(), "exit 0 with an underrun:\n{stdout}");
+    assert!(stdout.contains("axis 0: PROBLEM: underrun"), "{stdout}");
+    assert_eq!(r["axes"][0]["underrun"], true);
+    // The run continued until the late move finished: every step, the right position.
+    assert_eq!(r["axes"][0]["steps"], 300, "{stdout}");
+    assert_eq!(r["axes"][0]["final_position"], 300, "{stdout}");
+    let (out, r, _) = run(&fast, "fast_allowed", &["--allow-problems"]);
+    assert!(out.status.success(), "--allow-problems: {}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(r["ok"], false);
+}
