@@ -31,7 +31,7 @@ mutants=(
   "7#ip/src/hdl/exmc.rs#s/if !self.nwe2.q.val\(\) & !self.nwe3.q.val\(\) & !self.ne2.q.val\(\) & !self.ne3.q.val\(\) \{/if !self.nwe2.q.val() & !self.ne2.q.val() {/#system#bad_input_through_the_bus#bus write captured on a single sample"
   "8#ip/src/hdl/root.rs#s/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>\(self.t_lo.val\(\) \+ self.three_q.val\(\)\);/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() + self.quarter.val());/#hdl_root#root_two_digits#root pair: wrong trial step after digits 01"
   "9#ip/src/hdl/root.rs#s/self.d3.next = self.d2.val\(\) - self.t_hi.val\(\);/self.d3.next = self.d2.val() - self.t_lo.val();/#hdl_root#root_two_digits#root pair: wrong threshold for digits 11"
-  "10#ip/src/hdl/core.rs#s/self.s_code.d.next = 5.into\(\);/self.s_code.d.next = 4.into();/#hdl_core#two_axes_match#range check reports the wrong code"
+  "10#ip/src/hdl/core.rs#s/self.s_code.d.next = 5.into\(\);/self.s_code.d.next = 4.into();/#system#bad_input_through_the_bus#range check reports the wrong code (steps range as T range)"
   "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
   "12#ip/src/hdl/core.rs#s/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
   "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#sixteen_axes_stream#no setup ahead of time"

@@ -52,17 +52,26 @@ fn readme_worked_example_runs_as_written() {
         let w: Vec<&str> = c.split_whitespace().collect();
         w[w.iter().position(|x| *x == flag).unwrap_or_else(|| panic!("{flag} in {c}")) + 1].to_string()
     };
+    // Run as written, in a scratch copy of the working folder (its examples/), so that
+    // the test writes nothing into the repository.
+    let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readme_example");
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(work.join("examples")).unwrap();
+    for e in std::fs::read_dir(repo().join("examples")).unwrap() {
+        let e = e.unwrap().path();
+        std::fs::copy(&e, work.join("examples").join(e.file_name().unwrap())).unwrap();
+    }
     for c in &ours {
         let args: Vec<&str> = c.strip_prefix("cargo run --release -- ").unwrap().split_whitespace().collect();
-        let out = bin().current_dir(repo()).args(&args).output().unwrap();
+        let out = bin().current_dir(&work).args(&args).output().unwrap();
         assert!(out.status.success(), "{c}: {}", String::from_utf8_lossy(&out.stderr));
     }
-    let ip = repo().join(arg(ours[0], "--out"));
+    let ip = work.join(arg(ours[0], "--out"));
     for f in ["tdm_stepper.v", "tdm_stepper_regs.h", "registers.md", "manifest.json"] {
         assert!(ip.join(f).is_file(), "{f}");
     }
     let report: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(repo().join(arg(ours[1], "--report"))).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(work.join(arg(ours[1], "--report"))).unwrap()).unwrap();
     assert_eq!(report["skew_ticks"], 0);
     for (a, pos) in [(0, 2400), (1, 1800)] {
         let ax = &report["axes"][a];
@@ -71,8 +80,8 @@ fn readme_worked_example_runs_as_written() {
         assert!(ax["max_edge_error_ticks"].as_f64().unwrap() <= 1.0, "axis {a}");
         assert_eq!(ax["underrun"], false, "axis {a}");
     }
-    assert!(repo().join(arg(ours[1], "--report")).with_extension("svg").is_file());
-    let vcd_path = repo().join(arg(ours[1], "--vcd"));
+    assert!(work.join(arg(ours[1], "--report")).with_extension("svg").is_file());
+    let vcd_path = work.join(arg(ours[1], "--vcd"));
     let size = std::fs::metadata(&vcd_path).unwrap().len();
     assert!(size < 50 << 20, "VCD is {size} bytes");
     let mut parser = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(&vcd_path).unwrap()));
