@@ -17,6 +17,7 @@ REQUIRED=(
     "iverilog:iverilog"     # exported Verilog, second simulator
     "vvp:iverilog"
     "yosys:yosys"           # synthesis checks of the exported Verilog
+    "python3:python3"       # the venv for the PyPI tools below
 )
 
 apt_updated=0
@@ -39,6 +40,20 @@ for entry in "${REQUIRED[@]}"; do
         command -v "$cmd" >/dev/null || die "'$cmd' still missing after installing $pkg"
     fi
 done
+
+# PyPI tools, in a venv under target/ (pinned): FuseSoC runs the exported core's
+# lint and simulation targets (tests/export.rs looks for it there).
+FUSESOC_VERSION=2.4.7
+venv=target/venv-tools
+if ! "$venv/bin/fusesoc" --version 2>/dev/null | grep -qx "$FUSESOC_VERSION"; then
+    echo "scripts/test.sh: installing fusesoc $FUSESOC_VERSION into $venv"
+    if ! python3 -m venv "$venv" 2>/dev/null; then
+        install_pkg "python3 -m venv" python3-venv
+        rm -rf "$venv"
+        python3 -m venv "$venv" || die "python3 -m venv failed"
+    fi
+    "$venv/bin/pip" install -q "fusesoc==$FUSESOC_VERSION" || die "pip install fusesoc==$FUSESOC_VERSION failed (needs PyPI)"
+fi
 
 # All targets: unit, integration and property tests, the CLI, and the criterion
 # benches run once each in test mode so that they cannot rot.

@@ -1,5 +1,7 @@
 //! `tdm-stepper export`: the IP core for a chosen axis count, as Verilog with its C
-//! header, register document and manifest.
+//! header, register document and manifest, and the integration package around it
+//! ([`crate::package`]: lint waivers, instantiation template, constraints, FuseSoC
+//! core, smoke testbench).
 //!
 //! The design is generic over K (and its internal widths) at compile time, so the
 //! supported configurations are instantiated here: K = 1..=16 ([`MAX_AXES`]), the
@@ -206,7 +208,7 @@ pub fn export(opts: &ExportOptions, dir: &Path) -> Result<Exported, String> {
         ("manifest.json", serde_json::to_string_pretty(&manifest(opts)).expect("json") + "\n"),
     ];
     let mut out = Vec::new();
-    for (name, text) in files {
+    for (name, text) in files.into_iter().chain(crate::package::files(opts)) {
         let path = dir.join(name);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         out.push(path);

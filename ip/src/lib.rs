@@ -6,6 +6,7 @@ pub mod accuracy;
 pub mod export;
 pub mod hdl;
 pub mod model;
+pub mod package;
 pub mod regs;
 pub mod sim;
 pub mod sweep;

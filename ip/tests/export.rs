@@ -88,7 +88,6 @@ fn verilog_ports(v: &str) -> Vec<(String, String, usize)> {
 
 #[test]
 fn exported_verilog_lints_clean_and_has_the_documented_ports() {
-    let waivers = repo().join("ip/verilog/lint_waivers.vlt");
     for (k, arch) in [(1, "tdm"), (2, "tdm"), (8, "tdm"), (16, "tdm"), (2, "baseline")] {
         let dir = export_to(&["--axes", &k.to_string(), "--arch", arch], &format!("export_lint_{arch}_{k}"));
         let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
@@ -111,10 +110,11 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
             block.lines().map(|l| l.trim()).filter(|l| !l.is_empty()).all(|l| l.starts_with("q = ") && l.ends_with(';'))
         });
         assert!(inits, "K = {k}: an initial block does more than set a register's power-up value");
+        // The export folder alone: its own waiver file.
         let out = Command::new("verilator")
             .current_dir(&dir)
             .args(["--lint-only", "-Wall", "--top-module", "tdm_stepper"])
-            .arg(&waivers)
+            .arg(tdm_stepper::package::WAIVER_FILE)
             .arg("tdm_stepper.v")
             .output()
             .expect("verilator is installed (scripts/test.sh installs it)");
@@ -208,4 +208,105 @@ fn registers_md_sequence_pushes_the_planners_segments() {
         .map(|a| a.iter().map(|s| (s.v0_rate, s.t_ticks, s.steps)).collect())
         .collect();
     assert_eq!(pushed, want, "docs/registers.md's sequence differs from the planner");
+}
+
+
+/// The integration package in the export folder, used from that folder alone (K = 3):
+/// the smoke testbench passes in Icarus; the instantiation template names every port
+/// once and elaborates in yosys and Icarus inside a wrapper; the constraints name only
+/// the core's ports, with clk's period from --clock-hz; the FuseSoC core lists files
+/// that are there.
+#[test]
+fn export_package_works_from_the_folder_alone() {
+    use tdm_stepper::package as pkg;
+    let dir = export_to(&["--axes", "3", "--clock-hz", "40000000"], "export_package");
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let ports = export::ports(3);
+
+    // Smoke testbench in Icarus.
+    let out = Command::new("iverilog")
+        .current_dir(&dir)
+        .args(["-g2005", "-Wall", "-o", "smoke.vvp", "tdm_stepper.v", pkg::TB_FILE])
+        .output()
+        .expect("iverilog is installed");
+    assert!(out.status.success(), "iverilog: {}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new("vvp").current_dir(&dir).args(["-n", "smoke.vvp"]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("PASS: ID_MAGIC") && !text.contains("FAIL"), "smoke test: {text}");
+
+    // The template: each port once, in a wrapper that declares the signals.
+    let tpl = read(pkg::TEMPLATE_FILE);
+    for p in &ports {
+        assert_eq!(tpl.matches(&format!(".{} ", p.name)).count(), 1, "template: port {}", p.name);
+        assert!(tpl.contains(&pkg::ascii(p.description)), "template: {}'s comment", p.name);
+    }
+    let mut wrap = String::from("module wrap;\n");
+    for p in ports.iter().filter(|p| p.name != "fsm_state") {
+        let kind = if p.direction == "input" { "reg" } else { "wire" };
+        wrap += &format!("  {kind} [{}:0] {};\n", p.width - 1, p.name);
+    }
+    wrap += &format!("`include \"{}\"\nendmodule\n", pkg::TEMPLATE_FILE);
+    std::fs::write(dir.join("wrap.v"), wrap).unwrap();
+    let out = Command::new("yosys")
+        .current_dir(&dir)
+        .args(["-q", "-p", "read_verilog -I. wrap.v tdm_stepper.v; hierarchy -check -top wrap"])
+        .output()
+        .expect("yosys is installed");
+    assert!(out.status.success(), "yosys with the template: {}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new("iverilog").current_dir(&dir).args(["-g2005", "-I.", "-o", "wrap.vvp", "wrap.v", "tdm_stepper.v"]).output().unwrap();
+    assert!(out.status.success(), "iverilog with the template: {}", String::from_utf8_lossy(&out.stderr));
+
+    // Constraints: only the core's ports; clk at 40 MHz.
+    let names: Vec<&str> = ports.iter().map(|p| p.name).collect();
+    for f in [pkg::XDC_FILE, pkg::SDC_FILE] {
+        let t = read(f);
+        assert!(t.contains("create_clock -name tdm_clk -period 25.000 [get_ports clk]"), "{f}");
+        assert!(t.contains("set_clock_groups -asynchronous"), "{f}");
+        for l in t.lines().filter(|l| !l.starts_with('#')) {
+            let mut rest = l;
+            while let Some(i) = rest.find("[get_ports ") {
+                let inner = &rest[i + 11..];
+                let end = inner.find(']').unwrap();
+                let inner = &inner[..end].trim_matches(|c| c == '{' || c == '}');
+                for n in inner.split_whitespace() {
+                    let base = n.trim_matches(|c| c == '{' || c == '}').split('[').next().unwrap();
+                    assert!(names.contains(&base), "{f}: {base} is not a port: {l}");
+                }
+                rest = &rest[i + 11 + end..];
+            }
+        }
+    }
+    assert!(read(pkg::LPF_FILE).contains("FREQUENCY PORT \"clk\" 40.000 MHz;"));
+    assert!(read(pkg::PCF_FILE).contains("set_frequency clk 40.000"));
+
+    // FuseSoC (installed by scripts/test.sh): the lint and sim targets, run from a
+    // scratch folder with the export as the cores root.
+    let fusesoc = repo().join("target/venv-tools/bin/fusesoc");
+    assert!(fusesoc.is_file(), "{} is missing: scripts/test.sh installs it", fusesoc.display());
+    let name = read(pkg::CORE_FILE).lines().find_map(|l| l.strip_prefix("name: ")).unwrap().to_string();
+    let fs_work = dir.join("fusesoc_work");
+    std::fs::create_dir_all(&fs_work).unwrap();
+    for target in ["lint", "sim"] {
+        let out = Command::new(&fusesoc)
+            .current_dir(&fs_work)
+            .arg("--cores-root")
+            .arg(&dir)
+            .args(["run", "--target", target, &name])
+            .output()
+            .unwrap();
+        let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "fusesoc {target}: {all}");
+        if target == "sim" {
+            assert!(all.contains("PASS: ID_MAGIC"), "fusesoc sim: {all}");
+        }
+    }
+
+    // FuseSoC: every listed file is in the folder.
+    let core = read(pkg::CORE_FILE);
+    assert!(core.starts_with("CAPI=2:"));
+    let listed: Vec<&str> = core.lines().filter_map(|l| l.trim().strip_prefix("- ")).collect();
+    assert_eq!(listed.len(), 3, "{core}");
+    for f in listed {
+        assert!(dir.join(f).is_file(), "{} lists {f}, which is not in the export", pkg::CORE_FILE);
+    }
 }

@@ -1,0 +1,275 @@
+//! The files `export` writes around the Verilog for the FPGA engineer who integrates
+//! the core: the lint waivers, an instantiation template, timing constraints for the
+//! two clocks and the asynchronous EXMC pins (XDC, SDC, LPF and a PCF note), and a
+//! FuseSoC CAPI2 core description. Each is generated from the same port list as the
+//! manifest ([`crate::export::ports`]), so none can name a port the Verilog lacks.
+
+use crate::export::{ports, ExportOptions, TOP_MODULE};
+use std::fmt::Write as _;
+
+/// The lint waivers for the exported Verilog (Verilator configuration file), the
+/// same file the tests lint with.
+pub const LINT_WAIVERS: &str = include_str!("../verilog/lint_waivers.vlt");
+
+/// File names in the export folder.
+pub const WAIVER_FILE: &str = "tdm_stepper_waivers.vlt";
+pub const TEMPLATE_FILE: &str = "tdm_stepper_inst.vh";
+pub const XDC_FILE: &str = "tdm_stepper.xdc";
+pub const SDC_FILE: &str = "tdm_stepper.sdc";
+pub const LPF_FILE: &str = "tdm_stepper.lpf";
+pub const PCF_FILE: &str = "tdm_stepper_pcf.txt";
+pub const CORE_FILE: &str = "tdm_stepper.core";
+
+/// `bus_clk` frequency the constraints assume (the register file and the slave close
+/// timing above it on the measured parts; edit the files for another).
+pub const BUS_CLK_HZ: u32 = 100_000_000;
+
+fn ns(hz: u32) -> String {
+    format!("{:.3}", 1e9 / hz as f64)
+}
+
+fn mhz(hz: u32) -> String {
+    format!("{:.3}", hz as f64 / 1e6)
+}
+
+/// An instance of the core with every port connected to a signal of the same name
+/// and commented (direction, width, clock domain, meaning).
+pub fn instantiation_template(opts: &ExportOptions) -> String {
+    let ps = ports(opts.axes);
+    let mut t = String::new();
+    let _ = writeln!(
+        t,
+        "// {TOP_MODULE}: instantiation template for K = {} axes, core clock {} Hz.\n\
+         // Include it where the signals it names exist (or copy it and rename them);\n\
+         // registers.md and manifest.json describe every port and register.",
+        opts.axes, opts.clock_hz
+    );
+    let width = ps.iter().map(|p| p.name.len()).max().unwrap_or(0);
+    let _ = writeln!(t, "{TOP_MODULE} u_{TOP_MODULE} (");
+    for (i, p) in ps.iter().enumerate() {
+        let comma = if i + 1 < ps.len() { "," } else { " " };
+        let conn = if p.name == "fsm_state" { String::new() } else { p.name.to_string() };
+        let bits = if p.width == 1 { "1 bit".to_string() } else { format!("{} bits", p.width) };
+        let _ = writeln!(
+            t,
+            "    .{:w$} ({:w$}){comma} // {} {bits}, {}: {}",
+            p.name,
+            conn,
+            p.direction,
+            if p.clock == "-" { "clock".to_string() } else { format!("domain {}", p.clock) },
+            p.description,
+            w = width
+        );
+    }
+    t.push_str(");\n");
+    ascii(&t)
+}
+
+/// ASCII only, for Verilog comments (some tools read Verilog as Latin-1).
+pub fn ascii(t: &str) -> String {
+    t.replace('≥', ">=").replace('≤', "<=").replace('·', "*").chars().map(|c| if c.is_ascii() { c } else { '?' }).collect()
+}
+
+const CONSTRAINT_NOTES: &str = "\
+The core has two clocks: clk (every step period is counted in its ticks) and
+bus_clk (samples the EXMC pins). They are unrelated: every crossing between them is
+a two-flip-flop synchroniser, a Gray-pointer FIFO or a toggle handshake, so no path
+between them is timed. The EXMC pins (ne, noe, nwe, addr, data_in) and reset are
+asynchronous: each enters through two flip-flop stages in bus_clk, and the slave
+captures a write only after two equal samples, so no input delay applies to them.
+data_out is a bus_clk register held from the read's start until the next read; the
+MCU samples it at least 5 bus_clk cycles after NOE falls (registers.md, \"The bus\"),
+so it is not timed against a clock either. data_oe = !ne & !noe is combinational
+from pins to pad enable: keep that path short so the pads release the bus promptly.
+step, dir and irq are registers; step and dir change on clk.";
+
+fn comment_block(prefix: &str, text: &str) -> String {
+    text.lines().map(|l| if l.is_empty() { prefix.trim_end().to_string() } else { format!("{prefix}{l}") }).collect::<Vec<_>>().join("\n")
+}
+
+/// Vivado (XDC) or SDC (Quartus, Libero, Gowin and other Synopsys-style tools):
+/// the same commands; `xdc` adds Vivado's scoping note.
+fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
+    let mut t = String::new();
+    let _ = writeln!(t, "{}", comment_block("# ", &format!("{TOP_MODULE} timing constraints (K = {}, clk {} Hz).", opts.axes, opts.clock_hz)));
+    let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
+    if xdc {
+        let _ = writeln!(
+            t,
+            "#\n# Read it scoped to the core (read_xdc -ref {TOP_MODULE} {XDC_FILE}), so that get_ports names\n\
+             # the core's ports; or replace each get_ports with your top level's pins and nets."
+        );
+    }
+    let _ = writeln!(
+        t,
+        "#\n# Clocks: delete these two lines if your design already creates the clocks that\n\
+         # drive clk and bus_clk (the clock group below must then name yours)."
+    );
+    let _ = writeln!(t, "create_clock -name tdm_clk -period {} [get_ports clk]", ns(opts.clock_hz));
+    let _ = writeln!(t, "create_clock -name tdm_bus_clk -period {} [get_ports bus_clk]", ns(BUS_CLK_HZ));
+    let _ = writeln!(t, "set_clock_groups -asynchronous -group [get_clocks tdm_clk] -group [get_clocks tdm_bus_clk]");
+    let _ = writeln!(t, "# Asynchronous inputs: synchronised in bus_clk.");
+    let _ = writeln!(t, "set_false_path -from [get_ports {{reset ne noe nwe addr[*] data_in[*]}}]");
+    let _ = writeln!(t, "# data_out: held for the MCU, sampled at least 5 bus_clk cycles after NOE falls.");
+    let _ = writeln!(t, "set_false_path -to [get_ports {{data_out[*]}}]");
+    let _ = writeln!(t, "# data_oe: combinational from the strobes to the pad enable.");
+    let dp = if xdc { " -datapath_only" } else { "" };
+    let _ = writeln!(t, "set_max_delay{dp} 8.000 -from [get_ports {{ne noe}}] -to [get_ports data_oe]");
+    let _ = writeln!(t, "# step, dir, irq: registers for motor drivers and the MCU, not timed against an external clock.");
+    let _ = writeln!(t, "set_false_path -to [get_ports {{step[*] dir[*] irq fsm_state[*]}}]");
+    t
+}
+
+pub fn xdc(opts: &ExportOptions) -> String {
+    sdc_like(opts, true)
+}
+
+pub fn sdc(opts: &ExportOptions) -> String {
+    sdc_like(opts, false)
+}
+
+/// nextpnr-ecp5 (and Diamond) LPF: the two clock frequencies. nextpnr times each
+/// clock domain on its own and does not time cross-domain paths or paths from and
+/// to unconstrained I/O, which is what the notes ask for.
+pub fn lpf(opts: &ExportOptions) -> String {
+    let mut t = String::new();
+    let _ = writeln!(t, "{}", comment_block("# ", &format!("{TOP_MODULE} clock constraints for nextpnr-ecp5 (K = {}).", opts.axes)));
+    let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
+    let _ = writeln!(
+        t,
+        "#\n# nextpnr times each clock domain separately and leaves cross-domain paths and\n\
+         # paths from and to unconstrained I/O untimed, as the notes above require. Use\n\
+         # the names of the nets that drive clk and bus_clk in your design."
+    );
+    let _ = writeln!(t, "FREQUENCY PORT \"clk\" {} MHz;", mhz(opts.clock_hz));
+    let _ = writeln!(t, "FREQUENCY PORT \"bus_clk\" {} MHz;", mhz(BUS_CLK_HZ));
+    t
+}
+
+/// nextpnr-ice40 and nextpnr-generic read PCF; the clock lines it needs.
+pub fn pcf_note(opts: &ExportOptions) -> String {
+    let mut t = String::new();
+    let _ = writeln!(t, "{}", comment_block("# ", &format!("{TOP_MODULE} clock constraints, PCF style (nextpnr-ice40), K = {}.", opts.axes)));
+    let _ = writeln!(
+        t,
+        "# Add these lines to your .pcf (with your nets' names); the notes in {LPF_FILE}\n\
+         # apply: nextpnr leaves cross-domain paths and unconstrained I/O untimed."
+    );
+    let _ = writeln!(t, "set_frequency clk {}", mhz(opts.clock_hz));
+    let _ = writeln!(t, "set_frequency bus_clk {}", mhz(BUS_CLK_HZ));
+    t
+}
+
+/// FuseSoC CAPI2 core description: the Verilog, the waivers, a lint target
+/// (Verilator -Wall) and a simulation target (Icarus) on the smoke testbench.
+pub fn fusesoc_core(opts: &ExportOptions) -> String {
+    format!(
+        "CAPI=2:\n\
+         name: tdm-stepper:ip:{TOP_MODULE}_k{k}:{ver}\n\
+         description: TDM multi-axis stepper motor controller, K = {k} axes, clk {hz} Hz\n\
+         \n\
+         filesets:\n\
+         \x20 rtl:\n\
+         \x20   files:\n\
+         \x20     - {TOP_MODULE}.v\n\
+         \x20   file_type: verilogSource\n\
+         \x20 waivers:\n\
+         \x20   files:\n\
+         \x20     - {WAIVER_FILE}\n\
+         \x20   file_type: vlt\n\
+         \x20 smoke_tb:\n\
+         \x20   files:\n\
+         \x20     - {TB_FILE}\n\
+         \x20   file_type: verilogSource\n\
+         \n\
+         targets:\n\
+         \x20 default:\n\
+         \x20   filesets: [rtl]\n\
+         \x20   toplevel: {TOP_MODULE}\n\
+         \x20 lint:\n\
+         \x20   default_tool: verilator\n\
+         \x20   filesets: [rtl, waivers]\n\
+         \x20   toplevel: {TOP_MODULE}\n\
+         \x20   tools:\n\
+         \x20     verilator:\n\
+         \x20       mode: lint-only\n\
+         \x20       verilator_options: [-Wall]\n\
+         \x20 sim:\n\
+         \x20   default_tool: icarus\n\
+         \x20   filesets: [rtl, smoke_tb]\n\
+         \x20   toplevel: {TOP_MODULE}_smoke_tb\n",
+        k = opts.axes,
+        hz = opts.clock_hz,
+        ver = env!("CARGO_PKG_VERSION"),
+    )
+}
+
+pub const TB_FILE: &str = "tdm_stepper_smoke_tb.v";
+
+/// A smoke testbench for Icarus (and the FuseSoC sim target): resets the core,
+/// reads ID_MAGIC and ID_AXES over the EXMC pins at a slow, safe timing, and
+/// prints PASS or FAIL (with `$fatal` on failure).
+pub fn smoke_testbench(opts: &ExportOptions) -> String {
+    let p = opts.params();
+    let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
+    let axes = crate::regs::register("ID_AXES").reset_value(&p);
+    let a_magic = crate::regs::addr("ID_MAGIC");
+    let a_axes = crate::regs::addr("ID_AXES");
+    let k = opts.axes;
+    let aw = crate::regs::ADDR_BITS;
+    let sb = crate::hdl::core::STATE_BITS;
+    format!(
+        "`timescale 1ns/1ps\n\
+// Smoke test of the exported {TOP_MODULE}: reset, then read ID_MAGIC and ID_AXES\n\
+// over the EXMC pins with wide strobes (20 bus_clk cycles). Prints PASS or FAIL.\n\
+module {TOP_MODULE}_smoke_tb;\n\
+  reg clk = 0, bus_clk = 0, reset = 1, ne = 1, noe = 1, nwe = 1;\n\
+  reg [{am}:0] addr = 0;\n\
+  reg [15:0] data_in = 0;\n\
+  wire [15:0] data_out;\n\
+  wire data_oe, irq;\n\
+  wire [{km}:0] step, dir;\n\
+  wire [{sm}:0] fsm_state;\n\
+  always #10 clk = !clk;\n\
+  always #5.003 bus_clk = !bus_clk;\n\
+  {TOP_MODULE} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe),\n\
+    .addr(addr), .data_in(data_in), .data_out(data_out), .data_oe(data_oe), .step(step), .dir(dir),\n\
+    .irq(irq), .fsm_state(fsm_state));\n\
+  task read16(input [{am}:0] a, output [15:0] v);\n\
+    begin\n\
+      addr = a; ne = 0; #50; noe = 0; #200; v = data_out; noe = 1; ne = 1; #100;\n\
+    end\n\
+  endtask\n\
+  reg [15:0] v_magic, v_axes;\n\
+  initial begin\n\
+    #200 reset = 0; #500;\n\
+    read16({aw}'h{a_magic:X}, v_magic);\n\
+    read16({aw}'h{a_axes:X}, v_axes);\n\
+    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes}) begin\n\
+      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d\", v_magic, v_axes);\n\
+      $finish;\n\
+    end else begin\n\
+      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes})\", v_magic, v_axes);\n\
+      $fatal(1);\n\
+    end\n\
+  end\n\
+endmodule\n",
+        am = aw - 1,
+        km = k - 1,
+        sm = sb - 1,
+    )
+}
+
+/// Every package file: (name, text).
+pub fn files(opts: &ExportOptions) -> Vec<(&'static str, String)> {
+    vec![
+        (WAIVER_FILE, LINT_WAIVERS.to_string()),
+        (TEMPLATE_FILE, instantiation_template(opts)),
+        (XDC_FILE, xdc(opts)),
+        (SDC_FILE, sdc(opts)),
+        (LPF_FILE, lpf(opts)),
+        (PCF_FILE, pcf_note(opts)),
+        (CORE_FILE, fusesoc_core(opts)),
+        (TB_FILE, smoke_testbench(opts)),
+    ]
+}
