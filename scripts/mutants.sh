@@ -34,7 +34,7 @@ mutants=(
   "10#ip/src/hdl/core.rs#s/self.s_code.d.next = 5.into\(\);/self.s_code.d.next = 4.into();/#system#bad_input_through_the_bus#range check reports the wrong code (steps range as T range)"
   "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
   "12#ip/src/hdl/core.rs#s/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
-  "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#sixteen_axes_stream#no setup ahead of time"
+  "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
 )
 
 only=("$@")
