@@ -362,7 +362,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
                 if let Some(dir) = v.path.parent().filter(|p| !p.as_os_str().is_empty()) {
                     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
                 }
-                write_vcd(&v.path, v, &trace, tick_ps)?;
+                write_vcd(&v.path, v, &trace, moves.clock_hz)?;
             }
             trace
         }

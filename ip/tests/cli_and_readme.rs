@@ -90,15 +90,23 @@ fn readme_worked_example_runs_as_written() {
     for name in ["dir_0", "step_1", "dir_1", "fsm_state", "fifo_level_0", "queue_level_1", "irq"] {
         assert!(header.find_var(&["tdm_stepper", name]).is_some(), "{name} in the VCD");
     }
-    let mut rises = 0;
+    // The time axis is the user's clock exactly: 50 MHz is 20,000 ps, and each STEP
+    // rise sits at its edge cycle (the report's) times that period.
+    assert_eq!(header.timescale, Some((1, vcd::TimescaleUnit::PS)));
+    let (mut now, mut rise_ps) = (0u64, Vec::new());
     for cmd in parser {
-        if let vcd::Command::ChangeScalar(code, vcd::Value::V1) = cmd.unwrap() {
-            if code == step0 {
-                rises += 1;
-            }
+        match cmd.unwrap() {
+            vcd::Command::Timestamp(t) => now = t,
+            vcd::Command::ChangeScalar(code, vcd::Value::V1) if code == step0 => rise_ps.push(now),
+            _ => {}
         }
     }
-    assert_eq!(rises, 2400, "STEP rising edges of axis 0 in the VCD");
+    assert_eq!(rise_ps.len(), 2400, "STEP rising edges of axis 0 in the VCD");
+    let edges: Vec<u64> = report["axes"][0]["edge_cycles"].as_array().unwrap().iter().map(|c| c.as_u64().unwrap()).collect();
+    let want: Vec<u64> = edges.iter().map(|c| c * 20_000).collect();
+    if let Some(i) = (0..want.len()).find(|&i| rise_ps[i] != want[i]) {
+        panic!("VCD STEP rise {i} at {} ps, edge cycle {} × 20,000 ps = {} ps", rise_ps[i], edges[i], want[i]);
+    }
 }
 
 /// The README's port table is the exported module's (export::ports, which

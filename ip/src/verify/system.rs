@@ -413,10 +413,19 @@ pub fn run_system_rust_hdl<B: Block>(
     SystemTrace { changes, samples, probes: Vec::new() }
 }
 
-/// Writes the probes of a run as a VCD: one `clk` cycle is `tick_ps` picoseconds;
-/// a probe's time is the rising edge that ends the cycle it was sampled in.
-pub fn write_vcd(path: &Path, vcd: &VcdOptions, trace: &SystemTrace, tick_ps: u64) -> Result<(), String> {
-    let mut v = String::from("$comment tdm-stepper sim: STEP, DIR, scheduler state and FIFO levels $end\n$timescale 1ps $end\n");
+/// Writes the probes of a run as a VCD.
+///
+/// The time axis is the user's clock, exactly: the probes are sampled once per `clk`
+/// cycle, and the sample of cycle c (what the registers hold after clk's rising edge
+/// c, the cycle the report's `edge_cycles` name) is written at c / `clock_hz` seconds, in ps
+/// when a clk period is a whole number of ps (20,000 ps at 50 MHz), else in fs,
+/// each time rounded on its own (no error accumulates). The simulator's own clk half
+/// period is rounded to 3 ps to keep the three clocks' edges apart; that rounding
+/// does not reach the VCD.
+pub fn write_vcd(path: &Path, vcd: &VcdOptions, trace: &SystemTrace, clock_hz: u32) -> Result<(), String> {
+    let f = clock_hz as u128;
+    let (unit, per_s): (&str, u128) = if 1_000_000_000_000 % f == 0 { ("1ps", 1_000_000_000_000) } else { ("1fs", 1_000_000_000_000_000) };
+    let mut v = format!("$comment tdm-stepper sim: STEP, DIR, scheduler state and FIFO levels; clk {clock_hz} Hz $end\n$timescale {unit} $end\n");
     v.push_str("$scope module tdm_stepper $end\n");
     let id = |k: usize| {
         let mut s = String::new();
@@ -435,7 +444,7 @@ pub fn write_vcd(path: &Path, vcd: &VcdOptions, trace: &SystemTrace, tick_ps: u6
     v.push_str("$upscope $end\n$enddefinitions $end\n");
     let mut last: Vec<Option<Option<u128>>> = vec![None; vcd.probes.len()];
     for (cyc, vals) in &trace.probes {
-        let _ = writeln!(v, "#{}", (cyc + 1) * tick_ps);
+        let _ = writeln!(v, "#{}", (*cyc as u128 * per_s + f / 2) / f);
         for (k, val) in vals.iter().enumerate() {
             if last[k] == Some(*val) {
                 continue;
