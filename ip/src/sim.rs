@@ -113,6 +113,106 @@ pub fn parse_window(s: &str) -> Result<(f64, f64), String> {
     Ok((a, b))
 }
 
+/// The moves file's fields: (object, field, JSON type, meaning). The checker
+/// ([`parse_moves`]) and the JSON Schema ([`moves_schema`]) are both made from it.
+pub const MOVES_FIELDS: &[(&str, &str, &str, &str)] = &[
+    ("file", "clock_hz", "integer", "core clock in Hz (default 50000000; 1 MHz to 400 MHz)"),
+    ("file", "axes", "array", "one entry per axis, axis 0 first (at most the core's K)"),
+    ("axis", "segments", "array", "the axis's segments, in order"),
+    ("axis", "trapezoid", "object", "a trapezoid move, planned into segments"),
+    ("segment", "v0_steps_per_s", "number", "start speed, steps/s (>= 0)"),
+    ("segment", "t_s", "number", "duration, seconds (> 0)"),
+    ("segment", "steps", "integer", "signed steps (negative: DIR = 1)"),
+    ("trapezoid", "steps", "integer", "signed distance in steps"),
+    ("trapezoid", "t_acc_s", "number", "acceleration time, seconds"),
+    ("trapezoid", "t_cruise_s", "number", "cruise time, seconds"),
+    ("trapezoid", "t_dec_s", "number", "deceleration time, seconds"),
+];
+
+fn fields_of(object: &str) -> Vec<&'static str> {
+    MOVES_FIELDS.iter().filter(|f| f.0 == object).map(|f| f.1).collect()
+}
+
+/// Checks a moves file's shape against [`MOVES_FIELDS`], naming the field that is
+/// wrong (`axes[1].segments[0].t_s: ...`), then reads it.
+pub fn parse_moves(text: &str) -> Result<MovesFile, String> {
+    let v: serde_json::Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+    fn check(v: &serde_json::Value, object: &str, path: &str, required: &[&str]) -> Result<(), String> {
+        let m = v.as_object().ok_or_else(|| format!("{path}: expected an object with {}", fields_of(object).join(", ")))?;
+        for (k, x) in m {
+            let Some(f) = MOVES_FIELDS.iter().find(|f| f.0 == object && f.1 == k) else {
+                return Err(format!("{path}: unknown field {k:?} (the fields are {})", fields_of(object).join(", ")));
+            };
+            let ok = match f.2 {
+                "integer" => x.is_i64() || x.is_u64(),
+                "number" => x.is_number(),
+                "array" => x.is_array(),
+                _ => x.is_object(),
+            };
+            if !ok {
+                return Err(format!("{path}.{k}: expected {} {}, found {x}", if f.2 == "integer" || f.2 == "array" { "an" } else { "a" }, f.2));
+            }
+        }
+        for r in required {
+            if !m.contains_key(*r) {
+                return Err(format!("{path}: missing field {r:?}"));
+            }
+        }
+        Ok(())
+    }
+    check(&v, "file", "moves file", &["axes"])?;
+    for (a, ax) in v["axes"].as_array().unwrap().iter().enumerate() {
+        let path = format!("axes[{a}]");
+        check(ax, "axis", &path, &[])?;
+        let m = ax.as_object().unwrap();
+        if m.len() != 1 {
+            return Err(format!("{path}: give exactly one of \"segments\" or \"trapezoid\""));
+        }
+        if let Some(t) = m.get("trapezoid") {
+            check(t, "trapezoid", &format!("{path}.trapezoid"), &fields_of("trapezoid"))?;
+        }
+        if let Some(segs) = m.get("segments").and_then(|s| s.as_array()) {
+            for (k, sg) in segs.iter().enumerate() {
+                check(sg, "segment", &format!("{path}.segments[{k}]"), &fields_of("segment"))?;
+            }
+        }
+    }
+    serde_json::from_value(v).map_err(|e| e.to_string())
+}
+
+/// The moves file as a JSON Schema (draft 2020-12), from [`MOVES_FIELDS`]; committed
+/// as docs/moves.schema.json.
+pub fn moves_schema() -> String {
+    use serde_json::{json, Map, Value};
+    let props = |object: &str| -> Map<String, Value> {
+        MOVES_FIELDS
+            .iter()
+            .filter(|f| f.0 == object)
+            .map(|f| (f.1.to_string(), json!({"type": f.2, "description": f.3})))
+            .collect()
+    };
+    let obj = |object: &str, required: Vec<&str>| json!({"type": "object", "additionalProperties": false, "properties": props(object), "required": required});
+    let mut segment = obj("segment", fields_of("segment"));
+    segment["properties"]["t_s"]["exclusiveMinimum"] = json!(0);
+    segment["properties"]["v0_steps_per_s"]["minimum"] = json!(0);
+    let trapezoid = obj("trapezoid", fields_of("trapezoid"));
+    let mut file = obj("file", vec!["axes"]);
+    file["$schema"] = json!("https://json-schema.org/draft/2020-12/schema");
+    file["title"] = json!("tdm-stepper sim moves file");
+    file["properties"]["clock_hz"]["minimum"] = json!(1_000_000);
+    file["properties"]["clock_hz"]["maximum"] = json!(400_000_000);
+    file["properties"]["axes"]["minItems"] = json!(1);
+    file["properties"]["axes"]["items"] = json!({
+        "oneOf": [
+            {"type": "object", "additionalProperties": false, "required": ["segments"],
+             "properties": {"segments": {"type": "array", "items": segment, "description": MOVES_FIELDS[2].3}}},
+            {"type": "object", "additionalProperties": false, "required": ["trapezoid"],
+             "properties": {"trapezoid": trapezoid}}
+        ]
+    });
+    serde_json::to_string_pretty(&file).expect("json") + "\n"
+}
+
 /// Plans every axis of a moves file into segments.
 pub fn plan(moves: &MovesFile) -> Result<Vec<Vec<Segment>>, String> {
     let f = moves.clock_hz;
@@ -286,7 +386,7 @@ const MCU_HALF_PS: u64 = 2_976;
 /// Runs a simulation and writes the report and the SVG (and the VCD).
 pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let text = std::fs::read_to_string(&opts.moves).map_err(|e| format!("cannot read {}: {e}", opts.moves.display()))?;
-    let moves: MovesFile = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", opts.moves.display()))?;
+    let moves: MovesFile = parse_moves(&text).map_err(|e| format!("{}: {e}", opts.moves.display()))?;
     let axes = plan(&moves)?;
     let k = opts.axes;
     let exp = ExportOptions { axes: k, clock_hz: moves.clock_hz, ..Default::default() };

@@ -161,13 +161,19 @@ fn sim_rejects_bad_input_with_a_clear_message() {
     let seg = r#"{"v0_steps_per_s": 0, "t_s": 0.001, "steps": 1}"#;
     let many = write_moves("many.json", &format!(r#"{{"axes": [{{"segments": [{}]}}]}}"#, vec![seg; 19].join(",")));
     let unknown = write_moves("unknown.json", r#"{"axes": [{"trapezoid": {"steps": 10, "t_acc": 0.1, "t_cruise_s": 0, "t_dec_s": 0.1}}]}"#);
+    let missing = write_moves("missing.json", r#"{"axes": [{"segments": [{"v0_steps_per_s": 0, "steps": 1}]}]}"#);
+    let wrong_type = write_moves("wrong_type.json", r#"{"axes": [{"segments": [{"v0_steps_per_s": 0, "t_s": 0.1, "steps": 1.5}]}]}"#);
+    let both = write_moves("both.json", &format!(r#"{{"axes": [{{"segments": [{seg}], "trapezoid": {{"steps": 10, "t_acc_s": 0.1, "t_cruise_s": 0, "t_dec_s": 0.1}}}}]}}"#));
     let three = write_moves("three.json", &format!(r#"{{"axes": [{{"segments": [{seg}]}}, {{"segments": [{seg}]}}, {{"segments": [{seg}]}}]}}"#));
     let neg = write_moves("neg.json", r#"{"axes": [{"segments": [{"v0_steps_per_s": 0, "t_s": -1, "steps": 1}]}]}"#);
     let report = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_cli/r.json");
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec!["--moves".into(), "/no/such/file.json".into()], "cannot read"),
         (vec!["--moves".into(), many.display().to_string()], "holds 18"),
-        (vec!["--moves".into(), unknown.display().to_string()], "did not match"),
+        (vec!["--moves".into(), unknown.display().to_string()], "axes[0].trapezoid: unknown field \"t_acc\" (the fields are steps, t_acc_s, t_cruise_s, t_dec_s)"),
+        (vec!["--moves".into(), missing.display().to_string()], "axes[0].segments[0]: missing field \"t_s\""),
+        (vec!["--moves".into(), wrong_type.display().to_string()], "axes[0].segments[0].steps: expected an integer, found 1.5"),
+        (vec!["--moves".into(), both.display().to_string()], "axes[0]: give exactly one of"),
         (vec!["--moves".into(), three.display().to_string()], "lists 3 axes"),
         (vec!["--moves".into(), neg.display().to_string()], "axis 0 segment 0"),
         (vec!["--moves".into(), ok.display().to_string(), "--axes".into(), "17".into()], "axis counts are 1 to 16"),
@@ -260,4 +266,25 @@ fn sim_reports_rejections_blocked_starts_and_underruns() {
     let (out, r, _) = run(&fast, "fast_allowed", &["--allow-problems"]);
     assert!(out.status.success(), "--allow-problems: {}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(r["ok"], false);
+}
+
+
+/// docs/moves.schema.json is the schema the code makes from the same field table as
+/// its checker, and every committed example follows the checker.
+#[test]
+fn moves_schema_is_committed_and_the_examples_follow_it() {
+    let committed = std::fs::read_to_string(repo().join("docs/moves.schema.json")).unwrap();
+    assert_eq!(committed, tdm_stepper::sim::moves_schema(), "docs/moves.schema.json is stale: write tdm_stepper::sim::moves_schema() into it");
+    let schema: serde_json::Value = serde_json::from_str(&committed).unwrap();
+    for (object, field, ty, _) in tdm_stepper::sim::MOVES_FIELDS {
+        assert!(committed.contains(&format!("\"{field}\"")), "{object}.{field} not in the schema");
+        let _ = ty;
+    }
+    assert_eq!(schema["properties"]["axes"]["items"]["oneOf"].as_array().unwrap().len(), 2);
+    for e in std::fs::read_dir(repo().join("examples")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "json") {
+            tdm_stepper::sim::parse_moves(&std::fs::read_to_string(&p).unwrap()).unwrap_or_else(|err| panic!("{}: {err}", p.display()));
+        }
+    }
 }
