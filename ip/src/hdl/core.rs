@@ -176,6 +176,10 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 
     st: DFF<Bits<STATE_BITS>>,
     m: DFF<Bits<8>>,
+    /// The context memory's read address, registered: `{axis, slot}` of the word the
+    /// next state reads (the next PICK's axis, or the next slot for S_PROMOTE), decided
+    /// one cycle ahead so that no flag multiplexer sits in front of the RAM's read.
+    ra: DFF<Bits<CTX_ADDR_BITS>>,
     cmd_err: DFF<Bit>,
     // Working copy of axis m's context.
     w_kind: DFF<Bits<2>>,
@@ -228,6 +232,13 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     promote_now: Signal<Local, Bit>,
     nwe_now: Signal<Local, Bit>,
     next_m: Signal<Local, Bits<8>>,
+    // Read addresses for `ra`: axis m's current slot, its next slot, and axis m + 1's
+    // current slot as it will be after this clock edge.
+    addr_stay: Signal<Local, Bits<CTX_ADDR_BITS>>,
+    addr_promote: Signal<Local, Bits<CTX_ADDR_BITS>>,
+    addr_next: Signal<Local, Bits<CTX_ADDR_BITS>>,
+    slot_nm: Signal<Local, Bit>,
+    other_slot: Signal<Local, Bit>,
     // Decoded queue head.
     h_v0: Signal<Local, Bits<32>>,
     h_t: Signal<Local, Bits<32>>,
@@ -259,6 +270,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     c_max_n: Constant<Bits<32>>,
     c_max_v0: Constant<Bits<32>>,
     c_last_axis: Constant<Bits<8>>,
+    /// K = 1: axis m + 1 is axis m, so a promote flips the slot the next PICK reads.
+    c_single: Constant<Bit>,
     c_step_bit: Constant<Bits<ENTRY_BITS>>,
     c_last_bit: Constant<Bits<ENTRY_BITS>>,
     flush: Signal<Local, Bit>,
@@ -352,6 +365,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             root: Default::default(),
             st: Default::default(),
             m: Default::default(),
+            ra: Default::default(),
             cmd_err: Default::default(),
             w_kind: Default::default(),
             w_dwell: Default::default(),
@@ -392,6 +406,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             promote_now: Default::default(),
             nwe_now: Default::default(),
             next_m: Default::default(),
+            addr_stay: Default::default(),
+            addr_promote: Default::default(),
+            addr_next: Default::default(),
+            slot_nm: Default::default(),
+            other_slot: Default::default(),
             h_v0: Default::default(),
             h_t: Default::default(),
             h_steps: Default::default(),
@@ -419,6 +438,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             c_max_n: Constant::new((MAX_STEPS as u64).into()),
             c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
+            c_single: Constant::new(K == 1),
             c_step_bit: Constant::new((1u64 << 32).into()),
             c_last_bit: Constant::new((1u64 << 34).into()),
             flush: Default::default(),
@@ -464,7 +484,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, st, m, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
+            self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b
         );
         self.mulw.clock.next = self.clock.val();
@@ -514,17 +534,38 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.cur_slot.next = self.ctx[i].slot.val();
             }
         }
-        // Axis m's context word: the current slot, or the next one while promoting
-        // (a dwell's FIFO entry needs its T). Writes: a step's commit into the
-        // current slot, a setup's commit into the next one.
-        self.ctx_ram.clock.next = self.clock.val();
-        self.ctx_ram.raddr.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
-            | bit_cast::<CTX_ADDR_BITS, 1>((self.cur_slot.val() ^ (self.st.q.val() == self.k_promote.val())).into());
         if self.m.q.val() == self.c_last_axis.val() {
             self.next_m.next = 0.into();
         } else {
             self.next_m.next = self.m.q.val() + 1;
         }
+        // Axis m + 1's slot (no multiplexer on m's path into the RAM: `ra` registers it).
+        self.slot_nm.next = false;
+        for i in 0..K {
+            if self.next_m.val().index() == i {
+                self.slot_nm.next = self.ctx[i].slot.val();
+            }
+        }
+        // Axis m's context word is read at `ra`, set one cycle ahead: in PICK the current
+        // slot, in S_PROMOTE the next one (a dwell's FIFO entry needs its T). Writes: a
+        // step's commit into the current slot, a setup's commit into the next one.
+        self.addr_stay.next =
+            (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1) | bit_cast::<CTX_ADDR_BITS, 1>(self.cur_slot.val().into());
+        // (The other slot as a one-bit signal of its own: `~` inside a wider expression
+        // inverts the zero-extended bits in the Verilog.)
+        self.other_slot.next = !self.cur_slot.val();
+        self.addr_promote.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
+            | bit_cast::<CTX_ADDR_BITS, 1>(self.other_slot.val().into());
+        self.addr_next.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.next_m.val()) << 1)
+            | bit_cast::<CTX_ADDR_BITS, 1>(
+                (self.slot_nm.val() ^ (self.c_single.val() & (self.st.q.val() == self.k_promote.val()))).into(),
+            );
+        self.ctx_ram.clock.next = self.clock.val();
+        self.ctx_ram.raddr.next = self.ra.q.val();
+        // By default the next state reads axis m's current slot (S_DRAIN and the setup
+        // states return to PICK on the same axis); every move to axis m + 1 and the
+        // step into S_PROMOTE set `ra` below.
+        self.ra.d.next = self.addr_stay.val();
 
         // ---- datapath -------------------------------------------------------
         // Axis m's queue head: read at the edge that ends PICK, so valid in S_CHECK.
@@ -599,6 +640,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 }
             } else if (self.cur_kind.val() == 0) & self.cur_next_valid.val() & !self.cur_full.val() {
                 // Its current segment is done and the next one is set up.
+                self.ra.d.next = self.addr_promote.val();
                 self.st.d.next = self.k_promote.val();
             } else if !self.cur_next_valid.val()
                 & self.cur_queued.val()
@@ -610,6 +652,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_check.val();
             } else {
                 self.m.d.next = self.next_m.val();
+                self.ra.d.next = self.addr_next.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
             // The queue head goes into registers (v0, T, the signed step count and its
@@ -768,6 +811,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.nwe_now.next = true;
             self.pop_now.next = true;
             self.m.d.next = self.next_m.val();
+            self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
@@ -779,15 +823,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_push_dwell.val();
             } else {
                 self.m.d.next = self.next_m.val();
+                self.ra.d.next = self.addr_next.val();
                 self.st.d.next = self.k_pick.val();
             }
         } else if self.st.q.val() == self.k_push_dwell.val() {
             self.m.d.next = self.next_m.val();
+            self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_reject.val() {
             self.err_now.next = true;
             self.pop_now.next = true;
             self.m.d.next = self.next_m.val();
+            self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
             self.s_anew.d.next = self.a_step.val();
@@ -829,6 +876,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_commit_step.val() {
             self.commit.next = true;
             self.m.d.next = self.next_m.val();
+            self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_drain.val() {
             // After an abort: wait until no unit still runs an abandoned operation.
@@ -1025,6 +1073,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
+            self.ra.d.next = 0.into();
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
             self.pd_valid.d.next = false;
