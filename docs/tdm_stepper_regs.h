@@ -7,14 +7,16 @@
 
 #include <stdint.h>
 
-/* This export: K = 2, clk = 50000000 Hz, queue depth 16, period FIFO depth 4, t_calc 22 cycles. */
+/* This export: K = 2, clk = 50000000 Hz, queue depth 16, period FIFO depth 4, t_calc 22 cycles, minimum period 44 ticks. */
 #define TDM_AXES 2u
 #define TDM_CLOCK_HZ 50000000u
 #define TDM_QUEUE_DEPTH 16u
 #define TDM_FIFO_DEPTH 4u
 #define TDM_T_CALC 22u
+#define TDM_MIN_PERIOD 44u /* ticks: no STEP period is shorter */
+#define TDM_MAX_RATE 95443717u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */
 #define TDM_MAGIC 0x5453u
-#define TDM_VERSION 0x0100u
+#define TDM_VERSION 0x0101u
 
 #define TDM_AXIS_BASE 0x200u /* byte offset of axis 0's block */
 #define TDM_AXIS_STRIDE 0x20u /* bytes per axis block */
@@ -106,6 +108,15 @@
 #define TDM_BUSY 0x026u
 #define TDM_BUSY_AXES_SHIFT 0u
 #define TDM_BUSY_AXES_MASK 0xFFFFu /* RO: bit a: axis a has segments queued, in flight or moving */
+
+/* ID_MIN_PERIOD: The minimum period chosen at export: no STEP period is shorter. A segment whose start or end rate exceeds ID_MAX_RATE is rejected with ERROR_CODE 3. */
+#define TDM_ID_MIN_PERIOD 0x028u
+
+/* ID_MAX_RATE_LO: The largest start or end rate a segment may have (Q0.32 steps per tick), low half. */
+#define TDM_ID_MAX_RATE_LO 0x02Au
+
+/* ID_MAX_RATE_HI: The largest rate, high half. */
+#define TDM_ID_MAX_RATE_HI 0x02Cu
 
 /* V0_LO: Staging: start speed, low half. */
 #define TDM_V0_LO(axis) (TDM_AXIS_BASE + (axis) * TDM_AXIS_STRIDE + 0x00u)

@@ -69,13 +69,19 @@ pub struct ExportOptions {
     pub arch: Arch,
     pub clock_hz: u32,
     pub fifo_depth: usize,
+    /// The minimum period the core enforces, ticks (`--min-period`); `None` is the
+    /// sustainable period ([`ExportOptions::sustainable_period_ticks`]).
+    pub min_period: Option<u32>,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: 4 }
+        ExportOptions { axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: 4, min_period: None }
     }
 }
+
+/// Largest `--min-period` (ID_MIN_PERIOD is a 16-bit register).
+pub const MAX_MIN_PERIOD_TICKS: u32 = 0xFFFF;
 
 impl ExportOptions {
     /// Checks the options; the message says what is supported.
@@ -97,7 +103,18 @@ impl ExportOptions {
         if !FIFO_DEPTHS.contains(&self.fifo_depth) {
             return Err(format!("--fifo-depth {}: supported period FIFO depths are {FIFO_DEPTHS:?}", self.fifo_depth));
         }
+        if let Some(m) = self.min_period {
+            let floor = crate::model::segment::MIN_PERIOD_FLOOR_TICKS;
+            if !(floor..=MAX_MIN_PERIOD_TICKS).contains(&m) {
+                return Err(format!("--min-period {m}: supported minimum periods are {floor} to {MAX_MIN_PERIOD_TICKS} ticks"));
+            }
+        }
         Ok(())
+    }
+
+    /// The limits the exported core enforces.
+    pub fn limits(&self) -> Limits {
+        Limits::new(self.min_period_ticks() as u32).expect("the minimum period is in range (ExportOptions::check)")
     }
 
     pub fn params(&self) -> CoreParams {
@@ -107,13 +124,20 @@ impl ExportOptions {
             queue_depth: QUEUE_DEPTH,
             fifo_depth: self.fifo_depth,
             t_calc: t_calc_sqrt(RADIX_BITS),
+            min_period: self.min_period_ticks() as u32,
         }
+    }
+
+    /// The minimum period the core enforces, ticks: `--min-period`, else the
+    /// sustainable period.
+    pub fn min_period_ticks(&self) -> u64 {
+        self.min_period.map_or_else(|| self.sustainable_period_ticks(), u64::from)
     }
 
     /// Shortest step period an axis sustains without underrun, in ticks: K·t_calc
     /// for the TDM core (the shared unit serves K axes), t_calc for the baseline,
     /// and never below the 2-tick minimum of the step generator.
-    pub fn min_period_ticks(&self) -> u64 {
+    pub fn sustainable_period_ticks(&self) -> u64 {
         let t = t_calc_sqrt(RADIX_BITS) as u64;
         let k = match self.arch {
             Arch::Tdm => self.axes as u64,
@@ -122,17 +146,18 @@ impl ExportOptions {
         (k * t).max(crate::model::segment::MIN_PERIOD_FLOOR_TICKS as u64)
     }
 
-    /// The highest sustained step rate per axis, steps/s.
+    /// The highest step rate a segment may reach, steps/s: f·RMAX/2^32 with
+    /// RMAX = ⌊2^32/(min_period + 1)⌋ (a little below f/(min_period + 1)).
     pub fn max_step_rate_hz(&self) -> f64 {
-        self.clock_hz as f64 / self.min_period_ticks() as f64
+        self.clock_hz as f64 * self.limits().max_rate() as f64 / 4294967296.0
     }
 }
 
 macro_rules! stepper_fn {
     ($fname:ident, $top:ident) => {
         #[inline(never)]
-        fn $fname<const K: usize>(params: CoreParams) -> String {
-            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(Limits::default(), params));
+        fn $fname<const K: usize>(limits: Limits, params: CoreParams) -> String {
+            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(limits, params));
             u.connect_ports();
             generate_verilog(u.as_ref())
         }
@@ -142,11 +167,11 @@ stepper_fn!(tdm_verilog, TdmStepper);
 stepper_fn!(baseline_verilog, BaselineStepper);
 
 macro_rules! dispatch {
-    ($opts:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
+    ($opts:expr, $limits:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
         let o = $opts;
         match o.arch {
-            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($params),)* _ => unreachable!() },
-            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($params),)* _ => unreachable!() },
+            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($limits, $params),)* _ => unreachable!() },
+            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($limits, $params),)* _ => unreachable!() },
         }
     }};
 }
@@ -159,11 +184,12 @@ pub const BASELINE_AXES: [usize; 5] = [1, 2, 4, 8, 16];
 pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
     opts.check()?;
     let params = opts.params();
+    let limits = opts.limits();
     let o = *opts;
     // The blocks are large; build them on a thread with room for them.
     let text = std::thread::Builder::new()
         .stack_size(256 << 20)
-        .spawn(move || dispatch!(o, params, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16], [1, 2, 4, 8, 16]))
+        .spawn(move || dispatch!(o, limits, params, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16], [1, 2, 4, 8, 16]))
         .map_err(|e| format!("cannot start the generator thread: {e}"))?
         .join()
         .map_err(|_| "the Verilog generator panicked".to_string())?;
@@ -260,6 +286,8 @@ struct Manifest {
     period_fifo_depth: usize,
     command_fifo_depth: usize,
     min_period_ticks: u64,
+    sustainable_period_ticks: u64,
+    max_rate_q32: u32,
     max_step_rate_hz: f64,
     register_map_version: String,
     ports: Vec<PortDoc>,
@@ -285,6 +313,8 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         period_fifo_depth: opts.fifo_depth,
         command_fifo_depth: crate::hdl::cdc::ASYNC_FIFO_DEPTH,
         min_period_ticks: opts.min_period_ticks(),
+        sustainable_period_ticks: opts.sustainable_period_ticks(),
+        max_rate_q32: opts.limits().max_rate(),
         max_step_rate_hz: opts.max_step_rate_hz(),
         register_map_version: format!("{}.{}", regs::VERSION >> 8, regs::VERSION & 0xFF),
         ports: ports(opts.axes),

@@ -34,6 +34,12 @@ enum Command {
         /// Period FIFO depth per axis (4).
         #[arg(long, default_value_t = export::FIFO_DEPTH)]
         fifo_depth: usize,
+        /// The minimum STEP period the core enforces, in clk ticks (2 to 65535). A
+        /// segment whose start or end rate is above floor(2^32 / (min + 1)) is rejected
+        /// with code 3. Default: the sustainable period, K·t_calc (t_calc for the
+        /// baseline); a shorter one lets an axis underrun when several run fast.
+        #[arg(long)]
+        min_period: Option<u32>,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -44,6 +50,10 @@ enum Command {
         /// Number of axes K of the core (1 to 16; rust-hdl: 1, 2, 4 or 8).
         #[arg(long, default_value_t = 2)]
         axes: usize,
+        /// The core's minimum period in clk ticks, as `export --min-period` (default:
+        /// K·t_calc). Segments faster than it are rejected, as the exported core does.
+        #[arg(long)]
+        min_period: Option<u32>,
         /// The moves, per axis, in steps/s, seconds and steps (see README).
         #[arg(long)]
         moves: PathBuf,
@@ -119,15 +129,16 @@ enum Command {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Export { axes, arch, clock_hz, fifo_depth, out } => {
-            let opts = ExportOptions { axes, arch, clock_hz, fifo_depth };
+        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, out } => {
+            let opts = ExportOptions { axes, arch, clock_hz, fifo_depth, min_period };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = export::export(&opts, &out)?;
             println!(
-                "exported {} core, K = {axes}, {clock_hz} Hz: t_calc {} cycles, max {:.0} steps/s per axis ({:.2} s)",
+                "exported {} core, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
                 arch.name(),
                 opts.params().t_calc,
+                opts.min_period_ticks(),
                 opts.max_step_rate_hz(),
                 t0.elapsed().as_secs_f64()
             );
@@ -135,11 +146,11 @@ fn run(cli: Cli) -> Result<(), String> {
                 println!("wrote {}", p.display());
             }
         }
-        Command::Sim { axes, moves, engine, vcd, vcd_window, report, work, allow_problems } => {
+        Command::Sim { axes, min_period, moves, engine, vcd, vcd_window, report, work, allow_problems } => {
             if vcd_window.is_some() && vcd.is_none() {
                 return Err("--vcd-window needs --vcd".into());
             }
-            let opts = SimOptions { axes, moves, engine, vcd, vcd_window, report, work, progress: true };
+            let opts = SimOptions { axes, min_period, moves, engine, vcd, vcd_window, report, work, progress: true };
             let (r, files) = sim::run(&opts)?;
             println!(
                 "simulated {:.4} s ({} clk cycles) in {:.1} s (build and run); skew {} ticks",

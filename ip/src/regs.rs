@@ -26,7 +26,7 @@ pub const MAX_QUEUE_DEPTH: usize = 16;
 /// ID_MAGIC's value, "TS".
 pub const MAGIC: u16 = 0x5453;
 /// ID_VERSION: major in the high byte, minor in the low byte.
-pub const VERSION: u16 = 0x0100;
+pub const VERSION: u16 = 0x0101;
 
 /// How the host may access a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,6 +74,9 @@ pub enum Reset {
     TCalc,
     ClockHzLo,
     ClockHzHi,
+    MinPeriod,
+    MaxRateLo,
+    MaxRateHi,
 }
 
 /// One 16-bit register. `per_axis` registers repeat in every axis block at
@@ -96,6 +99,15 @@ pub struct CoreParams {
     pub queue_depth: usize,
     pub fifo_depth: usize,
     pub t_calc: usize,
+    /// The minimum period the core enforces, ticks (the export's `--min-period`).
+    pub min_period: u32,
+}
+
+impl CoreParams {
+    /// RMAX, the largest start or end rate (Q0.32) a segment may have.
+    pub fn max_rate(&self) -> u32 {
+        crate::model::Limits::new(self.min_period).map(|l| l.max_rate()).unwrap_or(0)
+    }
 }
 
 impl Register {
@@ -111,6 +123,9 @@ impl Register {
             Reset::TCalc => p.t_calc as u16,
             Reset::ClockHzLo => p.clock_hz as u16,
             Reset::ClockHzHi => (p.clock_hz >> 16) as u16,
+            Reset::MinPeriod => p.min_period as u16,
+            Reset::MaxRateLo => p.max_rate() as u16,
+            Reset::MaxRateHi => (p.max_rate() >> 16) as u16,
         }
     }
 
@@ -186,6 +201,11 @@ pub fn table() -> Vec<Register> {
             "Global status.",
         ),
         reg("BUSY", 0x13, false, Reset::Value(0), vec![f("AXES", 0, 16, Ro, "bit a: axis a has segments queued, in flight or moving")], "Busy axes."),
+        reg("ID_MIN_PERIOD", 0x14, false, Reset::MinPeriod, ro("minimum period, clk ticks"),
+            "The minimum period chosen at export: no STEP period is shorter. A segment whose start or end rate exceeds ID_MAX_RATE is rejected with ERROR_CODE 3."),
+        reg("ID_MAX_RATE_LO", 0x15, false, Reset::MaxRateLo, ro("bits 15:0 of RMAX = floor(2^32 / (ID_MIN_PERIOD + 1))"),
+            "The largest start or end rate a segment may have (Q0.32 steps per tick), low half."),
+        reg("ID_MAX_RATE_HI", 0x16, false, Reset::MaxRateHi, ro("bits 31:16 of RMAX"), "The largest rate, high half."),
         reg("V0_LO", 0x0, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "start speed v0, Q0.32 steps per tick, bits 15:0")], "Staging: start speed, low half."),
         reg("V0_HI", 0x1, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "v0 bits 31:16")], "Staging: start speed, high half."),
         reg("T_LO", 0x2, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "duration T in clk ticks, bits 15:0")], "Staging: duration, low half."),
@@ -265,12 +285,18 @@ pub fn c_header(p: &CoreParams) -> String {
     let _ = writeln!(h, " * Offsets are in bytes from the EXMC/FSMC bank base (16-bit bus: byte offset = 2 x word address).");
     let _ = writeln!(h, " * Access every register as a 16-bit volatile halfword. */");
     h.push_str("#ifndef TDM_STEPPER_REGS_H\n#define TDM_STEPPER_REGS_H\n\n#include <stdint.h>\n\n");
-    let _ = writeln!(h, "/* This export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc {} cycles. */", p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc);
+    let _ = writeln!(
+        h,
+        "/* This export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc {} cycles, minimum period {} ticks. */",
+        p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc, p.min_period
+    );
     let _ = writeln!(h, "#define TDM_AXES {}u", p.axes);
     let _ = writeln!(h, "#define TDM_CLOCK_HZ {}u", p.clock_hz);
     let _ = writeln!(h, "#define TDM_QUEUE_DEPTH {}u", p.queue_depth);
     let _ = writeln!(h, "#define TDM_FIFO_DEPTH {}u", p.fifo_depth);
     let _ = writeln!(h, "#define TDM_T_CALC {}u", p.t_calc);
+    let _ = writeln!(h, "#define TDM_MIN_PERIOD {}u /* ticks: no STEP period is shorter */", p.min_period);
+    let _ = writeln!(h, "#define TDM_MAX_RATE {}u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */", p.max_rate());
     let _ = writeln!(h, "#define TDM_MAGIC 0x{MAGIC:04X}u");
     let _ = writeln!(h, "#define TDM_VERSION 0x{VERSION:04X}u\n");
     let _ = writeln!(h, "#define TDM_AXIS_BASE 0x{:03X}u /* byte offset of axis 0's block */", 2 * AXIS_BASE);
@@ -320,8 +346,8 @@ pub fn markdown(p: &CoreParams) -> String {
     m.push_str("Generated from the register table (`ip/src/regs.rs`) by `tdm-stepper export`; a test fails when this file is stale. ");
     let _ = writeln!(
         m,
-        "Values for this export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc = {} cycles (docs/registers.md is the default export's).\n",
-        p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc
+        "Values for this export: K = {}, clk = {} Hz, queue depth {}, period FIFO depth {}, t_calc = {} cycles, minimum period {} ticks (RMAX = {}) (docs/registers.md is the default export's).\n",
+        p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc, p.min_period, p.max_rate()
     );
     m.push_str(BUS_TEXT);
     m.push_str("\n## Register map\n\n");

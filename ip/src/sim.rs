@@ -86,6 +86,8 @@ impl std::str::FromStr for Engine {
 #[derive(Clone, Debug)]
 pub struct SimOptions {
     pub axes: usize,
+    /// The core's minimum period (the export's `--min-period`); `None`: the default.
+    pub min_period: Option<u32>,
     pub moves: PathBuf,
     pub engine: Engine,
     pub vcd: Option<PathBuf>,
@@ -213,11 +215,10 @@ pub fn moves_schema() -> String {
     serde_json::to_string_pretty(&file).expect("json") + "\n"
 }
 
-/// Plans every axis of a moves file into segments.
-pub fn plan(moves: &MovesFile) -> Result<Vec<Vec<Segment>>, String> {
+/// Plans every axis of a moves file into segments that a core with `limits` accepts.
+pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, String> {
     let f = moves.clock_hz;
     units::check_clock(f as u64).map_err(|e| format!("clock_hz: {e}"))?;
-    let limits = Limits::default();
     moves
         .axes
         .iter()
@@ -387,10 +388,12 @@ const MCU_HALF_PS: u64 = 2_976;
 pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let text = std::fs::read_to_string(&opts.moves).map_err(|e| format!("cannot read {}: {e}", opts.moves.display()))?;
     let moves: MovesFile = parse_moves(&text).map_err(|e| format!("{}: {e}", opts.moves.display()))?;
-    let axes = plan(&moves)?;
     let k = opts.axes;
-    let exp = ExportOptions { axes: k, clock_hz: moves.clock_hz, ..Default::default() };
+    let exp = ExportOptions { axes: k, clock_hz: moves.clock_hz, min_period: opts.min_period, ..Default::default() };
     exp.check()?;
+    // The model enforces the exported core's minimum period, as the core does.
+    let limits = exp.limits();
+    let axes = plan(&moves, &limits)?;
     if axes.is_empty() || axes.len() > k {
         return Err(format!("{} lists {} axes; the core has --axes {k}", opts.moves.display(), axes.len()));
     }
@@ -403,7 +406,6 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
             ));
         }
     }
-    let limits = Limits::default();
     let runs: Vec<AxisRun> = axes.iter().map(|s| AxisRun::run(s, &limits)).collect();
     let clocks = clocks_for(moves.clock_hz);
     let tick_ps = 2 * clocks.clk_half_ps;
@@ -581,7 +583,7 @@ fn rust_hdl_run(k: usize, exp: ExportOptions, clocks: &Clocks, b: &BusModel, cyc
 }
 
 fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
-    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(Limits::default(), exp.params()));
+    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(exp.limits(), exp.params()));
     u.connect_ports();
     let pauses = bus_pauses(b.events(), 1_000_000_000);
     let trace = run_stepper_rust_hdl(u.as_mut(), clocks, b.events(), cycles, &pauses, progress);

@@ -201,7 +201,7 @@ pub fn capacity(axes: usize, fmax_mhz: Option<f64>) -> Capacity {
     let t_setup = crate::hdl::core::t_setup(export::RADIX_BITS, true);
     Capacity {
         axes,
-        min_period_ticks: ExportOptions { axes, ..Default::default() }.min_period_ticks(),
+        min_period_ticks: ExportOptions { axes, ..Default::default() }.sustainable_period_ticks(),
         max_step_rate_hz_at_50mhz: max_step_rate_hz(axes, 50e6),
         max_step_rate_hz_at_fmax: fmax_mhz.map(|f| max_step_rate_hz(axes, f * 1e6)),
         fmax_mhz,
@@ -216,7 +216,7 @@ pub fn capacity(axes: usize, fmax_mhz: Option<f64>) -> Capacity {
 /// f / (K·t_calc): the step rate an axis sustains without underrun (TDM).
 pub fn max_step_rate_hz(axes: usize, clock_hz: f64) -> f64 {
     let o = ExportOptions { axes, ..Default::default() };
-    clock_hz / o.min_period_ticks() as f64
+    clock_hz / o.sustainable_period_ticks() as f64
 }
 
 /// Counts `stat -json` cells into resource kinds.

@@ -233,7 +233,8 @@ fn sim_reports_rejections_blocked_starts_and_underruns() {
             {"trapezoid": {"steps": 20, "t_acc_s": 0.002, "t_cruise_s": 0, "t_dec_s": 0.002}},
             {"segments": [{"v0_steps_per_s": 100000, "t_s": 0.001, "steps": 10}]}]}"#,
     );
-    // 300 steps at 20 ticks each: below K·t_calc, so the axis underruns.
+    // 300 steps at 20 ticks each: below K·t_calc. The default core (minimum period
+    // K·t_calc) rejects it; one exported with --min-period 2 takes it and underruns.
     let fast = write_moves("fast.json", r#"{"clock_hz": 1000000, "axes": [{"segments": [{"v0_steps_per_s": 50000, "t_s": 0.006, "steps": 300}]}]}"#);
     let run = |moves: &PathBuf, name: &str, extra: &[&str]| {
         let report = dir.join(format!("report_{name}.json"));
@@ -255,7 +256,13 @@ fn sim_reports_rejections_blocked_starts_and_underruns() {
     assert_eq!(r["axes"][0]["steps"], 0, "axis 0 moved although axis 1's start could not complete");
     assert!(svg.contains("no STEP edge") && svg.contains("rejected"), "the SVG does not say what went wrong");
 
-    let (out, r, _) = run(&fast, "fast", &[]);
+    let (out, r, _) = run(&fast, "fast_default", &[]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(!out.status.success(), "exit 0 with a rejected segment:\n{stdout}");
+    assert!(stdout.contains("axis 0: PROBLEM: segment 0 rejected, error 3 (PERIOD_TOO_SHORT)"), "{stdout}");
+    assert_eq!(r["axes"][0]["steps"], 0, "{stdout}");
+
+    let (out, r, _) = run(&fast, "fast", &["--min-period", "2"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(!out.status.success(), "exit 0 with an underrun:\n{stdout}");
     assert!(stdout.contains("axis 0: PROBLEM: underrun"), "{stdout}");
@@ -263,7 +270,7 @@ fn sim_reports_rejections_blocked_starts_and_underruns() {
     // The run continued until the late move finished: every step, the right position.
     assert_eq!(r["axes"][0]["steps"], 300, "{stdout}");
     assert_eq!(r["axes"][0]["final_position"], 300, "{stdout}");
-    let (out, r, _) = run(&fast, "fast_allowed", &["--allow-problems"]);
+    let (out, r, _) = run(&fast, "fast_allowed", &["--min-period", "2", "--allow-problems"]);
     assert!(out.status.success(), "--allow-problems: {}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(r["ok"], false);
 }

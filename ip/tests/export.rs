@@ -55,7 +55,10 @@ fn default_export_writes_the_ip_and_the_committed_docs_are_current() {
     assert_eq!(m["queue_depth"], export::QUEUE_DEPTH as u64);
     assert_eq!(m["period_fifo_depth"], 4);
     assert_eq!(m["min_period_ticks"], 2 * o.params().t_calc as u64);
-    assert!((m["max_step_rate_hz"].as_f64().unwrap() - 50e6 / (2.0 * o.params().t_calc as f64)).abs() < 1e-6);
+    assert_eq!(m["sustainable_period_ticks"], 2 * o.params().t_calc as u64);
+    let rmax = (1u64 << 32) / (2 * o.params().t_calc as u64 + 1);
+    assert_eq!(m["max_rate_q32"], rmax);
+    assert!((m["max_step_rate_hz"].as_f64().unwrap() - 50e6 * rmax as f64 / 2f64.powi(32)).abs() < 1e-6);
     assert_eq!(m["tools"]["rust_hdl"], "0.46.0");
     assert_eq!(m["ports"].as_array().unwrap().len(), export::ports(2).len());
     regs::check_table().unwrap();
@@ -308,5 +311,33 @@ fn export_package_works_from_the_folder_alone() {
     assert_eq!(listed.len(), 3, "{core}");
     for f in listed {
         assert!(dir.join(f).is_file(), "{} lists {f}, which is not in the export", pkg::CORE_FILE);
+    }
+}
+
+/// `--min-period` is the one minimum period: the manifest, the header and the core's
+/// RMAX constant in the Verilog all follow it; out-of-range values fail with the
+/// supported range and a non-zero exit.
+#[test]
+fn min_period_option_sets_the_manifest_header_and_core() {
+    let dir = export_to(&["--axes", "4", "--min-period", "500"], "export_min_period");
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&read("manifest.json")).unwrap();
+    let rmax = (1u64 << 32) / 501;
+    assert_eq!(m["min_period_ticks"], 500);
+    assert_eq!(m["max_rate_q32"], rmax);
+    let sustainable = ExportOptions { axes: 4, ..Default::default() }.sustainable_period_ticks();
+    assert_eq!(m["sustainable_period_ticks"], sustainable);
+    let h = read("tdm_stepper_regs.h");
+    assert!(h.contains("#define TDM_MIN_PERIOD 500u"), "header: TDM_MIN_PERIOD");
+    assert!(h.contains(&format!("#define TDM_MAX_RATE {rmax}u")), "header: TDM_MAX_RATE");
+    // The identity registers' constants and the core's RMAX are in the Verilog.
+    let v = read("tdm_stepper.v");
+    assert!(v.contains(&format!("32'h{rmax:x}")), "the core's RMAX constant is not in the Verilog");
+    assert!(v.contains("16'h1f4"), "ID_MIN_PERIOD's value (500) is not in the Verilog");
+    for bad in ["1", "65536"] {
+        let out = bin().args(["export", "--out"]).arg(dir.join("bad")).args(["--min-period", bad]).output().unwrap();
+        assert!(!out.status.success(), "--min-period {bad} must fail");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("supported minimum periods are 2 to 65535"), "--min-period {bad}: {err}");
     }
 }

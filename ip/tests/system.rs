@@ -25,7 +25,7 @@ const CLOCKS: Clocks = Clocks { clk_half_ps: 10_002, bus_half_ps: 5_001 };
 const MCU_HALF_PS: u64 = 2_976;
 
 fn params<const K: usize>() -> CoreParams {
-    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R) }
+    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks }
 }
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
@@ -56,9 +56,13 @@ fn verilator<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTra
 
 /// The same, on what `tdm-stepper export` writes.
 fn verilator_exported<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
-    let opts = tdm_stepper::export::ExportOptions { axes: K, ..Default::default() };
+    verilator_exported_with(name, b, cycles, tdm_stepper::export::ExportOptions { axes: K, ..Default::default() })
+}
+
+/// [`verilator_exported`] with other export options.
+fn verilator_exported_with(name: &str, b: &BusModel, cycles: u64, opts: tdm_stepper::export::ExportOptions) -> SystemTrace {
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
-    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(K));
+    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(opts.axes));
     let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
     run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
 }
@@ -220,7 +224,7 @@ fn bad_input_through_the_bus_is_refused_and_loses_nothing() {
     let mut b = bus();
     b.enable(ENABLE_WAIT);
     // Unknown addresses read 0, before and after a write to them.
-    let unknown: Vec<u16> = vec![0x014, 0x0FF, 0x10A, 0x10F, 0x120, 0x1FF];
+    let unknown: Vec<u16> = vec![0x017, 0x0FF, 0x10A, 0x10F, 0x120, 0x1FF];
     for &a in &unknown {
         b.write(a, 0xFFFF);
     }
@@ -493,7 +497,10 @@ fn underrun_is_flagged_on_the_late_axis_only_and_loses_no_step() {
     b.idle(200);
     let status_after = b.read_reg("STATUS", 0);
     let irq_err_after = b.read_reg("IRQ_ERROR", 0);
-    let trace = verilator_exported::<2>("system_underrun", &b, cycles_after(&b, 50));
+    // Exported with the floor as its minimum period, so that the core accepts periods
+    // it cannot sustain (the default export rejects them: see the next test).
+    let opts = tdm_stepper::export::ExportOptions { axes: 2, min_period: Some(2), ..Default::default() };
+    let trace = verilator_exported_with("system_underrun", &b, cycles_after(&b, 50), opts);
 
     assert_eq!(read16(&b, &trace, status[0]) & (STATUS_UNDERRUN | STATUS_OVERFLOW | STATUS_ERROR), STATUS_UNDERRUN, "axis 0 STATUS");
     assert_eq!(read16(&b, &trace, status[0]) & 0x3F, 0, "axis 0: LEVEL and BUSY read 0 at the end");
@@ -517,6 +524,70 @@ fn underrun_is_flagged_on_the_late_axis_only_and_loses_no_step() {
             assert!(gaps.iter().any(|&g| g > period as u64), "axis 0 never ran late: the test does not test underrun");
         }
     }
+}
+
+/// The minimum period chosen at export is the one the core enforces: the identity
+/// registers report it and RMAX; a segment whose start rate is one above RMAX is
+/// rejected with code 3 (and nothing moves); two axes that accelerate to RMAX and
+/// cruise there run at once without underrun, every period at least the minimum and
+/// every edge the model's.
+#[test]
+fn the_exported_minimum_period_is_enforced_and_sustained() {
+    let opts = tdm_stepper::export::ExportOptions { axes: 2, ..Default::default() };
+    let limits = opts.limits();
+    let min_period = opts.min_period_ticks() as u32;
+    assert_eq!(min_period, 2 * t_calc_sqrt(R) as u32, "the default is K·t_calc");
+    let rmax = limits.max_rate();
+    assert_eq!(rmax as u64, (1u64 << 32) / (min_period as u64 + 1));
+    // Just too fast: v0 = RMAX + 1, cruising (v_end = v0).
+    let t_bad = 9_000u32;
+    let too_fast = Segment::new(rmax + 1, t_bad, (((rmax as u64 + 1) * t_bad as u64) >> 32) as i32);
+    assert_eq!(too_fast.validate(&limits).unwrap_err().code(), 3);
+    // From rest to RMAX (v_end = 2n/T ≤ RMAX), then on at RMAX (n steps in just over n
+    // periods of 2^32/RMAX ticks): every exact period ≥ min_period + 1.
+    let n1 = 150i32;
+    let t1 = (((2 * n1 as u64) << 32).div_ceil(rmax as u64)) as u32;
+    let n2 = 300i32;
+    let t2 = (((n2 as u64) << 32).div_ceil(rmax as u64)) as u32;
+    let fast = vec![Segment::new(0, t1, n1), Segment::new(rmax, t2, n2)];
+    for s in &fast {
+        s.validate(&limits).unwrap_or_else(|e| panic!("{s:?} is valid at RMAX: {e:?}"));
+    }
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    let ids: Vec<_> = ["ID_MIN_PERIOD", "ID_MAX_RATE_LO", "ID_MAX_RATE_HI"].iter().map(|r| b.read_reg(r, 0)).collect();
+    b.push_segment(0, &too_fast);
+    b.idle(400);
+    let rejected = b.read_reg("STATUS", 0);
+    b.write_reg("STATUS", 0, STATUS_ERROR);
+    for a in 0..2 {
+        for s in &fast {
+            b.push_segment(a, s);
+        }
+    }
+    b.idle(200);
+    b.write_reg("START", 0, 0b11);
+    let start = b.now_ps();
+    b.idle_until_ps(start + (t1 + t2 + 2_000) as u64 * 2 * CLOCKS.clk_half_ps);
+    let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
+    let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
+    let trace = verilator_exported::<2>("system_min_period", &b, cycles_after(&b, 50));
+
+    let got: Vec<u16> = ids.iter().map(|&id| read16(&b, &trace, id)).collect();
+    assert_eq!(got, vec![min_period as u16, rmax as u16, (rmax >> 16) as u16], "ID_MIN_PERIOD, ID_MAX_RATE");
+    let r = read16(&b, &trace, rejected);
+    assert_eq!(r & STATUS_ERROR, STATUS_ERROR, "v0 = RMAX + 1 is rejected: STATUS {r:#06x}");
+    assert_eq!(r >> 12, 3, "with code 3 (period too short)");
+    for a in 0..2 {
+        let st = read16(&b, &trace, status[a]);
+        assert_eq!(st & (STATUS_UNDERRUN | STATUS_OVERFLOW | STATUS_ERROR), 0, "axis {a} at RMAX: STATUS {st:#06x}");
+        assert_eq!(position(&b, &trace, pos[a]), Some(n1 + n2), "axis {a} position");
+        let gaps: Vec<u64> = rises(&trace, a).windows(2).map(|w| w[1] - w[0]).collect();
+        let shortest = *gaps.iter().min().unwrap();
+        assert!(shortest >= min_period as u64, "axis {a}: a period of {shortest} < {min_period} ticks");
+        assert!(shortest <= min_period as u64 + 1, "axis {a}: the test does not reach RMAX (shortest period {shortest})");
+    }
+    check_edges(&trace, &[fast.clone(), fast], "at RMAX");
 }
 
 #[test]

@@ -191,6 +191,9 @@ pub struct RegFile<const K: usize> {
     v_tcalc: Constant<Bits<16>>,
     v_clk_lo: Constant<Bits<16>>,
     v_clk_hi: Constant<Bits<16>>,
+    v_minp: Constant<Bits<16>>,
+    v_rmax_lo: Constant<Bits<16>>,
+    v_rmax_hi: Constant<Bits<16>>,
     a_magic: Constant<Bits<ADDR_BITS>>,
     a_version: Constant<Bits<ADDR_BITS>>,
     a_axes: Constant<Bits<ADDR_BITS>>,
@@ -199,6 +202,9 @@ pub struct RegFile<const K: usize> {
     a_tcalc: Constant<Bits<ADDR_BITS>>,
     a_clk_lo: Constant<Bits<ADDR_BITS>>,
     a_clk_hi: Constant<Bits<ADDR_BITS>>,
+    a_minp: Constant<Bits<ADDR_BITS>>,
+    a_rmax_lo: Constant<Bits<ADDR_BITS>>,
+    a_rmax_hi: Constant<Bits<ADDR_BITS>>,
     a_ctrl: Constant<Bits<ADDR_BITS>>,
     a_start: Constant<Bits<ADDR_BITS>>,
     a_abort: Constant<Bits<ADDR_BITS>>,
@@ -335,6 +341,9 @@ impl<const K: usize> RegFile<K> {
             v_tcalc: v("ID_T_CALC"),
             v_clk_lo: v("ID_CLOCK_HZ_LO"),
             v_clk_hi: v("ID_CLOCK_HZ_HI"),
+            v_minp: v("ID_MIN_PERIOD"),
+            v_rmax_lo: v("ID_MAX_RATE_LO"),
+            v_rmax_hi: v("ID_MAX_RATE_HI"),
             a_magic: c9("ID_MAGIC"),
             a_version: c9("ID_VERSION"),
             a_axes: c9("ID_AXES"),
@@ -343,6 +352,9 @@ impl<const K: usize> RegFile<K> {
             a_tcalc: c9("ID_T_CALC"),
             a_clk_lo: c9("ID_CLOCK_HZ_LO"),
             a_clk_hi: c9("ID_CLOCK_HZ_HI"),
+            a_minp: c9("ID_MIN_PERIOD"),
+            a_rmax_lo: c9("ID_MAX_RATE_LO"),
+            a_rmax_hi: c9("ID_MAX_RATE_HI"),
             a_ctrl: c9("CTRL"),
             a_start: c9("START"),
             a_abort: c9("ABORT"),
@@ -718,6 +730,15 @@ impl<const K: usize> Logic for RegFile<K> {
             }
             if self.rd_addr.val() == self.a_clk_hi.val() {
                 self.rd_data.next = self.v_clk_hi.val();
+            }
+            if self.rd_addr.val() == self.a_minp.val() {
+                self.rd_data.next = self.v_minp.val();
+            }
+            if self.rd_addr.val() == self.a_rmax_lo.val() {
+                self.rd_data.next = self.v_rmax_lo.val();
+            }
+            if self.rd_addr.val() == self.a_rmax_hi.val() {
+                self.rd_data.next = self.v_rmax_hi.val();
             }
             if self.rd_addr.val() == self.a_ctrl.val() {
                 self.rd_data.next = bit_cast::<16, 1>(self.ctrl_en.q.val().into());
