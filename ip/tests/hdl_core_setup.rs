@@ -137,3 +137,42 @@ fn fallback_boundary() -> (Segment, Segment) {
     eprintln!("boundary: below 2^64 by {}, above by {}", limit - b.0, a.0 - limit);
     (b.1, a.1)
 }
+
+/// Decelerations to rest whose v0 = ⌈2n·2^32/T⌉ was rounded up: the core runs them
+/// as v0 − 1 (the model's effective segment), bit for bit, at both R; one rate unit
+/// more is rejected as reversing (code 2); v0 − 1 above RMAX is code 3; and the
+/// effective v0 = RMAX exactly is accepted.
+#[test]
+fn decelerations_to_rest_with_v0_rounded_up_run_as_the_model_says() {
+    let limits = Limits::default();
+    let rmax = limits.max_rate() as u64;
+    let mut cases = vec![
+        // The documented example: 120,000 steps/s to rest over 1,200 steps at 50 MHz.
+        Segment::new(10_307_922, 1_000_000, 1200),
+        Segment::new(10_307_923, 1_000_000, 1200),
+        Segment::new(10_307_922, 1_000_000, -1200),
+        // v0 − 1 = RMAX exactly (accepted), and v0 − 1 above RMAX (code 3).
+        Segment::new((rmax + 1) as u32, 6000, 1000),
+        Segment::new(1_431_894_415, 5999, 1000),
+    ];
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    while cases.len() < 16 {
+        let t = (((rng.next() % 31) as f64).exp2() as u64 + rng.next() % 1024).clamp(2, MAX_T_TICKS as u64);
+        let n_max = ((t as u128 * rmax as u128) >> 33).min(MAX_STEPS as u128) as u64;
+        if n_max == 0 {
+            continue;
+        }
+        let n = 1 + ((rng.next() % 25) as f64).exp2() as u64 % n_max;
+        let exact = (2 * n as u128) << 32;
+        if exact % t as u128 == 0 {
+            continue;
+        }
+        cases.push(Segment::new(exact.div_ceil(t as u128) as u32, t as u32, n as i32));
+    }
+    let codes: Vec<_> = cases.iter().map(|s| s.validate(&limits).err().map(|e| e.code())).collect();
+    assert_eq!(&codes[..5], &[None, Some(2), None, None, Some(3)], "the fixed cases");
+    assert!(cases[5..].iter().all(|s| s.rounds_past_rest() && s.validate(&limits).is_ok()));
+    for seg in cases {
+        check(seg);
+    }
+}

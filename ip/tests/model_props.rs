@@ -143,9 +143,6 @@ proptest! {
         check_segment(&seg, &limits, seed)?;
     }
 
-    /// The offset-root recurrence the hardware runs equals `isqrt(p² + c) − p` for
-    /// every root that fits 36 bits, over p < 2^64 and c anywhere in that root's
-    /// interval (both ends included), and the segments' accumulators stay in range.
     #[test]
     fn offset_root_equals_isqrt_over_its_range(
         p in prop_oneof![any::<u64>(), Just(0u64), Just(u64::MAX - (1 << 37)), 0u64..1000],
@@ -249,4 +246,76 @@ proptest! {
             prop_assert_eq!(mixed.position, alone.position);
         }
     }
+}
+
+proptest! {
+    // 2,000 cases: each checks up to 4,096 edges twice.
+    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+
+    /// A deceleration to rest whose v0 = ⌈2n·2^32/T⌉ was rounded up (its end speed is
+    /// below zero by less than one rate unit) is accepted and runs as its effective
+    /// form (v0 − 1): exactly n steps in T ticks, every edge within the bound of that
+    /// form's exact kinematics, every period at least the minimum. One unit more and
+    /// it is rejected as reversing.
+    #[test]
+    fn deceleration_to_rest_with_v0_rounded_up_is_accepted(
+        m in min_period(),
+        n in log_uniform(1, 1 << 22),
+        stretch in 0.0f64..=1.0,
+        neg in any::<bool>(),
+        seed in any::<u64>(),
+    ) {
+        let limits = Limits::new(m).unwrap();
+        let rmax = limits.max_rate() as u128;
+        // The shortest T whose rest-to-rest v0 ≤ RMAX + 1, stretched up to 2^10 times
+        // (fewer steps when that T is out of range); then the next T whose 2n·2^32/T
+        // is not whole (a whole one needs no rounding).
+        let t_min = |n: u64| ((2 * n as u128) << 32).div_ceil(rmax + 1);
+        let mut n = n;
+        while t_min(n) > MAX_T_TICKS as u128 / 2 {
+            n /= 2;
+        }
+        let mut t = ((t_min(n) as f64 * stretch.mul_add(10.0, 0.0).exp2()) as u128).clamp(t_min(n), MAX_T_TICKS as u128 - 8);
+        while ((2 * n as u128) << 32) % t == 0 {
+            t += 1;
+        }
+        let (n, t) = (n.max(1), t as u64);
+        let v0 = ((2 * n as u128) << 32).div_ceil(t as u128) as u64;
+        let steps = if neg { -(n as i64) } else { n as i64 } as i32;
+        let seg = Segment::new(v0 as u32, t as u32, steps);
+        prop_assert!(seg.rounds_past_rest(), "{:?}", seg);
+        prop_assert_eq!(seg.validate(&limits), Ok(()));
+        let eff = seg.effective();
+        prop_assert_eq!(eff.v0_rate as u64, v0 - 1);
+        prop_assert!(!eff.rounds_past_rest() && eff.v_end_t_q32() >= 0 && eff.v_end_t_q32() < t as i128);
+        if n <= FULL_CHECK_STEPS as u64 {
+            prop_assert_eq!(SegmentPlan::new(seg).periods().collect::<Vec<_>>(), SegmentPlan::new(eff).periods().collect::<Vec<_>>());
+            let run = AxisRun::run(&[seg], &limits);
+            prop_assert_eq!(run.edge_ticks.len() as u64, n);
+            prop_assert_eq!(run.end_tick, t);
+        }
+        check_segment(&eff, &limits, seed)?;
+        // One rate unit more: reversing by at least T/2^32 steps/tick, rejected.
+        let past = Segment::new(v0 as u32 + 1, t as u32, steps);
+        prop_assert_eq!(past.validate(&limits), Err(SegmentError::Reverses));
+    }
+}
+
+/// The user's case: decelerate from 120,000 steps/s to rest over 1,200 steps at
+/// 50 MHz (20 ms). v0 rounds to nearest, up, to rate 10,307,922; the segment is
+/// accepted (it was rejected with code 2) and emits 1,200 steps in 1,000,000 ticks.
+#[test]
+fn the_documented_decelerate_to_rest_example_is_accepted() {
+    let f = 50_000_000;
+    let v0 = units::steps_per_s_to_rate(120_000.0, f).unwrap();
+    assert_eq!(v0, 10_307_922);
+    let t = units::seconds_to_ticks(0.02, f).unwrap();
+    let stop = Segment::new(v0, t, 1200);
+    assert!(stop.rounds_past_rest());
+    let limits = Limits::new(44).unwrap();
+    assert_eq!(stop.validate(&limits), Ok(()));
+    let run = AxisRun::run(&[stop], &limits);
+    assert!(run.rejected.is_empty());
+    assert_eq!((run.edge_ticks.len(), *run.edge_ticks.last().unwrap()), (1200, 1_000_000));
+    assert!(run.max_edge_error_ticks() <= EDGE_ERROR_BOUND_TICKS);
 }

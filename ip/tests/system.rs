@@ -590,6 +590,43 @@ fn the_exported_minimum_period_is_enforced_and_sustained() {
     check_edges(&trace, &[fast.clone(), fast], "at RMAX");
 }
 
+/// "Accelerate, then decelerate to rest", computed in steps/s as a user does: 0 to
+/// 120,000 steps/s over 1,200 steps in 20 ms, then back to rest. The stop's v0 rounds
+/// up (rate 10,307,922) past the rest value; the exported core accepts it and emits
+/// exactly 2,400 steps in 40 ms, edge for edge the model's, on both axes (one reversed).
+#[test]
+fn decelerate_to_rest_in_steps_per_s_runs_through_the_bus() {
+    let f = 50_000_000;
+    let v_top = tdm_stepper::model::units::steps_per_s_to_rate(120_000.0, f).unwrap();
+    let t = tdm_stepper::model::units::seconds_to_ticks(0.02, f).unwrap();
+    let pair = |sign: i32| vec![Segment::new(0, t, sign * 1200), Segment::new(v_top, t, sign * 1200)];
+    let axes = vec![pair(1), pair(-1)];
+    assert!(axes[0][1].rounds_past_rest(), "the stop segment rounds past rest");
+    let limits = tdm_stepper::export::ExportOptions::default().limits();
+    for s in axes.iter().flatten() {
+        assert_eq!(s.validate(&limits), Ok(()));
+    }
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    for (a, segs) in axes.iter().enumerate() {
+        for s in segs {
+            b.push_segment(a, s);
+        }
+    }
+    b.idle(200);
+    b.write_reg("START", 0, 0b11);
+    let start = b.now_ps();
+    b.idle_until_ps(start + (2 * t as u64 + 2_000) * 2 * CLOCKS.clk_half_ps);
+    let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
+    let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
+    let trace = verilator_exported::<2>("system_decel_to_rest", &b, cycles_after(&b, 50));
+    for a in 0..2 {
+        assert_eq!(read16(&b, &trace, status[a]) & (STATUS_UNDERRUN | STATUS_OVERFLOW | STATUS_ERROR), 0, "axis {a} STATUS");
+        assert_eq!(position(&b, &trace, pos[a]), Some(if a == 0 { 2400 } else { -2400 }), "axis {a} position");
+    }
+    check_edges(&trace, &axes, "decelerate to rest");
+}
+
 #[test]
 fn short_move_through_the_bus_rust_hdl_equals_verilator() {
     let limits = Limits::default();

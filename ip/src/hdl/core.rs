@@ -247,6 +247,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     // Datapath.
     dq: Signal<Local, Bits<64>>,
     vend: Signal<Local, Bits<64>>,
+    // A deceleration that rounds past rest (−T < v_end·T·2^32 < 0) runs with v0 − 1:
+    // v_end·T·2^32 + T, and |D·2^32| − T (docs/model.md, "Deceleration to rest").
+    vend_fix: Signal<Local, Bits<64>>,
+    dmag_fix: Signal<Local, Bits<64>>,
+    vend_fix_neg: Signal<Local, Bit>,
+    near_rest: Signal<Local, Bit>,
     n64: Signal<Local, Bits<64>>,
     narrow: Signal<Local, Bits<64>>,
     t_num: Signal<Local, Bits<DIV_NUM_BITS>>,
@@ -266,6 +272,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cmd_ok_axis: Signal<Local, Bit>,
 
     c_rmax: Constant<Bits<32>>,
+    /// RMAX + 1: a segment that rounds past rest runs with v0 − 1, which must be ≤ RMAX.
+    c_rmax1: Constant<Bits<32>>,
     c_max_t: Constant<Bits<32>>,
     c_max_n: Constant<Bits<32>>,
     c_max_v0: Constant<Bits<32>>,
@@ -417,6 +425,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             h_n: Default::default(),
             dq: Default::default(),
             vend: Default::default(),
+            vend_fix: Default::default(),
+            dmag_fix: Default::default(),
+            vend_fix_neg: Default::default(),
+            near_rest: Default::default(),
             n64: Default::default(),
             narrow: Default::default(),
             t_num: Default::default(),
@@ -434,6 +446,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             err_now: Default::default(),
             cmd_ok_axis: Default::default(),
             c_rmax: Constant::new((limits.max_rate() as u64).into()),
+            c_rmax1: Constant::new((limits.max_rate() as u64 + 1).into()),
             c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
             c_max_n: Constant::new((MAX_STEPS as u64).into()),
             c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
@@ -585,6 +598,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // D·2^32 = n·2^32 − v0·T and v_end·T·2^32 = 2n·2^32 − v0·T (two's complement).
         self.dq.next = (self.n64.val() << 32) - self.narrow.val();
         self.vend.next = (self.n64.val() << 33) - self.narrow.val();
+        // From the registered values in S_TR: v_end·T·2^32 + T, and |D·2^32| − T (D < 0).
+        self.vend_fix.next = self.s_vend.q.val() + bit_cast::<64, 32>(self.w_t.q.val());
+        self.dmag_fix.next = ((!self.s_dq.q.val()) + 1) - bit_cast::<64, 32>(self.w_t.q.val());
+        self.vend_fix_neg.next = self.vend_fix.val().get_bit(63);
+        self.near_rest.next = self.s_vend.q.val().get_bit(63) & !self.vend_fix_neg.val() & (self.vend_fix.val() != 0);
         // P' + 2T' ≥ 2^64 (the fallback test) without a 128-bit adder: the quotient's high
         // half, or the carry out of its low half plus 2T'.
         self.p_test.next = bit_cast::<65, 64>(self.div.quotient.val().get_bits::<64>(0))
@@ -707,7 +725,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             } else {
                 self.s_dmag.d.next = self.s_dq.q.val();
             }
-            if self.s_vend.q.val().get_bit(63) {
+            if self.near_rest.val() {
+                // A deceleration to rest whose v0 was rounded up: it runs as v0 − 1 (its
+                // end speed then in [0, 1/T) rate units; never too fast at that end).
+                if self.s_v0.q.val() > self.c_rmax1.val() {
+                    self.s_code.d.next = 3.into();
+                    self.st.d.next = self.k_reject.val();
+                } else {
+                    self.s_vend.d.next = self.vend_fix.val();
+                    self.s_dmag.d.next = self.dmag_fix.val();
+                    self.st.d.next = self.k_t2.val();
+                }
+            } else if self.s_vend.q.val().get_bit(63) {
                 self.s_code.d.next = 2.into();
                 self.st.d.next = self.k_reject.val();
             } else if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.narrow.val()) {

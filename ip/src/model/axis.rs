@@ -31,7 +31,7 @@ pub struct Rejected {
 /// Everything one axis does for a list of segments.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AxisRun {
-    /// The accepted segments, in order.
+    /// The accepted segments, in order, as the core runs them ([`Segment::effective`]).
     pub accepted: Vec<Segment>,
     /// Refused segments.
     pub rejected: Vec<Rejected>,
@@ -61,6 +61,8 @@ impl AxisRun {
     }
 
     fn push(&mut self, seg: Segment) {
+        // The segment the core runs (v0 − 1 for a deceleration that rounds past rest).
+        let seg = seg.effective();
         let start = self.end_tick;
         let plan = SegmentPlan::new(seg);
         if seg.n_steps() == 0 {

@@ -130,8 +130,10 @@ fn div_round(num: u128, den: u128) -> u128 {
 
 impl SegmentPlan {
     /// Per-segment setup. The segment must be valid (see [`Segment::validate`]);
-    /// the caller is expected to have validated it, so this only debug-asserts.
+    /// the caller is expected to have validated it, so this only debug-asserts. A
+    /// segment that rounds past rest is planned as its [`Segment::effective`] form.
     pub fn new(segment: Segment) -> SegmentPlan {
+        let segment = segment.effective();
         let n = segment.n_steps() as u128;
         let t = segment.t_ticks as u128;
         debug_assert!(segment.t_ticks > 0 && segment.v_end_t_q32() >= 0);

@@ -195,11 +195,34 @@ impl Segment {
         Some(Segment::new(v0_rate_odd, t as u32, steps))
     }
 
+    /// True when the segment would reverse only by the rounding of v0 to Q0.32: its
+    /// end speed is below zero by less than one rate unit, −T < v_end·T·2^32 < 0.
+    /// Such a segment is a deceleration to rest whose v0 was rounded up (v0 =
+    /// round(2n·2^32/T) when 2n·2^32/T is not whole).
+    pub fn rounds_past_rest(&self) -> bool {
+        let v_end_t = self.v_end_t_q32();
+        v_end_t < 0 && v_end_t + self.t_ticks as i128 > 0
+    }
+
+    /// The segment the core runs: itself, or with `v0_rate − 1` when it
+    /// [`rounds_past_rest`](Self::rounds_past_rest) (then 0 ≤ v_end·T·2^32 < T: it
+    /// ends at rest or within one rate unit of it). Both emit exactly n steps in T
+    /// ticks; the exact kinematics of this one are the reference for its edges.
+    pub fn effective(&self) -> Segment {
+        if self.rounds_past_rest() {
+            Segment { v0_rate: self.v0_rate - 1, ..*self }
+        } else {
+            *self
+        }
+    }
+
     /// Checks the segment against the documented range and the limits.
     ///
     /// Checks run in this order and the first failure is reported: T = 0, T range,
     /// steps range, rate range, reversal, minimum period. A dwell (n = 0, v0 = 0,
     /// T > 0) is valid. n = 0 with v0 > 0 would have to reverse and is rejected.
+    /// The reversal and period checks apply to the [`effective`](Self::effective)
+    /// segment: a deceleration to rest whose v0 was rounded up is accepted.
     ///
     /// The period rule: with `RMAX = ⌊2^32/(min_period + 1)⌋` ([`Limits::max_rate`]),
     /// `v0_rate ≤ RMAX` and `v_end·T·2^32 ≤ T·RMAX`: both ends at most RMAX/2^32 ≤
@@ -221,13 +244,14 @@ impl Segment {
         if self.v0_rate > MAX_V0_RATE {
             return Err(SegmentError::RateRange);
         }
-        let v_end_t = self.v_end_t_q32();
+        let seg = self.effective();
+        let v_end_t = seg.v_end_t_q32();
         if v_end_t < 0 {
             return Err(SegmentError::Reverses);
         }
         let rmax = limits.max_rate() as i128;
-        let v0_too_fast = self.v0_rate as i128 > rmax;
-        let v_end_too_fast = v_end_t > self.t_ticks as i128 * rmax;
+        let v0_too_fast = seg.v0_rate as i128 > rmax;
+        let v_end_too_fast = v_end_t > seg.t_ticks as i128 * rmax;
         if v0_too_fast || v_end_too_fast {
             return Err(SegmentError::PeriodTooShort);
         }
