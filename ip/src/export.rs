@@ -149,7 +149,7 @@ impl ExportOptions {
     /// The highest step rate a segment may reach, steps/s: f·RMAX/2^32 with
     /// RMAX = ⌊2^32/(min_period + 1)⌋ (a little below f/(min_period + 1)).
     pub fn max_step_rate_hz(&self) -> f64 {
-        self.clock_hz as f64 * self.limits().max_rate() as f64 / 4294967296.0
+        crate::model::units::rate_to_steps_per_s(self.limits().max_rate(), self.clock_hz)
     }
 }
 

@@ -106,7 +106,7 @@ pub struct CoreParams {
 impl CoreParams {
     /// RMAX, the largest start or end rate (Q0.32) a segment may have.
     pub fn max_rate(&self) -> u32 {
-        crate::model::Limits::new(self.min_period).map(|l| l.max_rate()).unwrap_or(0)
+        crate::model::Limits { min_period_ticks: self.min_period }.max_rate()
     }
 }
 

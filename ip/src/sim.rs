@@ -225,7 +225,7 @@ pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, Str
         .enumerate()
         .map(|(a, m)| match m {
             AxisMove::Trapezoid { trapezoid: t } => {
-                planner::trapezoid_by_times(t.steps, t.t_acc_s, t.t_cruise_s, t.t_dec_s, f, &limits)
+                planner::trapezoid_by_times(t.steps, t.t_acc_s, t.t_cruise_s, t.t_dec_s, f, limits)
                     .map_err(|e| format!("axis {a}: trapezoid: {e}"))
             }
             AxisMove::Segments { segments } => segments
