@@ -16,7 +16,7 @@
 #define TDM_MIN_PERIOD 44u /* ticks: no STEP period is shorter */
 #define TDM_MAX_RATE 95443717u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */
 #define TDM_MAGIC 0x5453u
-#define TDM_VERSION 0x0101u
+#define TDM_VERSION 0x0102u
 
 #define TDM_AXIS_BASE 0x200u /* byte offset of axis 0's block */
 #define TDM_AXIS_STRIDE 0x20u /* bytes per axis block */
@@ -48,9 +48,9 @@
 /* CTRL: Global control. */
 #define TDM_CTRL 0x010u
 #define TDM_CTRL_ENABLE_SHIFT 0u
-#define TDM_CTRL_ENABLE_MASK 0x0001u /* RW: 1 runs the core; 0 holds it in reset (positions, queues, flags and counters cleared). Wait for GSTATUS.ENABLED before writing commands. */
+#define TDM_CTRL_ENABLE_MASK 0x0001u /* RW: 1 runs the core; 0 holds it in reset (positions, queues, flags and counters cleared; a STEP pulse already high finishes its high time). Wait for GSTATUS.ENABLED before writing commands. Writing 1 is refused (GSTATUS.REFUSED) while the output timing does not fit ID_MIN_PERIOD. */
 
-/* START: Synchronised start: the masked axes make their first step period on the same clock edge once each has its first period ready. */
+/* START: Synchronised start: the masked axes make their first step period on the same clock edge once each has its first period ready. A masked axis still moving is waited for; a masked axis with nothing to run cancels the start (GSTATUS.START_FAILED). */
 #define TDM_START 0x012u
 #define TDM_START_MASK_SHIFT 0u
 #define TDM_START_MASK_MASK 0xFFFFu /* WO: axes to release together, bit a = axis a */
@@ -73,7 +73,7 @@
 /* IRQ_ERROR: Error events. */
 #define TDM_IRQ_ERROR 0x01Au
 #define TDM_IRQ_ERROR_AXES_SHIFT 0u
-#define TDM_IRQ_ERROR_AXES_MASK 0xFFFFu /* W1C: bit a: axis a set UNDERRUN, OVERFLOW or ERROR in its STATUS */
+#define TDM_IRQ_ERROR_AXES_MASK 0xFFFFu /* W1C: bit a: axis a set UNDERRUN, OVERFLOW or ERROR in its STATUS, or a START with axis a in its mask failed (GSTATUS.START_FAILED) */
 
 /* IRQ_MASK_DONE: Enables for IRQ_DONE. */
 #define TDM_IRQ_MASK_DONE 0x01Cu
@@ -100,14 +100,16 @@
 #define TDM_GSTATUS_ENABLED_SHIFT 0u
 #define TDM_GSTATUS_ENABLED_MASK 0x0001u /* RO: the core has seen ENABLE = 1 and accepts commands */
 #define TDM_GSTATUS_REFUSED_SHIFT 1u
-#define TDM_GSTATUS_REFUSED_MASK 0x0002u /* W1C: a START, ABORT or push was refused: the core was not enabled or the command FIFO was full */
+#define TDM_GSTATUS_REFUSED_MASK 0x0002u /* W1C: a write was refused: a START, ABORT or push while the core was not enabled (ENABLE and ENABLED not both 1) or, for START and ABORT, with the command FIFO full (a push refused for a full queue or command FIFO sets that axis's STATUS.OVERFLOW instead); an output timing write while the core was on or of 0; CTRL.ENABLE = 1 with output timing that does not fit ID_MIN_PERIOD */
 #define TDM_GSTATUS_IRQ_SHIFT 2u
 #define TDM_GSTATUS_IRQ_MASK 0x0004u /* RO: the irq line */
+#define TDM_GSTATUS_START_FAILED_SHIFT 3u
+#define TDM_GSTATUS_START_FAILED_MASK 0x0008u /* W1C: a START was cancelled because a masked axis had nothing to run (no segment queued, being set up, computed or moving: e.g. its only segment was rejected); no axis moved, and IRQ_ERROR is set for every axis of that START's mask. Read the masked axes' STATUS (BUSY = 0 marks the empty one, ERROR says why), push valid segments, clear this bit and write START again */
 
 /* BUSY: Busy axes. */
 #define TDM_BUSY 0x026u
 #define TDM_BUSY_AXES_SHIFT 0u
-#define TDM_BUSY_AXES_MASK 0xFFFFu /* RO: bit a: axis a has segments queued, in flight or moving */
+#define TDM_BUSY_AXES_MASK 0xFFFFu /* RO: bit a: axis a has segments queued, in flight or moving, or its last STEP pulse is still high */
 
 /* ID_MIN_PERIOD: The minimum period chosen at export: no STEP period is shorter. A segment whose start or end rate exceeds ID_MAX_RATE is rejected with ERROR_CODE 3. */
 #define TDM_ID_MIN_PERIOD 0x028u
@@ -117,6 +119,26 @@
 
 /* ID_MAX_RATE_HI: The largest rate, high half. */
 #define TDM_ID_MAX_RATE_HI 0x02Cu
+
+/* STEP_HIGH: Output timing: no STEP pulse is shorter. Written only while CTRL.ENABLE and GSTATUS.ENABLED are 0, and never 0 (else refused, GSTATUS.REFUSED). The pulse is half the period, clamped between max(STEP_HIGH, DIR_HOLD) and the period less max(STEP_LOW, DIR_SETUP), at most 65,535 ticks. */
+#define TDM_STEP_HIGH 0x02Eu
+#define TDM_STEP_HIGH_TICKS_SHIFT 0u
+#define TDM_STEP_HIGH_TICKS_MASK 0xFFFFu /* RW: minimum STEP high time, clk ticks (1..65,535) */
+
+/* STEP_LOW: Output timing: STEP stays low at least this long between pulses. Same write rules as STEP_HIGH. */
+#define TDM_STEP_LOW 0x030u
+#define TDM_STEP_LOW_TICKS_SHIFT 0u
+#define TDM_STEP_LOW_TICKS_MASK 0xFFFFu /* RW: minimum STEP low time between pulses, clk ticks */
+
+/* DIR_SETUP: Output timing: DIR is stable at least this long before every rising STEP edge. Same write rules as STEP_HIGH. */
+#define TDM_DIR_SETUP 0x032u
+#define TDM_DIR_SETUP_TICKS_SHIFT 0u
+#define TDM_DIR_SETUP_TICKS_MASK 0xFFFFu /* RW: minimum DIR setup before a rising STEP edge, clk ticks */
+
+/* DIR_HOLD: Output timing: DIR stays stable at least this long after every rising STEP edge. Same write rules as STEP_HIGH. CTRL.ENABLE = 1 is refused while max(STEP_HIGH, DIR_HOLD) + max(STEP_LOW, DIR_SETUP) > ID_MIN_PERIOD. */
+#define TDM_DIR_HOLD 0x034u
+#define TDM_DIR_HOLD_TICKS_SHIFT 0u
+#define TDM_DIR_HOLD_TICKS_MASK 0xFFFFu /* RW: minimum DIR hold after a rising STEP edge, clk ticks */
 
 /* V0_LO: Staging: start speed, low half. */
 #define TDM_V0_LO(axis) (TDM_AXIS_BASE + (axis) * TDM_AXIS_STRIDE + 0x00u)

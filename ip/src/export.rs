@@ -266,8 +266,8 @@ pub fn ports(axes: usize) -> Vec<PortDoc> {
         p("data_in", "input", 16, "async", "EXMC data from the pads"),
         p("data_out", "output", 16, "bus_clk", "EXMC data to the pads"),
         p("data_oe", "output", 1, "async", "drive data_out onto the pads: !ne & !noe, combinational"),
-        p("step", "output", axes, "clk", "STEP of axis a in bit a: one 50% duty pulse per step, rising edge = the step"),
-        p("dir", "output", axes, "clk", "DIR of axis a in bit a: 1 = negative steps; changes only while STEP is low"),
+        p("step", "output", axes, "clk", "STEP of axis a in bit a: one pulse per step, rising edge = the step; high half the period, at least STEP_HIGH and leaving STEP_LOW"),
+        p("dir", "output", axes, "clk", "DIR of axis a in bit a: 1 = negative steps; changes while STEP is low or as it falls, DIR_SETUP before and DIR_HOLD after a rising edge"),
         p("irq", "output", 1, "bus_clk", "interrupt, active high: IRQ_* status under IRQ_MASK_*"),
         p("fsm_state", "output", crate::hdl::core::STATE_BITS, "clk", "scheduler state (Gray code), for waveforms; leave open"),
     ]

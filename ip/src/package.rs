@@ -73,8 +73,9 @@ pub fn ascii(t: &str) -> String {
 const CONSTRAINT_NOTES: &str = "\
 The core has two clocks: clk (every step period is counted in its ticks) and
 bus_clk (samples the EXMC pins). They are unrelated: every crossing between them is
-a two-flip-flop synchroniser, a Gray-pointer FIFO or a toggle handshake, so no path
-between them is timed. The EXMC pins (ne, noe, nwe, addr, data_in) and reset are
+a two-flip-flop synchroniser, a Gray-pointer FIFO, a toggle handshake, or the output
+timing registers (STEP_HIGH ... DIR_HOLD), which the register file changes only while
+the core is held in reset, so no path between them is timed. The EXMC pins (ne, noe, nwe, addr, data_in) and reset are
 asynchronous: each enters through two flip-flop stages in bus_clk, and the slave
 captures a write only after two equal samples, so no input delay applies to them.
 data_out is a bus_clk register held from the read's start until the next read; the

@@ -26,7 +26,7 @@ pub const MAX_QUEUE_DEPTH: usize = 16;
 /// ID_MAGIC's value, "TS".
 pub const MAGIC: u16 = 0x5453;
 /// ID_VERSION: major in the high byte, minor in the low byte.
-pub const VERSION: u16 = 0x0101;
+pub const VERSION: u16 = 0x0102;
 
 /// How the host may access a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -177,16 +177,16 @@ pub fn table() -> Vec<Register> {
         reg("ID_CLOCK_HZ_HI", 0x07, false, Reset::ClockHzHi, ro("bits 31:16 of the core clock in Hz"), "Core clock frequency, high half."),
         reg(
             "CTRL", 0x08, false, Reset::Value(0),
-            vec![f("ENABLE", 0, 1, Rw, "1 runs the core; 0 holds it in reset (positions, queues, flags and counters cleared). Wait for GSTATUS.ENABLED before writing commands.")],
+            vec![f("ENABLE", 0, 1, Rw, "1 runs the core; 0 holds it in reset (positions, queues, flags and counters cleared; a STEP pulse already high finishes its high time). Wait for GSTATUS.ENABLED before writing commands. Writing 1 is refused (GSTATUS.REFUSED) while the output timing does not fit ID_MIN_PERIOD.")],
             "Global control.",
         ),
         reg("START", 0x09, false, Reset::Value(0), vec![f("MASK", 0, 16, Wo, "axes to release together, bit a = axis a")],
-            "Synchronised start: the masked axes make their first step period on the same clock edge once each has its first period ready."),
+            "Synchronised start: the masked axes make their first step period on the same clock edge once each has its first period ready. A masked axis still moving is waited for; a masked axis with nothing to run cancels the start (GSTATUS.START_FAILED)."),
         reg("ABORT", 0x0A, false, Reset::Value(0), vec![f("ALL", 0, 1, Wo, "write 1: hard stop of every axis")],
             "Hard stop: every queue and period FIFO empties, no further STEP edge rises (a pulse already high keeps its high time), positions stay exact."),
         reg("IRQ_DONE", 0x0B, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: a segment of axis a finished (its last period ended)")], "Segment-done events."),
         reg("IRQ_QLOW", 0x0C, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: axis a took a segment and its LEVEL is now ≤ QLOW_LEVEL")], "Queue-low events."),
-        reg("IRQ_ERROR", 0x0D, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: axis a set UNDERRUN, OVERFLOW or ERROR in its STATUS")], "Error events."),
+        reg("IRQ_ERROR", 0x0D, false, Reset::Value(0), vec![f("AXES", 0, 16, W1c, "bit a: axis a set UNDERRUN, OVERFLOW or ERROR in its STATUS, or a START with axis a in its mask failed (GSTATUS.START_FAILED)")], "Error events."),
         reg("IRQ_MASK_DONE", 0x0E, false, Reset::Value(0), vec![f("AXES", 0, 16, Rw, "1 lets IRQ_DONE bit a raise the irq line")], "Enables for IRQ_DONE."),
         reg("IRQ_MASK_QLOW", 0x0F, false, Reset::Value(0), vec![f("AXES", 0, 16, Rw, "1 lets IRQ_QLOW bit a raise the irq line")], "Enables for IRQ_QLOW."),
         reg("IRQ_MASK_ERROR", 0x10, false, Reset::Value(0), vec![f("AXES", 0, 16, Rw, "1 lets IRQ_ERROR bit a raise the irq line")], "Enables for IRQ_ERROR."),
@@ -195,17 +195,26 @@ pub fn table() -> Vec<Register> {
             "GSTATUS", 0x12, false, Reset::Value(0),
             vec![
                 f("ENABLED", 0, 1, Ro, "the core has seen ENABLE = 1 and accepts commands"),
-                f("REFUSED", 1, 1, W1c, "a START, ABORT or push was refused: the core was not enabled or the command FIFO was full"),
+                f("REFUSED", 1, 1, W1c, "a write was refused: a START, ABORT or push while the core was not enabled (ENABLE and ENABLED not both 1) or, for START and ABORT, with the command FIFO full (a push refused for a full queue or command FIFO sets that axis's STATUS.OVERFLOW instead); an output timing write while the core was on or of 0; CTRL.ENABLE = 1 with output timing that does not fit ID_MIN_PERIOD"),
                 f("IRQ", 2, 1, Ro, "the irq line"),
+                f("START_FAILED", 3, 1, W1c, "a START was cancelled because a masked axis had nothing to run (no segment queued, being set up, computed or moving: e.g. its only segment was rejected); no axis moved, and IRQ_ERROR is set for every axis of that START's mask. Read the masked axes' STATUS (BUSY = 0 marks the empty one, ERROR says why), push valid segments, clear this bit and write START again"),
             ],
             "Global status.",
         ),
-        reg("BUSY", 0x13, false, Reset::Value(0), vec![f("AXES", 0, 16, Ro, "bit a: axis a has segments queued, in flight or moving")], "Busy axes."),
+        reg("BUSY", 0x13, false, Reset::Value(0), vec![f("AXES", 0, 16, Ro, "bit a: axis a has segments queued, in flight or moving, or its last STEP pulse is still high")], "Busy axes."),
         reg("ID_MIN_PERIOD", 0x14, false, Reset::MinPeriod, ro("minimum period, clk ticks"),
             "The minimum period chosen at export: no STEP period is shorter. A segment whose start or end rate exceeds ID_MAX_RATE is rejected with ERROR_CODE 3."),
         reg("ID_MAX_RATE_LO", 0x15, false, Reset::MaxRateLo, ro("bits 15:0 of RMAX = floor(2^32 / (ID_MIN_PERIOD + 1))"),
             "The largest start or end rate a segment may have (Q0.32 steps per tick), low half."),
         reg("ID_MAX_RATE_HI", 0x16, false, Reset::MaxRateHi, ro("bits 31:16 of RMAX"), "The largest rate, high half."),
+        reg("STEP_HIGH", 0x17, false, Reset::Value(1), vec![f("TICKS", 0, 16, Rw, "minimum STEP high time, clk ticks (1..65,535)")],
+            "Output timing: no STEP pulse is shorter. Written only while CTRL.ENABLE and GSTATUS.ENABLED are 0, and never 0 (else refused, GSTATUS.REFUSED). The pulse is half the period, clamped between max(STEP_HIGH, DIR_HOLD) and the period less max(STEP_LOW, DIR_SETUP), at most 65,535 ticks."),
+        reg("STEP_LOW", 0x18, false, Reset::Value(1), vec![f("TICKS", 0, 16, Rw, "minimum STEP low time between pulses, clk ticks")],
+            "Output timing: STEP stays low at least this long between pulses. Same write rules as STEP_HIGH."),
+        reg("DIR_SETUP", 0x19, false, Reset::Value(1), vec![f("TICKS", 0, 16, Rw, "minimum DIR setup before a rising STEP edge, clk ticks")],
+            "Output timing: DIR is stable at least this long before every rising STEP edge. Same write rules as STEP_HIGH."),
+        reg("DIR_HOLD", 0x1A, false, Reset::Value(1), vec![f("TICKS", 0, 16, Rw, "minimum DIR hold after a rising STEP edge, clk ticks")],
+            "Output timing: DIR stays stable at least this long after every rising STEP edge. Same write rules as STEP_HIGH. CTRL.ENABLE = 1 is refused while max(STEP_HIGH, DIR_HOLD) + max(STEP_LOW, DIR_SETUP) > ID_MIN_PERIOD."),
         reg("V0_LO", 0x0, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "start speed v0, Q0.32 steps per tick, bits 15:0")], "Staging: start speed, low half."),
         reg("V0_HI", 0x1, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "v0 bits 31:16")], "Staging: start speed, high half."),
         reg("T_LO", 0x2, true, Reset::Value(0), vec![f("VALUE", 0, 16, Rw, "duration T in clk ticks, bits 15:0")], "Staging: duration, low half."),
@@ -371,8 +380,59 @@ pub fn markdown(p: &CoreParams) -> String {
     let codes: Vec<String> = ERROR_CODES.iter().map(|(c, n)| format!("{c} `{n}`")).collect();
     m.push_str(&codes.join(", "));
     m.push_str(". Segment fields and their ranges: docs/model.md.\n");
+    contract(&mut m, p);
     m.push_str(SEQUENCE_TEXT);
     m
+}
+
+/// The behaviour a host can rely on, with this export's numbers (each held by a test
+/// in ip/tests/system.rs).
+fn contract(m: &mut String, p: &CoreParams) {
+    let q = p.queue_depth;
+    let rate = crate::model::units::rate_to_steps_per_s(p.max_rate(), p.clock_hz as u32);
+    m.push_str("\n## Contract\n\n");
+    let _ = writeln!(
+        m,
+        "* **Queue.** LEVEL = segments pushed and not yet taken by the scheduler. A push with \
+         LEVEL = ID_QUEUE_DEPTH ({q}) is refused (STATUS.OVERFLOW, nothing queued). The scheduler \
+         takes segments into the axis's current and next slot before START, so an axis not yet \
+         started accepts {} pushes before the first refusal (more when its segments are so short \
+         that they are computed into the period FIFO). Pace pushes by LEVEL, not by counting.",
+        q + 2
+    );
+    let _ = writeln!(
+        m,
+        "* **Minimum period and output timing.** No STEP period is shorter than ID_MIN_PERIOD \
+         ({} ticks): a segment whose start or end rate exceeds ID_MAX_RATE ({}) is rejected with \
+         code 3, so one axis steps at most {:.0} times per second. STEP_HIGH, STEP_LOW, DIR_SETUP \
+         and DIR_HOLD are then met on every edge: CTRL.ENABLE = 1 is refused unless \
+         max(STEP_HIGH, DIR_HOLD) + max(STEP_LOW, DIR_SETUP) ≤ ID_MIN_PERIOD, and no segment is \
+         rejected or slowed for them.",
+        p.min_period,
+        p.max_rate(),
+        rate.floor()
+    );
+    m.push_str(
+        "* **START.** Releases the masked axes on one clock edge once each has its first period \
+         computed. A masked axis still moving is waited for. A masked axis with nothing to run (no \
+         segment queued, being set up, computed or moving: it was never pushed, or its only segment \
+         was rejected) cancels the START: no axis moves, GSTATUS.START_FAILED and IRQ_ERROR (every \
+         masked axis) are set. Then read the masked axes' STATUS (BUSY = 0 marks the empty one), \
+         push valid segments, clear START_FAILED and write START again.\n",
+    );
+    m.push_str(
+        "* **BUSY** (and STATUS.BUSY) stays 1 until the last STEP pulse of the axis's move has \
+         fallen, so BUSY = 0 means the driver has seen every pulse.\n",
+    );
+    m.push_str(
+        "* **Errors.** STATUS.ERROR_CODE holds the code of the most recent rejection since STATUS.ERROR \
+         was last cleared; the rejected segment is dropped and the segments around it run as pushed.\n",
+    );
+    m.push_str(
+        "* **Disable and reset.** CTRL.ENABLE = 0 (or the reset pin) stops every axis and clears \
+         positions, queues and flags; a STEP pulse already high finishes its high time first, so \
+         no pulse shorter than STEP_HIGH ever reaches a driver.\n",
+    );
 }
 
 const BUS_TEXT: &str = r#"## The bus

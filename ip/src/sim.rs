@@ -350,7 +350,7 @@ fn axis_problems(run: &AxisRun, all: &[AxisRun], rises: &[u64], status: Option<u
             p.push(format!("did not start: no STEP edge of the {expected} planned"));
         } else {
             p.push(format!(
-                "did not start: START waits for every axis in its mask, and axis {} has no valid segment",
+                "did not start: axis {} has no valid segment, so the core cancelled the START (GSTATUS.START_FAILED)",
                 blockers.join(", ")
             ));
         }

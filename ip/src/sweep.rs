@@ -565,7 +565,7 @@ pub fn block_of(module: &str) -> &'static str {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
     };
-    const BLOCKS: [(&str, &str); 14] = [
+    const BLOCKS: [(&str, &str); 16] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
         ("core$ctx_ram", "per-axis contexts (current and next segment)"),
         ("core$seg_ram", "segment queues (one RAM for every axis)"),
@@ -573,6 +573,7 @@ pub fn block_of(module: &str) -> &'static str {
         ("core$div", "shared divider"),
         ("core$root", "shared offset root"),
         ("core$mul", "shared multipliers"),
+        ("core$pulse", "pulse stage (STEP high times)"),
         (
             "core",
             "scheduler: FSM, working copy, K:1 multiplexers, counters",
@@ -581,8 +582,9 @@ pub fn block_of(module: &str) -> &'static str {
         ("status", "status crossing (core to bus clock)"),
         ("cmd_fifo", "command FIFO (bus to core clock)"),
         ("exmc", "EXMC slave"),
-        ("rst_", "reset and enable synchronisers"),
-        ("en_core", "reset and enable synchronisers"),
+        ("rst_", "single-bit synchronisers (reset, enable, start failure)"),
+        ("en_core", "single-bit synchronisers (reset, enable, start failure)"),
+        ("fail_sync", "single-bit synchronisers (reset, enable, start failure)"),
     ];
     BLOCKS
         .iter()

@@ -250,7 +250,7 @@ fn sim_reports_rejections_blocked_starts_and_underruns() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success(), "exit 0 with a rejected segment:\n{stdout}");
     assert!(stdout.contains("axis 1: PROBLEM: segment 0 rejected, error 2"), "{stdout}");
-    assert!(stdout.contains("axis 0: PROBLEM: did not start: START waits for every axis in its mask, and axis 1 has no valid segment"), "{stdout}");
+    assert!(stdout.contains("axis 0: PROBLEM: did not start: axis 1 has no valid segment, so the core cancelled the START (GSTATUS.START_FAILED)"), "{stdout}");
     assert!(stderr.contains("did not run as planned on axis 0, 1"), "{stderr}");
     assert_eq!(r["ok"], false);
     assert_eq!(r["axes"][0]["steps"], 0, "axis 0 moved although axis 1's start could not complete");

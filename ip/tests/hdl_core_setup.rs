@@ -46,12 +46,18 @@ fn check_r<const R: usize>(seg: Segment) {
     let plan = SegmentPlan::new(seg);
     let i = word.i;
     let n = seg.n_steps();
-    // A segment of at most DEPTH steps (or a dwell) is done: the context is idle again.
+    // The scheduler stops once the FIFO holds DEPTH periods; up to two more may be in
+    // the pulse stage by then, so DEPTH to DEPTH + 2 are computed. A segment of at most
+    // DEPTH steps (or a dwell) is done: the context is idle again.
     if n as usize <= DEPTH {
         assert_eq!(kind, 0, "{seg:?}: context should be idle after {n} steps");
         return;
     }
-    assert_eq!(i as usize, DEPTH, "{seg:?}: steps computed before the FIFO filled");
+    if kind == 0 {
+        assert!(n as usize <= DEPTH + 2, "{seg:?}: idle with steps left");
+        return;
+    }
+    assert!((DEPTH..=DEPTH + 2).contains(&(i as usize)), "{seg:?}: {i} steps computed before the FIFO filled");
     let want_kind = match plan.kind {
         PlanKind::Uniform { .. } => 1,
         PlanKind::Accelerate => 2,

@@ -1,9 +1,12 @@
 //! StepAxis (period FIFO + step generator) against the reference model's vectors:
 //! every STEP rising edge at release + 1 + E_i, pulse widths, DIR setup and hold,
-//! the final position, and underrun exactly when the FIFO is starved. The rust-hdl
+//! the final position, and underrun exactly when the FIFO is starved. Every falling
+//! STEP edge and DIR change equals the pins model (`model::pulse`), with the default
+//! output timing and with one at the minimum period. The rust-hdl
 //! simulation and the exported Verilog (Verilator, Icarus) must also produce the
 //! same trace, bit for bit. Segment-done and underrun counters, and an abort in
-//! the middle of a move (no edge after it, the pulse in flight keeps its high time).
+//! the middle of a move (no edge after it, the pulse in flight keeps its high time),
+//! and a reset in the middle of a pulse (the pulse finishes, then nothing).
 
 mod common;
 
@@ -12,6 +15,7 @@ use rust_hdl::prelude::*;
 use std::path::PathBuf;
 use tdm_stepper::hdl::ram_fifo::{pack_entry, ENTRY_BITS};
 use tdm_stepper::hdl::step_gen::StepAxis;
+use tdm_stepper::model::{pulse, FifoEntry, PulseTiming};
 use tdm_stepper::verify::{run, run_rust_hdl, Port, TbSpec};
 use tdm_stepper::vectors::VectorFile;
 
@@ -24,21 +28,30 @@ struct Entry {
     step: bool,
     reverse: bool,
     last: bool,
+    /// The STEP high time the pulse stage writes into the entry.
+    high: u16,
 }
 
 /// The FIFO stream of one vector axis, and its expected edges (ticks from release).
 fn axis_entries(file: &str, axis: usize) -> (Vec<Entry>, Vec<u64>, i64) {
+    axis_entries_with(file, axis, &PulseTiming::default())
+}
+
+fn axis_entries_with(file: &str, axis: usize, timing: &PulseTiming) -> (Vec<Entry>, Vec<u64>, i64) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../vectors").join(file);
     let v: VectorFile = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     let a = &v.axes[axis];
     let mut entries = Vec::new();
     for s in a.segments.iter().filter(|s| s.error.is_none()) {
         if s.steps == 0 {
-            entries.push(Entry { ticks: s.t_ticks, step: false, reverse: false, last: true });
+            entries.push(Entry { ticks: s.t_ticks, step: false, reverse: false, last: true, high: 0 });
         }
         for (k, &p) in s.periods.iter().enumerate() {
-            entries.push(Entry { ticks: p, step: true, reverse: s.steps < 0, last: k + 1 == s.periods.len() });
+            entries.push(Entry { ticks: p, step: true, reverse: s.steps < 0, last: k + 1 == s.periods.len(), high: 0 });
         }
+    }
+    for e in entries.iter_mut() {
+        e.high = timing.high_ticks(e.ticks) as u16;
     }
     (entries, a.edge_ticks.clone(), a.final_position)
 }
@@ -81,7 +94,7 @@ fn scenario(entries: &[Entry], starve_at: Option<(usize, usize)>, abort_row: Opt
         let push = next_push < n && pushes[next_push] == r;
         let entry = if push {
             let e = entries[next_push];
-            pack_entry(e.ticks, e.step, e.reverse, e.last) as u128
+            pack_entry(e.ticks, e.step, e.reverse, e.last, e.high) as u128
         } else {
             0
         };
@@ -164,7 +177,17 @@ fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
 }
 
 /// Checks a trace against the reference edges and the timing rules.
-fn check_trace(name: &str, entries: &[Entry], edges: &[u64], position: i64, sc: &Scenario, trace: &[Vec<u128>], starved: bool) {
+#[allow(clippy::too_many_arguments)]
+fn check_trace(
+    name: &str,
+    entries: &[Entry],
+    edges: &[u64],
+    position: i64,
+    sc: &Scenario,
+    trace: &[Vec<u128>],
+    starved: bool,
+    timing: &PulseTiming,
+) {
     let rises: Vec<usize> = (1..trace.len()).filter(|&r| trace[r][0] == 1 && trace[r - 1][0] == 0).collect();
     assert_eq!(rises.len(), edges.len(), "{name}: step count");
     let steps: Vec<&Entry> = entries.iter().filter(|e| e.step).collect();
@@ -184,21 +207,25 @@ fn check_trace(name: &str, entries: &[Entry], edges: &[u64], position: i64, sc: 
     assert_eq!(trace.last().unwrap()[6], segments % 256, "{name}: segments done");
     let underruns = (1..trace.len()).filter(|&r| trace[r][3] == 1 && trace[r - 1][3] == 0).count() as u128;
     assert_eq!(trace.last().unwrap()[7], underruns, "{name}: underrun count");
-    // Pulse widths: max(1, ⌊next entry/2⌋), or half the last period at the end.
-    let mut k_entry = 0usize;
+    // Falling edges and DIR changes: the pins model, row = release + 1 + tick.
+    if !starved {
+        let fifo: Vec<FifoEntry> =
+            entries.iter().map(|e| FifoEntry { ticks: e.ticks, step: e.step, reverse: e.reverse }).collect();
+        let pins = pulse::pins(&fifo, timing);
+        let row = |t: u64| sc.release_row + 1 + t as usize;
+        let falls: Vec<usize> = (1..trace.len()).filter(|&r| trace[r][0] == 0 && trace[r - 1][0] == 1).collect();
+        assert_eq!(falls, pins.falls.iter().map(|&t| row(t)).collect::<Vec<_>>(), "{name}: falling edges");
+        let dir_changes: Vec<(usize, bool)> =
+            (sc.release_row + 1..trace.len()).filter(|&r| trace[r][1] != trace[r - 1][1]).map(|r| (r, trace[r][1] == 1)).collect();
+        assert_eq!(dir_changes, pins.dir_changes.iter().map(|&(t, d)| (row(t), d)).collect::<Vec<_>>(), "{name}: DIR changes");
+        let (high, low, setup, hold) = pulse::measure(&pins);
+        assert!(high >= timing.high_min() as u64 && low >= timing.low_min() as u64, "{name}: high {high}, low {low}");
+        assert!(setup >= timing.dir_setup as u64 && hold >= timing.dir_hold as u64, "{name}: setup {setup}, hold {hold}");
+    }
     for (i, &r) in rises.iter().enumerate() {
-        while !entries[k_entry].step {
-            k_entry += 1;
-        }
-        let next = entries.get(k_entry + 1).map_or(entries[k_entry].ticks, |e| e.ticks);
-        let high = (r..trace.len()).take_while(|&q| trace[q][0] == 1).count();
-        if !starved {
-            assert_eq!(high as u32, (next / 2).max(1), "{name}: pulse {i} high time");
-        }
         // DIR at the edge is the step's direction, and was already one row before.
         assert_eq!(trace[r][1] == 1, steps[i].reverse, "{name}: DIR at edge {i}");
         assert_eq!(trace[r - 1][1], trace[r][1], "{name}: DIR setup at edge {i}");
-        k_entry += 1;
     }
     // DIR never changes while STEP is high.
     for r in 1..trace.len() {
@@ -213,7 +240,7 @@ fn run_vector(file: &str, axis: usize) {
     let (entries, edges, position) = axis_entries(file, axis);
     let sc = scenario(&entries, None, None);
     let trace = simulate_all(&name, &sc.rows);
-    check_trace(&name, &entries, &edges, position, &sc, &trace, false);
+    check_trace(&name, &entries, &edges, position, &sc, &trace, false, &PulseTiming::default());
 }
 
 #[test]
@@ -232,7 +259,7 @@ fn starved_fifo_flags_underrun_and_loses_no_step() {
     let (entries, edges, position) = axis_entries("short_segments.json", 1);
     let sc = scenario(&entries, Some((5, 7)), None);
     let trace = simulate_all("step_starved", &sc.rows);
-    check_trace("step_starved", &entries, &edges, position, &sc, &trace, true);
+    check_trace("step_starved", &entries, &edges, position, &sc, &trace, true, &PulseTiming::default());
 }
 
 /// Abort mid-move, once with STEP low and once just after an edge: no edge rises
@@ -261,7 +288,55 @@ fn abort_stops_at_once_with_an_exact_position() {
         let r = *rises.last().unwrap();
         let high = (r..trace.len()).take_while(|&q| trace[q][0] == 1).count();
         let step_entries: Vec<&Entry> = entries.iter().filter(|e| e.step).collect();
-        let next = step_entries.get(rises.len()).map_or(0, |e| e.ticks);
-        assert_eq!(high as u32, (next / 2).max(1), "{name}: pulse in flight cut short");
+        let next = step_entries.get(rises.len()).map_or(0, |e| e.high);
+        assert_eq!(high as u16, next, "{name}: pulse in flight cut short");
     }
+}
+
+/// Output timing at the vector's shortest period M: max(H, D) + max(L, S) = M, so the
+/// pulse is clamped on both sides at the fastest steps and DIR changes as late and as
+/// early as allowed. Every rise, fall and DIR change equals the pins model.
+#[test]
+fn output_timing_at_the_minimum_period_is_met_on_the_pins() {
+    let (plain, _, _) = axis_entries("short_segments.json", 0);
+    let m = plain.iter().filter(|e| e.step).map(|e| e.ticks).min().unwrap();
+    assert!(m >= 4, "vector too fast for this test: {m}");
+    let timing = PulseTiming {
+        step_high: (m / 3) as u16,
+        dir_hold: (m / 2) as u16,
+        step_low: (m / 4) as u16,
+        dir_setup: (m - m / 2) as u16,
+    };
+    assert_eq!(timing.high_min() + timing.low_min(), m);
+    let (entries, edges, position) = axis_entries_with("short_segments.json", 0, &timing);
+    let sc = scenario(&entries, None, None);
+    let trace = simulate_all("step_timing", &sc.rows);
+    check_trace("step_timing", &entries, &edges, position, &sc, &trace, false, &timing);
+}
+
+/// A reset (CTRL.ENABLE = 0, or the reset pin) one tick into a pulse: the pulse keeps
+/// its whole high time, DIR does not change while it is high, and nothing rises after.
+#[test]
+fn reset_mid_pulse_leaves_no_runt() {
+    let (entries, edges, _) = axis_entries("short_segments.json", 0);
+    let mut sc = scenario(&entries, None, None);
+    let k = edges.len() / 2;
+    let edge_row = sc.release_row + 1 + edges[k] as usize;
+    for r in edge_row..edge_row + 3 {
+        sc.rows[r][0] = 1;
+    }
+    let trace = simulate_all("step_reset_pulse", &sc.rows);
+    let rises: Vec<usize> = (1..trace.len()).filter(|&r| trace[r][0] == 1 && trace[r - 1][0] == 0).collect();
+    assert_eq!(rises.len(), k + 1, "step_reset_pulse: edges emitted");
+    let high = (edge_row..trace.len()).take_while(|&q| trace[q][0] == 1).count();
+    let step_k = entries.iter().enumerate().filter(|(_, e)| e.step).nth(k).unwrap().0;
+    let expected = entries.get(step_k + 1).map_or(entries[step_k].high, |e| e.high);
+    assert!(expected > 3, "the pulse must outlast the reset for this test");
+    assert_eq!(high as u16, expected, "step_reset_pulse: pulse cut by the reset");
+    for r in edge_row..edge_row + high {
+        assert_eq!(trace[r][1], trace[edge_row][1], "step_reset_pulse: DIR changed during the pulse");
+    }
+    let last = trace.last().unwrap();
+    assert_eq!(last[2], 0, "step_reset_pulse: position not cleared");
+    assert_eq!(last[4], 0, "step_reset_pulse: still active");
 }

@@ -319,3 +319,92 @@ fn the_documented_decelerate_to_rest_example_is_accepted() {
     assert_eq!((run.edge_ticks.len(), *run.edge_ticks.last().unwrap()), (1200, 1_000_000));
     assert!(run.max_edge_error_ticks() <= EDGE_ERROR_BOUND_TICKS);
 }
+
+/// Output timing registers with max(H, D) + max(L, S) ≤ M, each value at least 1.
+fn pulse_timing(m: u32) -> impl Strategy<Value = PulseTiming> {
+    (1u32..=m - 1, 0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0).prop_map(move |(hm, xh, xs, xd)| {
+        let lm = m - hm;
+        // One of each pair is the minimum itself, the other anything up to it.
+        let other = |x: f64, top: u32| 1 + (x * (top - 1) as f64) as u32;
+        let (step_high, dir_hold) = if xd < 0.5 { (hm, other(xh, hm)) } else { (other(xh, hm), hm) };
+        let (step_low, dir_setup) = if xs < 0.5 { (lm, other(xd, lm)) } else { (other(xd, lm), lm) };
+        PulseTiming {
+            step_high: step_high.min(65_535) as u16,
+            step_low: step_low.min(65_535) as u16,
+            dir_setup: dir_setup.min(65_535) as u16,
+            dir_hold: dir_hold.min(65_535) as u16,
+        }
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+
+    /// Multi-segment moves with reversals and dwells, under any accepted output timing:
+    /// every pulse on the pins is at least max(H, D) high and max(L, S) low, DIR changes
+    /// at least S before and D after a rising edge, and the rising edges are the model's.
+    /// With the default registers the pulse is the half period, max(1, ⌊Δ/2⌋).
+    #[test]
+    fn pulse_timing_holds_on_the_pins(
+        parts in prop::collection::vec(valid_segment(), 1..6),
+        (timing, m) in min_period().prop_filter("room for H and L", |&m| m >= 2)
+            .prop_flat_map(|m| (pulse_timing(m), Just(m))),
+    ) {
+        let limits = Limits::new(m).unwrap();
+        prop_assert_eq!(timing.check(&limits), Ok(()));
+        let segs: Vec<Segment> = parts.iter()
+            .map(|(s, _)| *s)
+            .filter(|s| s.n_steps() <= FULL_CHECK_STEPS && s.validate(&limits).is_ok())
+            .collect();
+        let run = AxisRun::run(&segs, &limits);
+        let pins = pulse::pins(&run.fifo, &timing);
+        prop_assert_eq!(&pins.rises, &run.edge_ticks);
+        let (high, low, setup, hold) = pulse::measure(&pins);
+        prop_assert!(high >= timing.step_high as u64 && high >= timing.dir_hold as u64, "high {high}, {timing:?}");
+        prop_assert!(low >= timing.step_low as u64 && low >= timing.dir_setup as u64, "low {low}, {timing:?}");
+        prop_assert!(setup >= timing.dir_setup as u64, "DIR setup {setup}, {timing:?}");
+        prop_assert!(hold >= timing.dir_hold as u64, "DIR hold {hold}, {timing:?}");
+        // Every reversal is on the pins, in order.
+        let mut dir = false;
+        let mut changes = Vec::new();
+        for (k, e) in run.fifo.iter().filter(|e| e.step).enumerate() {
+            if e.reverse != dir {
+                changes.push((k, e.reverse));
+                dir = e.reverse;
+            }
+        }
+        prop_assert_eq!(changes.len(), pins.dir_changes.len());
+        for ((k, rev), (t, level)) in changes.iter().zip(&pins.dir_changes) {
+            prop_assert_eq!(rev, level);
+            prop_assert!(*t < pins.rises[*k] && (*k == 0 || *t > pins.rises[*k - 1]), "DIR change at {t} not before step {k}");
+        }
+        // The default registers: half the following period (of the last one at the end).
+        let half = pulse::pins(&run.fifo, &PulseTiming::default());
+        let steps: Vec<usize> = (0..run.fifo.len()).filter(|&k| run.fifo[k].step).collect();
+        for (i, &k) in steps.iter().enumerate() {
+            let next = run.fifo.get(k + 1).map_or(run.fifo[k].ticks, |e| e.ticks);
+            prop_assert_eq!(half.falls[i] - half.rises[i], ((next / 2).max(1)).min(MAX_PULSE_TICKS) as u64);
+        }
+    }
+}
+
+/// The check the core applies before CTRL.ENABLE: values of 0 and a sum over M refused.
+#[test]
+fn pulse_timing_check_refuses_zero_and_a_sum_over_the_minimum_period() {
+    let limits = Limits::new(44).unwrap();
+    let t = |h, l, s, d| PulseTiming { step_high: h, step_low: l, dir_setup: s, dir_hold: d };
+    assert_eq!(t(1, 1, 1, 1).check(&limits), Ok(()));
+    assert_eq!(t(22, 22, 1, 1).check(&limits), Ok(()));
+    assert_eq!(t(10, 10, 22, 22).check(&limits), Ok(()));
+    assert!(t(23, 22, 1, 1).check(&limits).is_err());
+    assert!(t(10, 10, 22, 23).check(&limits).is_err());
+    assert!(t(0, 1, 1, 1).check(&limits).is_err());
+    assert!(t(1, 1, 0, 1).check(&limits).is_err());
+    // h(Δ) at the boundaries: the low minimum wins over the half, the high minimum over both.
+    let h = t(5, 30, 1, 1);
+    assert_eq!(h.high_ticks(44), 14);
+    assert_eq!(h.high_ticks(100), 50);
+    assert_eq!(h.high_ticks(20), 5);
+    assert_eq!(PulseTiming::default().high_ticks(1), 1);
+    assert_eq!(PulseTiming::default().high_ticks(u32::MAX), 65_535);
+}

@@ -10,7 +10,7 @@ use rust_hdl::prelude::*;
 use tdm_stepper::vectors::paper_experiment_segments;
 use tdm_stepper::hdl::core::t_calc_sqrt;
 use tdm_stepper::hdl::top::TdmStepper;
-use tdm_stepper::model::{AxisRun, Limits, Segment};
+use tdm_stepper::model::{pulse, AxisRun, Limits, PulseTiming, Segment};
 use tdm_stepper::regs::{self, CoreParams};
 use tdm_stepper::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming};
 use tdm_stepper::verify::system::{run_system, run_system_with, Clocks, RunOptions, SystemTrace};
@@ -135,6 +135,58 @@ fn check_edges_in(trace: &SystemTrace, axes: &[Vec<Segment>], window: std::ops::
     release.expect("no axis moved")
 }
 
+/// Falling STEP edges and DIR changes of axis `a` (clk cycles; DIR changes with the new
+/// level).
+fn falls_and_dir(trace: &SystemTrace, a: usize) -> (Vec<u64>, Vec<(u64, bool)>) {
+    let (mut falls, mut dirs) = (Vec::new(), Vec::new());
+    let (mut ps, mut pd) = (0, 0);
+    for (c, v) in &trace.changes {
+        let s = (v[0].unwrap_or(0) >> a) & 1;
+        let d = (v[1].unwrap_or(0) >> a) & 1;
+        if s == 0 && ps == 1 {
+            falls.push(*c);
+        }
+        if d != pd {
+            dirs.push((*c, d == 1));
+        }
+        (ps, pd) = (s, d);
+    }
+    (falls, dirs)
+}
+
+/// Every falling STEP edge and DIR change of every axis is the pins model's for
+/// `timing`, from the release tick `l0` that [`check_edges`] found; the narrowest high,
+/// low, setup and hold meet the registers. Returns them per axis.
+fn check_pins(trace: &SystemTrace, axes: &[Vec<Segment>], l0: i64, timing: &PulseTiming, what: &str) -> Vec<(u64, u64, u64, u64)> {
+    let mut out = Vec::new();
+    for (a, segs) in axes.iter().enumerate() {
+        let run = AxisRun::run(segs, &Limits::default());
+        let pins = pulse::pins(&run.fifo, timing);
+        let at = |t: u64| (l0 + 1 + t as i64) as u64;
+        let (falls, dirs) = falls_and_dir(trace, a);
+        let want: Vec<u64> = pins.falls.iter().map(|&t| at(t)).collect();
+        let k = falls.iter().zip(&want).position(|(g, w)| g != w).unwrap_or(falls.len().min(want.len()));
+        assert!(
+            falls == want,
+            "{what}: axis {a}: {} falling edges, the model {}; first difference at {k}: {:?} against {:?} (rise {:?})",
+            falls.len(),
+            want.len(),
+            falls.get(k),
+            want.get(k),
+            pins.rises.get(k).map(|&t| at(t))
+        );
+        let want: Vec<(u64, bool)> = pins.dir_changes.iter().map(|&(t, d)| (at(t), d)).collect();
+        assert_eq!(dirs, want, "{what}: axis {a} DIR changes");
+        let m = pulse::measure(&pins);
+        assert!(m.0 >= timing.step_high as u64 && m.0 >= timing.dir_hold as u64, "{what}: axis {a} high {}", m.0);
+        assert!(m.1 >= timing.step_low as u64 && m.1 >= timing.dir_setup as u64, "{what}: axis {a} low {}", m.1);
+        assert!(m.2 >= timing.dir_setup as u64, "{what}: axis {a} DIR setup {}", m.2);
+        assert!(m.3 >= timing.dir_hold as u64, "{what}: axis {a} DIR hold {}", m.3);
+        out.push(m);
+    }
+    out
+}
+
 fn read16(b: &BusModel, t: &SystemTrace, id: tdm_stepper::verify::bus::ReadId) -> u16 {
     b.value(t, id).expect("read returned undefined bits")
 }
@@ -165,7 +217,12 @@ fn paper_experiment_through_the_bus_in_verilator() {
     let levels: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
     b.write_reg("START", 0, 0b11);
     let end = AxisRun::run(&axes[0], &Limits::default()).end_tick.max(AxisRun::run(&axes[1], &Limits::default()).end_tick);
-    b.idle_until_ps(b.now_ps() + (end + 5_000) * 2 * CLOCKS.clk_half_ps);
+    // The last pulse is half the last period (17,677 and 20,412 ticks), and BUSY holds
+    // until it falls: 5,000 ticks after the last edges both axes are still busy.
+    let start_ps = b.now_ps();
+    b.idle_until_ps(start_ps + (end + 5_000) * 2 * CLOCKS.clk_half_ps);
+    let busy_in_pulse = b.read_reg("BUSY", 0);
+    b.idle_until_ps(start_ps + (end + 30_000) * 2 * CLOCKS.clk_half_ps);
     let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
     let busy = b.read_reg("BUSY", 0);
     let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
@@ -184,9 +241,12 @@ fn paper_experiment_through_the_bus_in_verilator() {
         assert_eq!(s & 0x20, 0x20, "axis {a}: BUSY after pushes");
         assert_eq!(s & 0xFFC0, 0, "axis {a}: flags after pushes");
     }
-    check_edges(&trace, &axes, "paper via bus");
+    let l0 = check_edges(&trace, &axes, "paper via bus");
+    // Every falling edge and DIR change too, at the default output timing (the half period).
+    check_pins(&trace, &axes, l0, &PulseTiming::default(), "paper via bus");
     assert_eq!(position(&b, &trace, pos[0]), Some(2400));
     assert_eq!(position(&b, &trace, pos[1]), Some(1800));
+    assert_eq!(read16(&b, &trace, busy_in_pulse), 0b11, "BUSY during the last pulses");
     assert_eq!(read16(&b, &trace, busy), 0);
     for a in 0..2 {
         assert_eq!(read16(&b, &trace, status[a]), 0, "axis {a}: STATUS at the end");
@@ -224,7 +284,7 @@ fn bad_input_through_the_bus_is_refused_and_loses_nothing() {
     let mut b = bus();
     b.enable(ENABLE_WAIT);
     // Unknown addresses read 0, before and after a write to them.
-    let unknown: Vec<u16> = vec![0x017, 0x0FF, 0x10A, 0x10F, 0x120, 0x1FF];
+    let unknown: Vec<u16> = vec![0x01B, 0x0FF, 0x10A, 0x10F, 0x120, 0x1FF];
     for &a in &unknown {
         b.write(a, 0xFFFF);
     }
@@ -363,7 +423,7 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
             2 => b.write_reg(staging[(r >> 8) as usize % staging.len()], (r >> 16) as usize % 2, (r >> 20) as u16),
             _ => {
                 // An unknown address: a global gap or an unused axis offset.
-                let a = if r & 0x100 != 0 { 0x14 + (r >> 20) as u16 % 0xEC } else { 0x10A + (r >> 20) as u16 % 6 };
+                let a = if r & 0x100 != 0 { 0x1B + (r >> 20) as u16 % 0xE5 } else { 0x10A + (r >> 20) as u16 % 6 };
                 b.write(a, (r >> 32) as u16);
             }
         }
@@ -409,7 +469,8 @@ fn interrupts_random_traffic_and_abort_through_the_bus() {
     b.idle(b.cycles_for_ps(150_000 * tick_ps));
     let p4_abort = b.now_ps();
     b.write_reg("ABORT", 0, 1);
-    b.idle(200);
+    // BUSY stays set until the pulse in flight (250 of the 500-tick period) has fallen.
+    b.idle_until_ps(b.now_ps() + 400 * tick_ps);
     let after_abort: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
     let busy_after = b.read_reg("BUSY", 0);
     let pos4: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
@@ -738,5 +799,214 @@ fn staging_and_mirror_memories_hold_each_axis_apart() {
             assert_eq!(position(&b, t, pos[a]), Some(segs[a].steps), "{what}: axis {a} position");
             assert_eq!(read16(&b, t, done[a]), 1, "{what}: axis {a} DONE_COUNT");
         }
+    }
+}
+
+/// A deterministic list of valid segments at the export's limits: uniform, accelerating
+/// and decelerating, both directions, and dwells, each 2,000..20,000 ticks.
+fn random_segments(seed: u64, count: usize, limits: &Limits) -> Vec<Segment> {
+    let mut x = seed | 1;
+    let mut next = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    let rmax = limits.max_rate() as u128;
+    let mut out = Vec::new();
+    while out.len() < count {
+        let t = 2_000 + next() % 18_000;
+        if next() % 6 == 0 {
+            out.push(Segment::dwell(t as u32));
+            continue;
+        }
+        let v0 = (next() as u128) % (rmax + 1);
+        // n with 0 ≤ v_end = 2n/T − v0 ≤ RMAX: n in [v0·T/2, (v0 + RMAX)·T/2] / 2^32.
+        let lo = (v0 * t as u128).div_ceil(2 << 32);
+        let hi = ((v0 + rmax) * t as u128) / (2 << 32);
+        if hi < lo.max(1) {
+            continue;
+        }
+        let n = (lo.max(1) + (next() as u128) % (hi - lo.max(1) + 1)) as i32;
+        let seg = Segment::new(v0 as u32, t as u32, if next() % 2 == 0 { n } else { -n });
+        if seg.validate(limits).is_ok() {
+            out.push(seg);
+        }
+    }
+    out
+}
+
+/// The output timing registers through the bus: a set that does not fit the minimum
+/// period makes CTRL.ENABLE = 1 refused; a fitting set (DIR hold and setup the larger,
+/// max(H, D) + max(L, S) = 42 of the 44-tick minimum) is taken; a write while enabled
+/// is refused and changes nothing. Then axis 0 reverses at the top rate (cruise at RMAX
+/// forward, then at RMAX backward) and axis 1 runs random segments: every rise, fall
+/// and DIR change is the pins model's, none narrower than the registers. Finally
+/// CTRL.ENABLE = 0 in the middle of a pulse: the pulse keeps its whole high time.
+#[test]
+fn output_timing_registers_hold_on_the_pins_through_the_bus() {
+    let limits = tdm_stepper::export::ExportOptions::default().limits();
+    let m = limits.min_period_ticks;
+    let rmax = limits.max_rate();
+    let timing = PulseTiming { step_high: 10, step_low: 8, dir_setup: 20, dir_hold: 22 };
+    assert_eq!(timing.check(&limits), Ok(()));
+    assert!(timing.high_min() + timing.low_min() + 2 >= m, "the test should sit at the limit");
+    let too_wide = PulseTiming { step_high: (m - 19) as u16, ..timing };
+    assert!(too_wide.check(&limits).is_err());
+
+    let n1 = 100i32;
+    let t_up = (((2 * n1 as u64) << 32).div_ceil(rmax as u64)) as u32;
+    let t_down = (((2 * n1 as u64) << 32) / rmax as u64) as u32;
+    let t_cruise = (((100u64) << 32).div_ceil(rmax as u64)) as u32;
+    let reversal = vec![
+        Segment::new(0, t_up, n1),
+        Segment::new(rmax, t_cruise, 100),
+        Segment::new(rmax, t_cruise, -100),
+        Segment::new(rmax, t_down, -n1),
+    ];
+    let random = random_segments(0x5eed_2026, 8, &limits);
+    let axes = vec![reversal, random];
+    for s in axes.iter().flatten() {
+        assert_eq!(s.validate(&limits), Ok(()), "{s:?}");
+    }
+
+    let mut b = bus();
+    let write = |b: &mut BusModel, t: &PulseTiming| {
+        b.write_reg("STEP_HIGH", 0, t.step_high);
+        b.write_reg("STEP_LOW", 0, t.step_low);
+        b.write_reg("DIR_SETUP", 0, t.dir_setup);
+        b.write_reg("DIR_HOLD", 0, t.dir_hold);
+    };
+    let reset_values: Vec<_> = ["STEP_HIGH", "STEP_LOW", "DIR_SETUP", "DIR_HOLD"].iter().map(|r| b.read_reg(r, 0)).collect();
+    write(&mut b, &too_wide);
+    b.enable(ENABLE_WAIT);
+    let refused_enable = (b.read_reg("CTRL", 0), b.read_reg("GSTATUS", 0));
+    b.write_reg("GSTATUS", 0, 0b10);
+    b.write_reg("STEP_HIGH", 0, 0);
+    let refused_zero = (b.read_reg("STEP_HIGH", 0), b.read_reg("GSTATUS", 0));
+    b.write_reg("GSTATUS", 0, 0b10);
+    write(&mut b, &timing);
+    b.enable(ENABLE_WAIT);
+    let enabled = b.read_reg("GSTATUS", 0);
+    b.write_reg("STEP_LOW", 0, 1);
+    let refused_on = (b.read_reg("STEP_LOW", 0), b.read_reg("GSTATUS", 0));
+    b.write_reg("GSTATUS", 0, 0b10);
+    for (a, segs) in axes.iter().enumerate() {
+        for s in segs {
+            b.push_segment(a, s);
+        }
+    }
+    b.idle(200);
+    b.write_reg("START", 0, 0b11);
+    let start = b.now_ps();
+    let end = axes.iter().map(|s| AxisRun::run(s, &limits).end_tick).max().unwrap();
+    b.idle_until_ps(start + (end + 3_000) * 2 * CLOCKS.clk_half_ps);
+    let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
+    // A slow cruise (10,000-tick periods, 5,000-tick pulses) on axis 0, disabled 2,500
+    // ticks after its third edge is due.
+    let slow = Segment::new(((1u64 << 32) / 10_000) as u32, 100_000, 10);
+    b.push_segment(0, &slow);
+    b.idle(200);
+    b.write_reg("START", 0, 0b01);
+    let slow_start = b.now_ps();
+    b.idle_until_ps(slow_start + (3 * 10_000 + 2_500 + 600) * 2 * CLOCKS.clk_half_ps);
+    let disable_cycle = clk_cycle_at(b.now_ps());
+    b.write_reg("CTRL", 0, 0);
+    b.idle_until_ps(b.now_ps() + 10_000 * 2 * CLOCKS.clk_half_ps);
+    let trace = verilator_exported::<2>("system_output_timing", &b, cycles_after(&b, 50));
+
+    let got: Vec<u16> = reset_values.iter().map(|&id| read16(&b, &trace, id)).collect();
+    assert_eq!(got, vec![1, 1, 1, 1], "output timing reset values");
+    let (ctrl, gs) = (read16(&b, &trace, refused_enable.0), read16(&b, &trace, refused_enable.1));
+    assert_eq!((ctrl & 1, gs & 0b11), (0, 0b10), "ENABLE with timing over the minimum period: CTRL {ctrl:#x}, GSTATUS {gs:#x}");
+    let (v, gs) = (read16(&b, &trace, refused_zero.0), read16(&b, &trace, refused_zero.1));
+    assert_eq!((v, gs & 0b10), (too_wide.step_high, 0b10), "a write of 0 is refused");
+    assert_eq!(read16(&b, &trace, enabled) & 1, 1, "not ENABLED with fitting timing");
+    let (v, gs) = (read16(&b, &trace, refused_on.0), read16(&b, &trace, refused_on.1));
+    assert_eq!((v, gs & 0b10), (timing.step_low, 0b10), "a timing write while enabled is refused");
+    for a in 0..2 {
+        let st = read16(&b, &trace, status[a]);
+        assert_eq!(st & (STATUS_UNDERRUN | STATUS_OVERFLOW | STATUS_ERROR), 0, "axis {a}: STATUS {st:#06x}");
+    }
+    let first_end = clk_cycle_at(slow_start);
+    let window = 0..first_end;
+    let l0 = check_edges_in(&trace, &axes, window.clone(), "output timing");
+    let mut early = trace.clone();
+    early.changes.retain(|(c, _)| window.contains(c));
+    let meas = check_pins(&early, &axes, l0, &timing, "output timing");
+    let reversal_gaps: Vec<u64> = rises(&early, 0).windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(*reversal_gaps.iter().min().unwrap() <= m as u64 + 1, "axis 0 does not reach the top rate");
+    assert!(meas[0].2 < u64::MAX && meas[0].3 < u64::MAX, "axis 0 has no reversal to measure");
+    eprintln!("output timing (high, low, DIR setup, DIR hold), narrowest: axis 0 {:?}, axis 1 {:?}", meas[0], meas[1]);
+    // The disable: the pulse high at that moment ends at its full high time.
+    let rises0: Vec<u64> = rises(&trace, 0).into_iter().filter(|&c| c >= first_end).collect();
+    let (falls0, _) = falls_and_dir(&trace, 0);
+    let falls0: Vec<u64> = falls0.into_iter().filter(|&c| c >= first_end).collect();
+    assert_eq!(rises0.len(), 3, "the slow move's edges before the disable: {rises0:?}");
+    assert_eq!(falls0.len(), 3, "every pulse falls");
+    let last = (rises0[2], falls0[2]);
+    assert!(last.0 < disable_cycle && disable_cycle < last.1, "the disable did not hit a pulse: {last:?}, disable at {disable_cycle}");
+    assert_eq!(last.1 - last.0, timing.high_ticks(10_000) as u64, "the pulse at the disable was cut");
+}
+
+/// A START that cannot complete says so. Axis 1's only segment is rejected (code 2), so
+/// START 0b11 is cancelled: GSTATUS.START_FAILED and IRQ_ERROR bits 0 and 1 set, the
+/// irq line rises (IRQ_MASK_ERROR), no axis moves, axis 0 keeps its segment. A START
+/// naming an axis that never had a segment fails the same way. After the host pushes a
+/// valid segment to axis 1 and writes START again, both axes run, edge for edge the
+/// model's, and START_FAILED stays clear.
+#[test]
+fn a_start_with_an_empty_axis_is_reported_and_nothing_moves() {
+    let limits = tdm_stepper::export::ExportOptions::default().limits();
+    let good = vec![Segment::new(0, 20_000, 100)];
+    let bad = Segment::new(50_000_000, 20_000, -10);
+    assert_eq!(bad.validate(&limits).unwrap_err().code(), 2);
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IRQ_MASK_ERROR", 0, 0b11);
+    b.push_segment(0, &good[0]);
+    b.push_segment(1, &bad);
+    b.idle(2_000);
+    b.write_reg("START", 0, 0b11);
+    b.idle(1_000);
+    let failed = (b.read_reg("GSTATUS", 0), b.read_reg("IRQ_ERROR", 0));
+    let status = (b.read_reg("STATUS", 0), b.read_reg("STATUS", 1));
+    b.write_reg("GSTATUS", 0, 0b1000);
+    b.write_reg("IRQ_ERROR", 0, 0xFFFF);
+    b.write_reg("STATUS", 1, STATUS_ERROR);
+    // An axis that never had a segment (axis 1 now), alone in the mask.
+    b.write_reg("START", 0, 0b10);
+    b.idle(1_000);
+    let failed_empty = (b.read_reg("GSTATUS", 0), b.read_reg("IRQ_ERROR", 0));
+    b.write_reg("GSTATUS", 0, 0b1000);
+    b.write_reg("IRQ_ERROR", 0, 0xFFFF);
+    let cleared = b.read_reg("GSTATUS", 0);
+    let fail_end = b.now_ps();
+    b.push_segment(1, &good[0]);
+    b.idle(2_000);
+    b.write_reg("START", 0, 0b11);
+    let start = b.now_ps();
+    b.idle_until_ps(start + 25_000 * 2 * CLOCKS.clk_half_ps);
+    let after = (b.read_reg("GSTATUS", 0), b.read_reg("IRQ_ERROR", 0));
+    let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
+    let trace = verilator_exported::<2>("system_start_failed", &b, cycles_after(&b, 50));
+
+    let (gs, ie) = (read16(&b, &trace, failed.0), read16(&b, &trace, failed.1));
+    assert_eq!(gs & 0b1000, 0b1000, "START_FAILED not set: GSTATUS {gs:#06x}");
+    assert_eq!(ie, 0b11, "IRQ_ERROR for the start's mask");
+    let (s0, s1) = (read16(&b, &trace, status.0), read16(&b, &trace, status.1));
+    assert_eq!(s0 & 0x3F, 0x20, "axis 0 keeps its segment, BUSY: STATUS {s0:#06x}");
+    assert_eq!((s1 & 0x3F, s1 & STATUS_ERROR, s1 >> 12), (0, STATUS_ERROR, 2), "axis 1 empty, ERROR code 2: {s1:#06x}");
+    let (gs, ie) = (read16(&b, &trace, failed_empty.0), read16(&b, &trace, failed_empty.1));
+    assert_eq!((gs & 0b1000, ie), (0b1000, 0b10), "START of a never-pushed axis: GSTATUS {gs:#06x}");
+    assert_eq!(read16(&b, &trace, cleared) & 0b1000, 0, "START_FAILED is W1C");
+    let (up, _) = irq_edges(&trace);
+    assert!(up.iter().any(|&c| c < clk_cycle_at(fail_end)), "irq did not rise for the failed start");
+    assert!(rises(&trace, 0).iter().chain(&rises(&trace, 1)).all(|&c| c > clk_cycle_at(fail_end)), "an axis moved on a failed start");
+    let (gs, ie) = (read16(&b, &trace, after.0), read16(&b, &trace, after.1));
+    assert_eq!((gs & 0b1000, ie), (0, 0), "the good start: GSTATUS {gs:#06x}, IRQ_ERROR {ie:#x}");
+    check_edges(&trace, &[good.clone(), good.clone()], "after the failed starts");
+    for a in 0..2 {
+        assert_eq!(position(&b, &trace, pos[a]), Some(100), "axis {a} position");
     }
 }

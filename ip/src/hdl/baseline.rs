@@ -29,6 +29,9 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub start_mask: Signal<In, Bits<K>>,
     pub ready: Signal<Out, Bits<K>>,
     pub ext_go: Signal<In, Bits<K>>,
+    /// As the TDM core's: toggles on each cancelled START.
+    pub start_failed: Signal<Out, Bit>,
+    fail_tog: DFF<Bit>,
     pub step: Signal<Out, Bits<K>>,
     pub dir: Signal<Out, Bits<K>>,
     pub underrun: Signal<Out, Bits<K>>,
@@ -45,6 +48,8 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub sel_underruns: Signal<Out, Bits<8>>,
     pub sel_busy: Signal<Out, Bit>,
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
+    pub high_min: Signal<In, Bits<16>>,
+    pub low_min: Signal<In, Bits<16>>,
     cores: [TdmCore<1, R, DEPTH, QDEPTH>; K],
     sync: SyncStart<K>,
     step_bus: [BitInsert<K>; K],
@@ -92,6 +97,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             sel_underruns: Default::default(),
             sel_busy: Default::default(),
             fsm_state: Default::default(),
+            high_min: Default::default(),
+            low_min: Default::default(),
+            start_failed: Default::default(),
+            fail_tog: Default::default(),
             cores: std::array::from_fn(|_| TdmCore::new(limits)),
             sync: Default::default(),
             step_bus: std::array::from_fn(BitInsert::new),
@@ -112,11 +121,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for Baseline<K, R, DEPTH, QDEPTH> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, cmd_err);
+        dff_setup!(self, clock, cmd_err, fail_tog);
         self.sync.clock.next = self.clock.val();
         self.sync.reset.next = self.reset.val() | self.abort.val();
         self.sync.start.next = self.start.val();
         self.sync.start_mask.next = self.start_mask.val();
+        self.fail_tog.d.next = self.fail_tog.q.val() ^ self.sync.failed.val();
+        if self.reset.val() {
+            self.fail_tog.d.next = false;
+        }
+        self.start_failed.next = self.fail_tog.q.val();
         self.cmd_ready.next = true;
         self.cmd_error.next = self.cmd_err.q.val();
         self.fsm_state.next = self.cores[0].fsm_state.val();
@@ -131,6 +145,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sel_busy.next = false;
         for i in 0..K {
             self.cores[i].abort.next = self.abort.val();
+            self.cores[i].high_min.next = self.high_min.val();
+            self.cores[i].low_min.next = self.low_min.val();
             self.cores[i].clock.next = self.clock.val();
             self.cores[i].reset.next = self.reset.val();
             self.cores[i].cmd_valid.next = self.cmd_valid.val() & (self.cmd_axis.val().index() == i);
@@ -187,6 +203,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.busy.next = self.busy_bus[i].bus_out.val();
             self.ready.next = self.ready_bus[i].bus_out.val();
             self.sync.ready.next = self.ready_bus[i].bus_out.val();
+            self.sync.empty.next = !(self.ready_bus[i].bus_out.val() | self.busy_bus[i].bus_out.val());
         }
         if self.cmd_axis.val() > self.c_last_axis.val() {
             self.cmd_ready.next = true;

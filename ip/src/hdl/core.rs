@@ -42,6 +42,7 @@ use super::divider::{div_latency, Divider, DIV_NUM_BITS};
 use super::mul_seq::{mul_seq_latency, MulSeq, MUL_A_BITS};
 use super::mul_wide::{MulReg, MUL_REG_LATENCY};
 use super::block_ram::BlockRam;
+use super::pulse_stage::PulseStage;
 use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::step_gen::StepAxis;
@@ -122,6 +123,10 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub ready: Signal<Out, Bits<K>>,
     /// Releases axes directly (the baseline's shared start drives it; else 0).
     pub ext_go: Signal<In, Bits<K>>,
+    /// Toggles (a register) each time a START is cancelled because a masked axis had
+    /// nothing to run; 0 after reset.
+    pub start_failed: Signal<Out, Bit>,
+    fail_tog: DFF<Bit>,
     pub step: Signal<Out, Bits<K>>,
     pub dir: Signal<Out, Bits<K>>,
     pub underrun: Signal<Out, Bits<K>>,
@@ -140,6 +145,10 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub sel_busy: Signal<Out, Bit>,
     /// The scheduler's state register (Gray code), for waveforms.
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
+    /// Output timing: minimum STEP high and low times in ticks (max(STEP_HIGH, DIR_HOLD)
+    /// and max(STEP_LOW, DIR_SETUP)); quasi-static, see [`PulseStage`].
+    pub high_min: Signal<In, Bits<16>>,
+    pub low_min: Signal<In, Bits<16>>,
 
     /// Every axis's segment queue in one RAM: axis i's entries at i·QDEPTH + 0..QDEPTH.
     /// Its registered read port holds axis m's head from PICK into S_CHECK.
@@ -154,6 +163,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     c_qmask: Constant<Bits<SEG_ADDR_BITS>>,
     c_qdepth: Constant<Bits<8>>,
     axes: [StepAxis<DEPTH>; K],
+    /// Writes the STEP high time into every period entry on its way to a FIFO.
+    pulse: PulseStage,
     /// Per-axis context flags; public so that simulations can inspect them.
     pub ctx: [AxisContext; K],
     /// The wide context fields of every axis, two words each (see [`Self::context`]).
@@ -335,6 +346,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             underrun: Default::default(),
             active: Default::default(),
             busy: Default::default(),
+            start_failed: Default::default(),
+            fail_tog: Default::default(),
+            high_min: Default::default(),
+            low_min: Default::default(),
+            pulse: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
             sel_error: Default::default(),
@@ -498,7 +514,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -951,6 +967,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.active.next = self.active_bus[i].bus_out.val();
             self.busy.next = self.busy_bus[i].bus_out.val();
             self.sync.ready.next = self.ready_bus[i].bus_out.val();
+            self.sync.empty.next = !(self.ready_bus[i].bus_out.val() | self.busy_bus[i].bus_out.val());
             self.ready.next = self.ready_bus[i].bus_out.val();
         }
         self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();
@@ -965,6 +982,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
         self.flush.next = self.reset.val() | self.abort.val();
+        // The scheduler's period entries go through the pulse stage to the FIFOs.
+        self.pulse.clock.next = self.clock.val();
+        self.pulse.flush.next = self.flush.val();
+        self.pulse.high_min.next = self.high_min.val();
+        self.pulse.low_min.next = self.low_min.val();
+        self.pulse.push_in.next = self.pe_valid.q.val() | self.pd_valid.q.val();
+        self.pulse.axis_in.next = self.m.q.val();
+        if self.pe_valid.q.val() {
+            self.pulse.entry_in.next = self.step_entry.val();
+        } else {
+            self.pulse.entry_in.next = self.pd_entry.q.val();
+        }
         self.seg_ram.clock.next = self.clock.val();
         self.seg_ram.we.next = false;
         self.seg_ram.waddr.next = 0.into();
@@ -1025,14 +1054,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
             self.axes[i].abort.next = self.abort.val();
-            self.axes[i].push.next = (self.pe_valid.q.val() | self.pd_valid.q.val()) & (self.m.q.val().index() == i);
-            if self.pe_valid.q.val() {
-                self.axes[i].entry_in.next = self.step_entry.val();
-            } else {
-                self.axes[i].entry_in.next = self.pd_entry.q.val();
-            }
-            self.axes[i].more.next =
-                (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | (self.q_count[i].q.val() != 0);
+            self.axes[i].push.next = self.pulse.push_out.val() & (self.pulse.axis_out.val().index() == i);
+            self.axes[i].entry_in.next = self.pulse.entry_out.val();
+            self.axes[i].more.next = (self.ctx[i].kind.val() != 0)
+                | self.ctx[i].next_valid.val()
+                | (self.q_count[i].q.val() != 0)
+                // An entry of axis i on its way to the FIFO: in the scheduler's output
+                // register (pe_valid, pd_valid) or in either pulse stage.
+                | ((self.pe_valid.q.val() | self.pd_valid.q.val()) & (self.m.q.val().index() == i))
+                | (self.pulse.p0_valid.val() & (self.pulse.p0_axis.val().index() == i))
+                | (self.pulse.p1_valid.val() & (self.pulse.p1_axis.val().index() == i));
             self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
             self.axes[i].go.next = self.go_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
@@ -1049,6 +1080,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.under_bus[i].value.next = self.axes[i].underrun.val();
             self.active_bus[i].value.next = self.axes[i].active.val();
             self.busy_bus[i].value.next = self.axes[i].active.val()
+                | self.axes[i].pulsing.val()
+                | ((self.pe_valid.q.val() | self.pd_valid.q.val()) & (self.m.q.val().index() == i))
+                | (self.pulse.p0_valid.val() & (self.pulse.p0_axis.val().index() == i))
+                | (self.pulse.p1_valid.val() & (self.pulse.p1_axis.val().index() == i))
                 | (self.ctx[i].kind.val() != 0)
                 | self.ctx[i].next_valid.val()
                 | (self.q_count[i].q.val() != 0);
@@ -1094,6 +1129,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sync.reset.next = self.flush.val();
         self.sync.start.next = self.start.val();
         self.sync.start_mask.next = self.start_mask.val();
+        self.fail_tog.d.next = self.fail_tog.q.val() ^ self.sync.failed.val();
+        if self.reset.val() {
+            self.fail_tog.d.next = false;
+        }
+        self.start_failed.next = self.fail_tog.q.val();
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
             self.pe_valid.d.next = false;

@@ -10,6 +10,7 @@
 //! | distributed RAM, synchronous write, asynchronous read (custom Verilog leaf) | `lut_ram.rs` | 0 (read) |
 //! | RAM with a registered read (custom Verilog leaf): the segment queues | `block_ram.rs` | 1 (read) |
 //! | FIFO in LUT RAM (period FIFOs), show-ahead | `ram_fifo.rs` | 0 (head) |
+//! | pulse stage: the STEP high time of every period entry, from the output timing | `pulse_stage.rs` | 2 cycles |
 //! | step generator, and the FIFO plus generator (`StepAxis`) | `step_gen.rs` | edges at release + E_i |
 //! | per-axis scheduler context, in registers | `context.rs` | 1 cycle (write) |
 //! | synchronised start of masked axes | `sync_start.rs` | 1 cycle |
@@ -42,6 +43,8 @@ macro_rules! core_connect_ports {
             self.sel_axis.connect();
             self.ext_go.connect();
             self.abort.connect();
+            self.high_min.connect();
+            self.low_min.connect();
             self.connect_all();
         }
     };
@@ -67,6 +70,7 @@ pub mod iterate;
 pub mod mul_seq;
 pub mod mul_wide;
 pub mod lut_ram;
+pub mod pulse_stage;
 pub mod ram_fifo;
 pub mod regfile;
 pub mod root;

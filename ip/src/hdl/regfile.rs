@@ -89,6 +89,12 @@ pub struct RegFile<const K: usize> {
     pub cmd_data: Signal<Out, Bits<CMD_BITS>>,
     /// CTRL.ENABLE.
     pub enable: Signal<Out, Bit>,
+    /// Output timing for the core: max(STEP_HIGH, DIR_HOLD) and max(STEP_LOW,
+    /// DIR_SETUP), registers that change only while the core is held in reset.
+    pub high_min: Signal<Out, Bits<16>>,
+    pub low_min: Signal<Out, Bits<16>>,
+    /// Toggles (synchronised from clk) each time the core cancels a START.
+    pub start_fail_toggle: Signal<In, Bit>,
     pub irq: Signal<Out, Bit>,
 
     /// Staging, one LUT RAM per half-word register (V0_LO, V0_HI, T_LO, T_HI,
@@ -124,6 +130,18 @@ pub struct RegFile<const K: usize> {
     mask_qlow: DFF<Bits<16>>,
     mask_err: DFF<Bits<16>>,
     qlow: DFF<Bits<5>>,
+    t_high: DFF<Bits<16>>,
+    t_low: DFF<Bits<16>>,
+    t_setup: DFF<Bits<16>>,
+    t_hold: DFF<Bits<16>>,
+    hmin: DFF<Bits<16>>,
+    lmin: DFF<Bits<16>>,
+    timing_ok: DFF<Bit>,
+    fail_prev: DFF<Bit>,
+    start_failed: DFF<Bit>,
+    start_last: DFF<Bits<16>>,
+    c_axmask: Constant<Bits<16>>,
+    t_write: Signal<Local, Bit>,
     pos_latch: DFF<Bits<16>>,
     irq_q: DFF<Bit>,
 
@@ -203,6 +221,11 @@ pub struct RegFile<const K: usize> {
     a_clk_lo: Constant<Bits<ADDR_BITS>>,
     a_clk_hi: Constant<Bits<ADDR_BITS>>,
     a_minp: Constant<Bits<ADDR_BITS>>,
+    a_t_high: Constant<Bits<ADDR_BITS>>,
+    a_t_low: Constant<Bits<ADDR_BITS>>,
+    a_t_setup: Constant<Bits<ADDR_BITS>>,
+    a_t_hold: Constant<Bits<ADDR_BITS>>,
+    c_minp17: Constant<Bits<17>>,
     a_rmax_lo: Constant<Bits<ADDR_BITS>>,
     a_rmax_hi: Constant<Bits<ADDR_BITS>>,
     a_ctrl: Constant<Bits<ADDR_BITS>>,
@@ -251,6 +274,9 @@ impl<const K: usize> RegFile<K> {
             cmd_write: Default::default(),
             cmd_data: Default::default(),
             enable: Default::default(),
+            high_min: Default::default(),
+            low_min: Default::default(),
+            start_fail_toggle: Default::default(),
             irq: Default::default(),
             st_ram: std::array::from_fn(|_| Default::default()),
             st_vld: std::array::from_fn(|_| Default::default()),
@@ -276,6 +302,18 @@ impl<const K: usize> RegFile<K> {
             mask_qlow: Default::default(),
             mask_err: Default::default(),
             qlow: Default::default(),
+            t_high: Default::default(),
+            t_low: Default::default(),
+            t_setup: Default::default(),
+            t_hold: Default::default(),
+            hmin: Default::default(),
+            lmin: Default::default(),
+            timing_ok: Default::default(),
+            fail_prev: Default::default(),
+            start_failed: Default::default(),
+            start_last: Default::default(),
+            c_axmask: Constant::new((((1u64 << K) - 1) as u64).into()),
+            t_write: Default::default(),
             pos_latch: Default::default(),
             irq_q: Default::default(),
             accepting: Default::default(),
@@ -353,6 +391,11 @@ impl<const K: usize> RegFile<K> {
             a_clk_lo: c9("ID_CLOCK_HZ_LO"),
             a_clk_hi: c9("ID_CLOCK_HZ_HI"),
             a_minp: c9("ID_MIN_PERIOD"),
+            a_t_high: c9("STEP_HIGH"),
+            a_t_low: c9("STEP_LOW"),
+            a_t_setup: c9("DIR_SETUP"),
+            a_t_hold: c9("DIR_HOLD"),
+            c_minp17: Constant::new((p.min_period as u64).into()),
             a_rmax_lo: c9("ID_MAX_RATE_LO"),
             a_rmax_hi: c9("ID_MAX_RATE_HI"),
             a_ctrl: c9("CTRL"),
@@ -386,8 +429,23 @@ impl<const K: usize> Logic for RegFile<K> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, ctrl_en, core_en, refused, irq_done, irq_qlow, irq_err, mask_done, mask_qlow, mask_err, qlow,
-            pos_latch, irq_q
+            pos_latch, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last
         );
+        // Output timing: the two minima the core applies, and whether they fit in the
+        // minimum period (CTRL.ENABLE = 1 is refused otherwise). Registered: they
+        // change only with a timing write, which needs the core held in reset.
+        self.hmin.d.next = self.t_high.q.val();
+        if self.t_hold.q.val() > self.t_high.q.val() {
+            self.hmin.d.next = self.t_hold.q.val();
+        }
+        self.lmin.d.next = self.t_low.q.val();
+        if self.t_setup.q.val() > self.t_low.q.val() {
+            self.lmin.d.next = self.t_setup.q.val();
+        }
+        self.timing_ok.d.next =
+            (bit_cast::<17, 16>(self.hmin.q.val()) + bit_cast::<17, 16>(self.lmin.q.val())) <= self.c_minp17.val();
+        self.high_min.next = self.hmin.q.val();
+        self.low_min.next = self.lmin.q.val();
         for i in 0..K {
             self.st_vld[i].clock.next = self.clock.val();
             self.m_vld[i].clock.next = self.clock.val();
@@ -576,6 +634,14 @@ impl<const K: usize> Logic for RegFile<K> {
             }
         }
 
+        // A START the core cancelled (a masked axis had nothing to run): GSTATUS.START_FAILED
+        // and an error event for each axis of that START's mask.
+        self.fail_prev.d.next = self.start_fail_toggle.val();
+        if (self.fail_prev.q.val() != self.start_fail_toggle.val()) & self.accepting.val() {
+            self.start_failed.d.next = true;
+            self.ev_err.next = self.ev_err.val() | self.start_last.q.val();
+        }
+
         if self.push_ok.val() {
             self.cmd_write.next = true;
             self.cmd_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
@@ -651,17 +717,47 @@ impl<const K: usize> Logic for RegFile<K> {
         }
 
         // ---- global writes -----------------------------------------------------
+        self.t_write.next = (self.wr_addr.val() == self.a_t_high.val())
+            | (self.wr_addr.val() == self.a_t_low.val())
+            | (self.wr_addr.val() == self.a_t_setup.val())
+            | (self.wr_addr.val() == self.a_t_hold.val());
         self.irq_done.d.next = self.irq_done.q.val() | self.ev_done.val();
         self.irq_qlow.d.next = self.irq_qlow.q.val() | self.ev_qlow.val();
         self.irq_err.d.next = self.irq_err.q.val() | self.ev_err.val();
         if self.w_glob.val() {
             if self.wr_addr.val() == self.a_ctrl.val() {
-                self.ctrl_en.d.next = self.wr_data.val().get_bit(0);
+                // ENABLE = 1 only with output timing that fits the minimum period.
+                if self.wr_data.val().get_bit(0) & !self.timing_ok.q.val() {
+                    self.refused.d.next = true;
+                } else {
+                    self.ctrl_en.d.next = self.wr_data.val().get_bit(0);
+                }
+            }
+            // Output timing: written only while the core is off (CTRL.ENABLE and
+            // GSTATUS.ENABLED both 0), and never 0; otherwise refused, value kept.
+            if self.t_write.val() {
+                if self.ctrl_en.q.val() | self.core_en.q.val() | (self.wr_data.val() == 0) {
+                    self.refused.d.next = true;
+                } else {
+                    if self.wr_addr.val() == self.a_t_high.val() {
+                        self.t_high.d.next = self.wr_data.val();
+                    }
+                    if self.wr_addr.val() == self.a_t_low.val() {
+                        self.t_low.d.next = self.wr_data.val();
+                    }
+                    if self.wr_addr.val() == self.a_t_setup.val() {
+                        self.t_setup.d.next = self.wr_data.val();
+                    }
+                    if self.wr_addr.val() == self.a_t_hold.val() {
+                        self.t_hold.d.next = self.wr_data.val();
+                    }
+                }
             }
             if self.wr_addr.val() == self.a_start.val() {
                 if self.accepting.val() & !self.cmd_full.val() {
                     self.cmd_write.next = true;
                     self.cmd_data.next = bit_cast::<CMD_BITS, 16>(self.wr_data.val()) | (bit_cast::<CMD_BITS, 2>(1.into()) << 104);
+                    self.start_last.d.next = self.wr_data.val() & self.c_axmask.val();
                 } else {
                     self.refused.d.next = true;
                 }
@@ -697,6 +793,9 @@ impl<const K: usize> Logic for RegFile<K> {
             }
             if (self.wr_addr.val() == self.a_gstatus.val()) & self.wr_data.val().get_bit(1) {
                 self.refused.d.next = false;
+            }
+            if (self.wr_addr.val() == self.a_gstatus.val()) & self.wr_data.val().get_bit(3) {
+                self.start_failed.d.next = false;
             }
         }
         self.irq_q.d.next = ((self.irq_done.q.val() & self.mask_done.q.val())
@@ -734,6 +833,18 @@ impl<const K: usize> Logic for RegFile<K> {
             if self.rd_addr.val() == self.a_minp.val() {
                 self.rd_data.next = self.v_minp.val();
             }
+            if self.rd_addr.val() == self.a_t_high.val() {
+                self.rd_data.next = self.t_high.q.val();
+            }
+            if self.rd_addr.val() == self.a_t_low.val() {
+                self.rd_data.next = self.t_low.q.val();
+            }
+            if self.rd_addr.val() == self.a_t_setup.val() {
+                self.rd_data.next = self.t_setup.q.val();
+            }
+            if self.rd_addr.val() == self.a_t_hold.val() {
+                self.rd_data.next = self.t_hold.q.val();
+            }
             if self.rd_addr.val() == self.a_rmax_lo.val() {
                 self.rd_data.next = self.v_rmax_lo.val();
             }
@@ -767,7 +878,8 @@ impl<const K: usize> Logic for RegFile<K> {
             if self.rd_addr.val() == self.a_gstatus.val() {
                 self.rd_data.next = bit_cast::<16, 1>(self.core_en.q.val().into())
                     | (bit_cast::<16, 1>(self.refused.q.val().into()) << 1)
-                    | (bit_cast::<16, 1>(self.irq_q.q.val().into()) << 2);
+                    | (bit_cast::<16, 1>(self.irq_q.q.val().into()) << 2)
+                    | (bit_cast::<16, 1>(self.start_failed.q.val().into()) << 3);
             }
             if self.rd_addr.val() == self.a_busy.val() {
                 for i in 0..K {
@@ -847,6 +959,7 @@ impl<const K: usize> Logic for RegFile<K> {
         }
 
         if !self.ctrl_en.q.val() {
+            self.start_failed.d.next = false;
             self.irq_done.d.next = 0.into();
             self.irq_qlow.d.next = 0.into();
             self.irq_err.d.next = 0.into();
@@ -855,6 +968,8 @@ impl<const K: usize> Logic for RegFile<K> {
             self.ctrl_en.d.next = false;
             self.core_en.d.next = false;
             self.refused.d.next = false;
+            self.start_failed.d.next = false;
+            self.start_last.d.next = 0.into();
             self.irq_done.d.next = 0.into();
             self.irq_qlow.d.next = 0.into();
             self.irq_err.d.next = 0.into();
@@ -862,6 +977,10 @@ impl<const K: usize> Logic for RegFile<K> {
             self.mask_qlow.d.next = 0.into();
             self.mask_err.d.next = 0.into();
             self.qlow.d.next = 1.into();
+            self.t_high.d.next = 1.into();
+            self.t_low.d.next = 1.into();
+            self.t_setup.d.next = 1.into();
+            self.t_hold.d.next = 1.into();
             self.pos_latch.d.next = 0.into();
             self.irq_q.d.next = false;
         }

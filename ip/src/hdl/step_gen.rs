@@ -1,29 +1,37 @@
 //! Per-axis step generator: turns period-FIFO entries into STEP and DIR.
 //!
-//! Timing (docs/architecture.md, "Step timing"):
+//! Timing (docs/architecture.md, "Step timing"; the pins' model is
+//! [`crate::model::pulse`]):
 //! * `go` (the release: one cycle, while idle and the FIFO is not empty) loads the first
 //!   entry at that clock edge, tick L₀. An entry of `ticks` loaded at edge L ends at
 //!   edge L + ticks, where the next entry loads. So step i of a move rises exactly
 //!   at L₀ + E_i, E_i being the reference model's edge tick.
 //! * STEP rises at the end of an entry whose `step` bit is set (a dwell has none),
 //!   and the position moves by ±1 on that edge.
-//! * STEP stays high for max(1, ⌊ticks/2⌋) of the entry that follows: the pulse is the
-//!   first half of the next period, the paper's 50% duty. At the end of a move
-//!   (FIFO empty, `more` low) it is the half of the period that just ended.
-//! * DIR follows the direction of the current entry's step while STEP is low, and
-//!   changes only as STEP falls: setup before a rising edge ⌈Δ/2⌉ ticks, hold after it
-//!   ⌊Δ/2⌋ ticks, both ≥ 1 for Δ ≥ 2.
+//! * STEP stays high for the high time `h` carried by the entry that follows (bits
+//!   50..35, computed by the core from the output timing registers: at least
+//!   max(STEP_HIGH, DIR_HOLD), leaving at least max(STEP_LOW, DIR_SETUP) low). At the end
+//!   of a move (FIFO empty, `more` low) it is the `h` of the entry that just ended.
+//! * DIR takes the direction of the next step while STEP is low: on the edge where STEP
+//!   falls, or one tick after a step's entry loads if STEP is already low. A dwell entry
+//!   leaves DIR alone. So DIR holds for at least the high time after a rising edge and
+//!   is set up for at least the low time (or the entry less one tick) before the next.
 //! * Underrun: an entry ends, the FIFO is empty and `more` says steps are still to
 //!   come. The generator waits with STEP held (the pulse stretches), sets the sticky
-//!   `underrun`, and continues when the entry arrives. No step is lost; the next edge
-//!   is late by the wait.
+//!   `underrun`, and continues when the entry arrives, the pulse then lasting that
+//!   entry's `h`. No step is lost; the next edge is late by the wait.
 //! * `abort` (one cycle) is a hard stop: no further edge rises, the FIFO's entries are
 //!   left for the owner to flush, and a pulse already high keeps its high time, so
 //!   the position counts exactly the edges emitted.
 //! * Counters (8 bits, wrapping): `done_count` counts entries flagged last that
 //!   ended (segments done), `under_count` counts underruns begun.
 //! * `reset` (synchronous) stops the axis and clears position, `underrun` and the
-//!   counters.
+//!   counters, but a pulse already high finishes its high time first (with DIR held):
+//!   disabling the core or resetting it never cuts a pulse short. `pulsing` says STEP
+//!   is high.
+//!
+//! Latency: a `go` or a loaded entry acts at the clock edge it is seen; STEP and DIR are
+//! registers (no combinational path from any input to them).
 
 use super::ram_fifo::ENTRY_BITS;
 use rust_hdl::prelude::*;
@@ -45,15 +53,16 @@ pub struct StepGen {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
+    pub pulsing: Signal<Out, Bit>,
     pub done_count: Signal<Out, Bits<8>>,
     pub under_count: Signal<Out, Bits<8>>,
     running: DFF<Bit>,
     waiting: DFF<Bit>,
     count: DFF<Bits<32>>,
-    cur_ticks: DFF<Bits<32>>,
+    cur_high: DFF<Bits<16>>,
     cur_step: DFF<Bit>,
     cur_rev: DFF<Bit>,
-    high: DFF<Bits<32>>,
+    high: DFF<Bits<16>>,
     step_q: DFF<Bit>,
     dir_q: DFF<Bit>,
     pos: DFF<Bits<32>>,
@@ -62,33 +71,27 @@ pub struct StepGen {
     done_cnt: DFF<Bits<8>>,
     under_cnt: DFF<Bits<8>>,
     head_ticks: Signal<Local, Bits<32>>,
-    head_half: Signal<Local, Bits<32>>,
-    last_half: Signal<Local, Bits<32>>,
+    head_high: Signal<Local, Bits<16>>,
     ends: Signal<Local, Bit>,
+    pulse_alive: Signal<Local, Bit>,
 }
 
 impl Logic for StepGen {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, running, waiting, count, cur_ticks, cur_step, cur_rev, high, step_q, dir_q, pos, under, cur_last,
+            self, clock, running, waiting, count, cur_high, cur_step, cur_rev, high, step_q, dir_q, pos, under, cur_last,
             done_cnt, under_cnt
         );
         self.head_ticks.next = self.head.val().get_bits::<32>(0);
-        self.head_half.next = self.head_ticks.val() >> 1;
-        if self.head_ticks.val() < 2 {
-            self.head_half.next = 1.into();
-        }
-        self.last_half.next = self.cur_ticks.q.val() >> 1;
-        if self.cur_ticks.q.val() < 2 {
-            self.last_half.next = 1.into();
-        }
+        self.head_high.next = self.head.val().get_bits::<16>(35);
         self.ends.next = self.running.q.val() & !self.waiting.q.val() & (self.count.q.val() == 1);
         self.step.next = self.step_q.q.val();
         self.dir.next = self.dir_q.q.val();
         self.position.next = self.pos.q.val();
         self.underrun.next = self.under.q.val();
         self.active.next = self.running.q.val();
+        self.pulsing.next = self.step_q.q.val();
         self.done_count.next = self.done_cnt.q.val();
         self.under_count.next = self.under_cnt.q.val();
         self.pop.next = false;
@@ -123,24 +126,26 @@ impl Logic for StepGen {
             if self.head_valid.val() {
                 self.pop.next = true;
                 self.count.d.next = self.head_ticks.val();
-                self.cur_ticks.d.next = self.head_ticks.val();
+                self.cur_high.d.next = self.head_high.val();
                 self.cur_step.d.next = self.head.val().get_bit(32);
-                self.cur_rev.d.next = self.head.val().get_bit(33);
+                if self.head.val().get_bit(32) {
+                    self.cur_rev.d.next = self.head.val().get_bit(33);
+                }
             self.cur_last.d.next = self.head.val().get_bit(34);
                 if self.cur_step.q.val() {
-                    self.high.d.next = self.head_half.val();
+                    self.high.d.next = self.head_high.val();
                 }
             } else if self.more.val() {
                 self.waiting.d.next = true;
                 self.under.d.next = true;
                 self.under_cnt.d.next = self.under_cnt.q.val() + 1;
                 if self.cur_step.q.val() {
-                    self.high.d.next = self.last_half.val();
+                    self.high.d.next = self.cur_high.q.val();
                 }
             } else {
                 self.running.d.next = false;
                 if self.cur_step.q.val() {
-                    self.high.d.next = self.last_half.val();
+                    self.high.d.next = self.cur_high.q.val();
                 }
             }
         }
@@ -149,12 +154,14 @@ impl Logic for StepGen {
             self.pop.next = true;
             self.waiting.d.next = false;
             self.count.d.next = self.head_ticks.val();
-            self.cur_ticks.d.next = self.head_ticks.val();
+            self.cur_high.d.next = self.head_high.val();
             self.cur_step.d.next = self.head.val().get_bit(32);
-            self.cur_rev.d.next = self.head.val().get_bit(33);
+            if self.head.val().get_bit(32) {
+                    self.cur_rev.d.next = self.head.val().get_bit(33);
+                }
             self.cur_last.d.next = self.head.val().get_bit(34);
             if self.step_q.q.val() {
-                self.high.d.next = self.head_half.val();
+                self.high.d.next = self.head_high.val();
             }
         }
         if !self.running.q.val() & self.go.val() & self.head_valid.val() {
@@ -162,9 +169,11 @@ impl Logic for StepGen {
             self.running.d.next = true;
             self.waiting.d.next = false;
             self.count.d.next = self.head_ticks.val();
-            self.cur_ticks.d.next = self.head_ticks.val();
+            self.cur_high.d.next = self.head_high.val();
             self.cur_step.d.next = self.head.val().get_bit(32);
-            self.cur_rev.d.next = self.head.val().get_bit(33);
+            if self.head.val().get_bit(32) {
+                    self.cur_rev.d.next = self.head.val().get_bit(33);
+                }
             self.cur_last.d.next = self.head.val().get_bit(34);
         }
         if self.abort.val() {
@@ -172,24 +181,34 @@ impl Logic for StepGen {
             self.waiting.d.next = false;
             self.count.d.next = 0.into();
         }
+        // A pulse still to run its high time (or held by an underrun) survives a reset;
+        // written as if/else so that an unknown (X) state at power-up takes the clearing
+        // branch in a four-state simulator.
+        self.pulse_alive.next = self.step_q.q.val() & (self.high.q.val() > 1);
         if self.reset.val() {
             self.done_cnt.d.next = 0.into();
             self.under_cnt.d.next = 0.into();
             self.running.d.next = false;
             self.waiting.d.next = false;
-            self.high.d.next = 0.into();
-            self.step_q.d.next = false;
-            self.dir_q.d.next = false;
-            self.cur_rev.d.next = false;
             self.pos.d.next = 0.into();
             self.under.d.next = false;
             self.count.d.next = 0.into();
+            if self.pulse_alive.val() {
+                self.high.d.next = self.high.q.val() - 1;
+            } else {
+                self.high.d.next = 0.into();
+                self.step_q.d.next = false;
+                self.dir_q.d.next = false;
+                self.cur_rev.d.next = false;
+            }
         }
     }
 }
 
-/// The per-axis back end: a period FIFO of `DEPTH` entries feeding a [`StepGen`].
-#[derive(LogicBlock, Default)]
+/// The per-axis back end: a period FIFO feeding a [`StepGen`]. `full` says the FIFO
+/// holds `DEPTH` entries, the most the scheduler computes ahead; the FIFO itself has
+/// room for 32, so the entries still in the pulse stage (two at most) always fit.
+#[derive(LogicBlock)]
 pub struct StepAxis<const DEPTH: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
@@ -203,12 +222,42 @@ pub struct StepAxis<const DEPTH: usize> {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
+    pub pulsing: Signal<Out, Bit>,
     pub done_count: Signal<Out, Bits<8>>,
     pub under_count: Signal<Out, Bits<8>>,
     pub full: Signal<Out, Bit>,
     pub level: Signal<Out, Bits<8>>,
-    fifo: super::ram_fifo::PeriodFifo<DEPTH>,
+    fifo: super::ram_fifo::PeriodFifo<32>,
     gen: StepGen,
+    depth: Constant<Bits<8>>,
+}
+
+impl<const DEPTH: usize> Default for StepAxis<DEPTH> {
+    fn default() -> Self {
+        assert!((2..=30).contains(&DEPTH), "StepAxis<{DEPTH}>: depth outside 2..=30");
+        StepAxis {
+            clock: Default::default(),
+            reset: Default::default(),
+            push: Default::default(),
+            entry_in: Default::default(),
+            go: Default::default(),
+            abort: Default::default(),
+            more: Default::default(),
+            step: Default::default(),
+            dir: Default::default(),
+            position: Default::default(),
+            underrun: Default::default(),
+            active: Default::default(),
+            pulsing: Default::default(),
+            done_count: Default::default(),
+            under_count: Default::default(),
+            full: Default::default(),
+            level: Default::default(),
+            fifo: Default::default(),
+            gen: Default::default(),
+            depth: Constant::new((DEPTH as u64).into()),
+        }
+    }
 }
 
 impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
@@ -227,13 +276,14 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
         self.gen.go.next = self.go.val();
         self.gen.more.next = self.more.val();
         self.step.next = self.gen.step.val();
+        self.pulsing.next = self.gen.pulsing.val();
         self.dir.next = self.gen.dir.val();
         self.position.next = self.gen.position.val();
         self.underrun.next = self.gen.underrun.val();
         self.active.next = self.gen.active.val();
         self.done_count.next = self.gen.done_count.val();
         self.under_count.next = self.gen.under_count.val();
-        self.full.next = self.fifo.full.val();
+        self.full.next = !(self.fifo.level.val() < self.depth.val());
         self.level.next = self.fifo.level.val();
     }
 }

@@ -1,6 +1,10 @@
 //! Synchronised start: `start` with `start_mask` arms a release; the masked axes get
 //! `go` on the same clock edge once every one of them reports `ready` (idle with its
 //! first period in its FIFO). Then the mask clears. A new `start` re-arms it.
+//! A start that cannot complete is cancelled: when a masked axis is `empty` (not ready
+//! and not busy: nothing queued, being set up, computed or moving, as after its only
+//! segment was rejected), the mask clears, no axis is released and `failed` pulses for
+//! one cycle. Latency: `go` or `failed` one cycle after the condition (registered mask).
 //! Used by the TDM core and by the non-TDM baseline, so both release alike.
 
 use rust_hdl::prelude::*;
@@ -12,9 +16,12 @@ pub struct SyncStart<const K: usize> {
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     pub ready: Signal<In, Bits<K>>,
+    pub empty: Signal<In, Bits<K>>,
     pub go: Signal<Out, Bits<K>>,
+    pub failed: Signal<Out, Bit>,
     pending: DFF<Bits<K>>,
     fire: Signal<Local, Bit>,
+    stuck: Signal<Local, Bit>,
 }
 
 impl<const K: usize> Logic for SyncStart<K> {
@@ -22,9 +29,15 @@ impl<const K: usize> Logic for SyncStart<K> {
     fn update(&mut self) {
         dff_setup!(self, clock, pending);
         self.fire.next = (self.pending.q.val() != 0) & (!self.pending.q.val() | self.ready.val()).all();
+        self.stuck.next = (self.pending.q.val() & self.empty.val()).any();
         self.go.next = 0.into();
+        self.failed.next = false;
         if self.fire.val() {
             self.go.next = self.pending.q.val();
+            self.pending.d.next = 0.into();
+        }
+        if self.stuck.val() {
+            self.failed.next = true;
             self.pending.d.next = 0.into();
         }
         if self.start.val() {

@@ -55,6 +55,8 @@ macro_rules! stepper_top {
             rst_bus: BitSync,
             rst_core: BitSync,
             en_core: BitSync,
+            /// The core's cancelled-START toggle, synchronised into bus_clk.
+            fail_sync: BitSync,
             pub exmc: ExmcSlave,
             pub regs: RegFile<K>,
             cmd_fifo: AsyncFifo<CMD_BITS>,
@@ -87,6 +89,7 @@ macro_rules! stepper_top {
                     rst_bus: Default::default(),
                     rst_core: Default::default(),
                     en_core: Default::default(),
+                    fail_sync: Default::default(),
                     exmc: Default::default(),
                     regs: RegFile::new(params),
                     cmd_fifo: Default::default(),
@@ -123,6 +126,10 @@ macro_rules! stepper_top {
                 self.en_core.clock.next = self.clk.val();
                 self.en_core.sig_in.next = self.regs.enable.val();
                 self.core_reset.next = self.rst_core.sig_out.val() | !self.en_core.sig_out.val();
+                // A cancelled START: the core's toggle across (one event per change).
+                self.fail_sync.clock.next = self.bus_clk.val();
+                self.fail_sync.sig_in.next = self.core.start_failed.val();
+                self.regs.start_fail_toggle.next = self.fail_sync.sig_out.val();
 
                 // Bus side.
                 self.exmc.clock.next = self.bus_clk.val();
@@ -158,6 +165,10 @@ macro_rules! stepper_top {
                 // Core side.
                 self.core.clock.next = self.clk.val();
                 self.core.reset.next = self.core_reset.val();
+                // Quasi-static: the register file changes them only while the core is
+                // held in reset (CTRL.ENABLE and GSTATUS.ENABLED both 0).
+                self.core.high_min.next = self.regs.high_min.val();
+                self.core.low_min.next = self.regs.low_min.val();
                 self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);
                 self.core.cmd_t.next = self.cmd_fifo.data_out.val().get_bits::<32>(32);
                 self.core.cmd_steps.next = self.cmd_fifo.data_out.val().get_bits::<32>(64);

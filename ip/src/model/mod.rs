@@ -7,6 +7,7 @@
 //! * [`axis`]: one axis running segments back to back;
 //! * [`units`]: steps/s and seconds to register units;
 //! * [`planner`]: trapezoid moves to segments;
+//! * [`pulse`]: STEP high times and DIR changes on the pins, from the output timing;
 //! * [`alternatives`]: other period algorithms, for the accuracy report.
 
 pub mod alternatives;
@@ -14,6 +15,7 @@ pub mod axis;
 pub mod exact;
 pub mod integer;
 pub mod planner;
+pub mod pulse;
 pub mod segment;
 pub mod units;
 
@@ -21,4 +23,5 @@ pub use axis::{AxisRun, FifoEntry, Rejected};
 pub use integer::{
     offset_root, PlanKind, SegmentPlan, ACC_BITS, EDGE_ERROR_BOUND_TICKS, OFFSET_ROOT_BITS, ROOT_BITS, TAU_FRAC_BITS,
 };
+pub use pulse::{PulseTiming, MAX_PULSE_TICKS};
 pub use segment::{Limits, Segment, SegmentError, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
