@@ -257,7 +257,8 @@ pub struct AxisReport {
     pub expected_position: i64,
     /// clk cycle of every STEP rising edge.
     pub edge_cycles: Vec<u64>,
-    /// Offset-free: edge − (release + 1), against exact kinematics.
+    /// Cumulative from the release: edge − (release + 1) against exact kinematics (the
+    /// measure docs/model.md bounds by 0.625 ticks; not its offset-free edge_i − edge_1).
     pub max_edge_error_ticks: f64,
     pub max_period_error_pct: f64,
     /// Over steps whose exact period is at least 500 ticks.
