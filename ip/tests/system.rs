@@ -187,6 +187,19 @@ fn check_pins(trace: &SystemTrace, axes: &[Vec<Segment>], l0: i64, timing: &Puls
     out
 }
 
+/// Pushes every axis's segments, lets the core take them, and starts all the axes
+/// together; returns the bus time of the START write.
+fn push_and_start(b: &mut BusModel, axes: &[Vec<Segment>]) -> u64 {
+    for (a, segs) in axes.iter().enumerate() {
+        for s in segs {
+            b.push_segment(a, s);
+        }
+    }
+    b.idle(200);
+    b.write_reg("START", 0, (1 << axes.len()) - 1);
+    b.now_ps()
+}
+
 fn read16(b: &BusModel, t: &SystemTrace, id: tdm_stepper::verify::bus::ReadId) -> u16 {
     b.value(t, id).expect("read returned undefined bits")
 }
@@ -621,14 +634,7 @@ fn the_exported_minimum_period_is_enforced_and_sustained() {
     b.idle(400);
     let rejected = b.read_reg("STATUS", 0);
     b.write_reg("STATUS", 0, STATUS_ERROR);
-    for a in 0..2 {
-        for s in &fast {
-            b.push_segment(a, s);
-        }
-    }
-    b.idle(200);
-    b.write_reg("START", 0, 0b11);
-    let start = b.now_ps();
+    let start = push_and_start(&mut b, &[fast.clone(), fast.clone()]);
     b.idle_until_ps(start + (t1 + t2 + 2_000) as u64 * 2 * CLOCKS.clk_half_ps);
     let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
     let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
@@ -669,14 +675,7 @@ fn decelerate_to_rest_in_steps_per_s_runs_through_the_bus() {
     }
     let mut b = bus();
     b.enable(ENABLE_WAIT);
-    for (a, segs) in axes.iter().enumerate() {
-        for s in segs {
-            b.push_segment(a, s);
-        }
-    }
-    b.idle(200);
-    b.write_reg("START", 0, 0b11);
-    let start = b.now_ps();
+    let start = push_and_start(&mut b, &axes);
     b.idle_until_ps(start + (2 * t as u64 + 2_000) * 2 * CLOCKS.clk_half_ps);
     let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();
     let pos: Vec<_> = (0..2).map(|a| b.read_position(a)).collect();
@@ -891,14 +890,7 @@ fn output_timing_registers_hold_on_the_pins_through_the_bus() {
     b.write_reg("STEP_LOW", 0, 1);
     let refused_on = (b.read_reg("STEP_LOW", 0), b.read_reg("GSTATUS", 0));
     b.write_reg("GSTATUS", 0, 0b10);
-    for (a, segs) in axes.iter().enumerate() {
-        for s in segs {
-            b.push_segment(a, s);
-        }
-    }
-    b.idle(200);
-    b.write_reg("START", 0, 0b11);
-    let start = b.now_ps();
+    let start = push_and_start(&mut b, &axes);
     let end = axes.iter().map(|s| AxisRun::run(s, &limits).end_tick).max().unwrap();
     b.idle_until_ps(start + (end + 3_000) * 2 * CLOCKS.clk_half_ps);
     let status: Vec<_> = (0..2).map(|a| b.read_reg("STATUS", a)).collect();

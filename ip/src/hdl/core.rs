@@ -1079,14 +1079,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.dir_bus[i].value.next = self.axes[i].dir.val();
             self.under_bus[i].value.next = self.axes[i].underrun.val();
             self.active_bus[i].value.next = self.axes[i].active.val();
-            self.busy_bus[i].value.next = self.axes[i].active.val()
-                | self.axes[i].pulsing.val()
-                | ((self.pe_valid.q.val() | self.pd_valid.q.val()) & (self.m.q.val().index() == i))
-                | (self.pulse.p0_valid.val() & (self.pulse.p0_axis.val().index() == i))
-                | (self.pulse.p1_valid.val() & (self.pulse.p1_axis.val().index() == i))
-                | (self.ctx[i].kind.val() != 0)
-                | self.ctx[i].next_valid.val()
-                | (self.q_count[i].q.val() != 0);
+            // Anything of the axis's still to come (`more`, above), moving, or STEP high.
+            self.busy_bus[i].value.next = self.axes[i].busy.val();
             // Satisfied: a full FIFO, or nothing to compute.
             self.sat_bus[i].value.next = self.axes[i].full.val()
                 | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & (self.q_count[i].q.val() == 0));

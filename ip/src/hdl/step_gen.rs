@@ -27,8 +27,7 @@
 //!   ended (segments done), `under_count` counts underruns begun.
 //! * `reset` (synchronous) stops the axis and clears position, `underrun` and the
 //!   counters, but a pulse already high finishes its high time first (with DIR held):
-//!   disabling the core or resetting it never cuts a pulse short. `pulsing` says STEP
-//!   is high.
+//!   disabling the core or resetting it never cuts a pulse short.
 //!
 //! Latency: a `go` or a loaded entry acts at the clock edge it is seen; STEP and DIR are
 //! registers (no combinational path from any input to them).
@@ -53,7 +52,6 @@ pub struct StepGen {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
-    pub pulsing: Signal<Out, Bit>,
     pub done_count: Signal<Out, Bits<8>>,
     pub under_count: Signal<Out, Bits<8>>,
     running: DFF<Bit>,
@@ -91,7 +89,6 @@ impl Logic for StepGen {
         self.position.next = self.pos.q.val();
         self.underrun.next = self.under.q.val();
         self.active.next = self.running.q.val();
-        self.pulsing.next = self.step_q.q.val();
         self.done_count.next = self.done_cnt.q.val();
         self.under_count.next = self.under_cnt.q.val();
         self.pop.next = false;
@@ -222,7 +219,8 @@ pub struct StepAxis<const DEPTH: usize> {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
-    pub pulsing: Signal<Out, Bit>,
+    /// Entries still coming (`more`), moving, or STEP still high: the axis's BUSY.
+    pub busy: Signal<Out, Bit>,
     pub done_count: Signal<Out, Bits<8>>,
     pub under_count: Signal<Out, Bits<8>>,
     pub full: Signal<Out, Bit>,
@@ -248,7 +246,7 @@ impl<const DEPTH: usize> Default for StepAxis<DEPTH> {
             position: Default::default(),
             underrun: Default::default(),
             active: Default::default(),
-            pulsing: Default::default(),
+            busy: Default::default(),
             done_count: Default::default(),
             under_count: Default::default(),
             full: Default::default(),
@@ -276,7 +274,7 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
         self.gen.go.next = self.go.val();
         self.gen.more.next = self.more.val();
         self.step.next = self.gen.step.val();
-        self.pulsing.next = self.gen.pulsing.val();
+        self.busy.next = self.more.val() | self.gen.active.val() | self.gen.step.val();
         self.dir.next = self.gen.dir.val();
         self.position.next = self.gen.position.val();
         self.underrun.next = self.gen.underrun.val();
