@@ -16,7 +16,7 @@
 #define TDM_MIN_PERIOD 44u /* ticks: no STEP period is shorter */
 #define TDM_MAX_RATE 95443717u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */
 #define TDM_MAGIC 0x5453u
-#define TDM_VERSION 0x0102u
+#define TDM_VERSION 0x0103u
 
 #define TDM_AXIS_BASE 0x200u /* byte offset of axis 0's block */
 #define TDM_AXIS_STRIDE 0x20u /* bytes per axis block */

@@ -26,7 +26,18 @@ pub const MAX_QUEUE_DEPTH: usize = 16;
 /// ID_MAGIC's value, "TS".
 pub const MAGIC: u16 = 0x5453;
 /// ID_VERSION: major in the high byte, minor in the low byte.
-pub const VERSION: u16 = 0x0102;
+pub const VERSION: u16 = 0x0103;
+/// Bus clocks from NWE rising at the end of a push (the STEPS_HI write) until STATUS
+/// (ERROR, ERROR_CODE, LEVEL) and IRQ_ERROR show the push check's verdict: a STATUS read
+/// whose NOE falls this late sees it. The slave commits the write at most 2 bus clocks
+/// after the first sample of NWE high (≤ 1 clock after it rises), the check takes
+/// [`crate::hdl::push_check::PUSH_CHECK_LATENCY`] clocks, and a read latches its data 2
+/// clocks after the first sample of NOE low: 1 + 2 + 4 + 1 − 2 = 6. Measured through the
+/// bus by tests/system.rs.
+pub const PUSH_VERDICT_BUS_CLOCKS: u64 = 6;
+/// Bus clocks the push check needs between two command writes (STEPS_HI, START, ABORT),
+/// commit to commit; the documented write timing always leaves at least this.
+pub const COMMAND_SPACING_BUS_CLOCKS: u64 = crate::hdl::push_check::PUSH_CHECK_LATENCY as u64;
 
 /// How the host may access a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -402,6 +413,45 @@ fn contract(m: &mut String, p: &CoreParams) {
     );
     let _ = writeln!(
         m,
+        "* **Errors at push.** Each push is checked in the bus clock, with the rules and codes of \
+         docs/model.md, before it is queued. The verdict shows in STATUS (ERROR, ERROR_CODE, LEVEL) \
+         and IRQ_ERROR at most {v} bus clocks after NWE rises at the end of the STEPS_HI write, \
+         whether the axis is idle, running or has segments queued: a STATUS read whose NOE falls \
+         that late sees it (with the minimum FSMC timing, the second read after the push always \
+         does). A rejected segment never enters the queue and LEVEL does not count it; the \
+         segments before and after it run as pushed, and no other axis is touched. The check \
+         takes one command at a time: a write to STEPS_HI, START or ABORT committed fewer than \
+         {c} bus clocks after the previous one is refused (GSTATUS.REFUSED), which the \
+         documented write timing (NWE low ≥ 3, high ≥ 2 bus clocks) never does.",
+        v = PUSH_VERDICT_BUS_CLOCKS,
+        c = COMMAND_SPACING_BUS_CLOCKS
+    );
+    let acc = crate::hdl::core::t_setup(crate::export::RADIX_BITS, false);
+    let dec = crate::hdl::core::t_setup(crate::export::RADIX_BITS, true);
+    let _ = writeln!(
+        m,
+        "* **Setup cost and segment rate.** The shared unit sets up each segment before it runs: \
+         {dec} clk cycles for a decelerating segment, {acc} for an accelerating one, fewer for a \
+         uniform one or a dwell, during the time the periods leave it (ID_T_CALC cycles per \
+         period of every axis). It sets up at most f/{dec} segments per second over all axes \
+         together ({:.0} at {:.0} MHz). Keep the load Σ over the axes of (t_setup/T + \
+         ID_T_CALC/Δ) below 1, with T each axis's segment duration and Δ its shortest period \
+         (the 16-axis streaming test, 1 ms segments at half the maximum rate, runs at about \
+         0.55 with no underrun); past that, the FIFOs' slack decides. A train of segments far \
+         shorter than t_setup (say one step each) runs late and sets STATUS.UNDERRUN, though \
+         every step is still emitted in order.",
+        p.clock_hz as f64 / dec as f64,
+        p.clock_hz as f64 / 1e6
+    );
+    let _ = writeln!(
+        m,
+        "* **Rates from steps/s.** rate = round(v·2^32/f) with f = ID_CLOCK_HZ (the ID_MAX_RATE \
+         bound is in the same units). Rounding may put a deceleration to rest a fraction of a \
+         rate unit past rest (2θ·2^32 < v0·T by less than T); such a segment is accepted and runs \
+         with v0 − 1, exactly |θ| steps in exactly T ticks, so a planner need not round down."
+    );
+    let _ = writeln!(
+        m,
         "* **Minimum period and output timing.** No STEP period is shorter than ID_MIN_PERIOD \
          ({} ticks): a segment whose start or end rate exceeds ID_MAX_RATE ({}) is rejected with \
          code 3, so one axis steps at most {:.0} times per second. STEP_HIGH, STEP_LOW, DIR_SETUP \
@@ -426,7 +476,7 @@ fn contract(m: &mut String, p: &CoreParams) {
     );
     m.push_str(
         "* **Errors.** STATUS.ERROR_CODE holds the code of the most recent rejection since STATUS.ERROR \
-         was last cleared; the rejected segment is dropped and the segments around it run as pushed.\n",
+         was last cleared.\n",
     );
     m.push_str(
         "* **Disable and reset.** CTRL.ENABLE = 0 (or the reset pin) stops every axis and clears \
@@ -529,7 +579,8 @@ void paper_move(void) {
 }
 ```
 
-Check `STATUS.ERROR` after pushing: a rejected segment is dropped with its code,
-and the segments queued behind it still run. `ABORT` stops everything at once; the
+Check `STATUS.ERROR` after pushing (read STATUS twice after the push: see
+"Errors at push" above): a rejected segment is dropped with its code before it is
+queued, and the segments around it still run. `ABORT` stops everything at once; the
 positions then say exactly where each axis is.
 "#;

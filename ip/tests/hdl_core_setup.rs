@@ -32,17 +32,14 @@ fn check(seg: Segment) {
 
 /// At R digits per cycle (the configurations the docs name: 2, exported, and 4).
 fn check_r<const R: usize>(seg: Segment) {
-    let limits = Limits::default();
-    let u = run_setup::<R>(seg);
-    let (kind, err, word) = u.context(0);
-    let kind = kind as u64;
-    match seg.validate(&limits) {
-        Err(e) => {
-            assert_eq!(err, e.code(), "{seg:?}: error code");
-            return;
-        }
-        Ok(()) => assert_eq!(err, 0, "{seg:?}: accepted segment flagged"),
+    // The core takes only what the push check passes (hdl_push_check.rs): valid
+    // segments, in their effective form.
+    if seg.validate(&Limits::default()).is_err() {
+        return;
     }
+    let u = run_setup::<R>(seg.effective());
+    let (kind, word) = u.context(0);
+    let kind = kind as u64;
     let plan = SegmentPlan::new(seg);
     let i = word.i;
     let n = seg.n_steps();
@@ -144,10 +141,11 @@ fn fallback_boundary() -> (Segment, Segment) {
     (b.1, a.1)
 }
 
-/// Decelerations to rest whose v0 = ⌈2n·2^32/T⌉ was rounded up: the core runs them
-/// as v0 − 1 (the model's effective segment), bit for bit, at both R; one rate unit
-/// more is rejected as reversing (code 2); v0 − 1 above RMAX is code 3; and the
-/// effective v0 = RMAX exactly is accepted.
+/// Decelerations to rest whose v0 = ⌈2n·2^32/T⌉ was rounded up: the push check hands
+/// the core their effective segment (v0 − 1), which it runs as the model does, bit for
+/// bit, at both R. In the model, one rate unit more is rejected as reversing (code 2),
+/// v0 − 1 above RMAX is code 3, and the effective v0 = RMAX exactly is accepted (the
+/// push check's verdicts on the same cases: hdl_push_check.rs).
 #[test]
 fn decelerations_to_rest_with_v0_rounded_up_run_as_the_model_says() {
     let limits = Limits::default();

@@ -1002,3 +1002,85 @@ fn a_start_with_an_empty_axis_is_reported_and_nothing_moves() {
         assert_eq!(position(&b, &trace, pos[a]), Some(100), "axis {a} position");
     }
 }
+
+/// HCLK cycles to wait after a push (the bus model's write ends one HCLK after NWE
+/// rises) so that the next read's NOE falls PUSH_VERDICT_BUS_CLOCKS bus clocks after
+/// NWE rose: the documented bound, and not one HCLK more.
+fn verdict_wait(b: &BusModel) -> u64 {
+    let need = (regs::PUSH_VERDICT_BUS_CLOCKS * 2 * CLOCKS.bus_half_ps).div_ceil(2 * MCU_HALF_PS);
+    need.saturating_sub(1 + b.timing.addset)
+}
+
+/// Errors at push time (the contract's "Errors at push"), in Verilator and rust-hdl:
+/// a bad segment pushed to an axis not started, to a running axis with valid segments
+/// queued behind its current one, and to a running axis with nothing queued shows
+/// STATUS.ERROR with the model's code in a STATUS read that begins at the documented
+/// bound after the push, with LEVEL unchanged; IRQ_ERROR has the axis's bit; the valid
+/// segments run edge for edge as the model says, and the other axis never moves.
+#[test]
+fn a_bad_push_is_reported_at_the_bus_within_the_documented_bound() {
+    let limits = tdm_stepper::export::ExportOptions { axes: 2, ..Default::default() }.limits();
+    let good = vec![uniform(12_000, 30), Segment::new(((30u64 << 32) / 12_000) as u32, 12_000, 30), uniform(8_000, 10)];
+    let bad = [Segment::new(50_000_000, 20_000, -10), Segment::new(0, 1 << 29, (1 << 24) + 1), Segment::new(0, 100, 90)];
+    let codes: Vec<u16> = bad.iter().map(|s| s.validate(&limits).unwrap_err().code() as u16).collect();
+    assert_eq!(codes, vec![2, 5, 3]);
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IRQ_MASK_ERROR", 0, 0b11);
+    let wait = verdict_wait(&b);
+    // 1. Axis 1, never started and empty.
+    let before1 = b.read_reg("STATUS", 1);
+    b.push_segment(1, &bad[0]);
+    b.idle(wait);
+    let seen1 = b.read_reg("STATUS", 1);
+    let irq1 = b.read_reg("IRQ_ERROR", 0);
+    b.write_reg("IRQ_ERROR", 0, 0xFFFF);
+    // 2. Axis 0 running its first segment, the other two queued behind it.
+    for s in &good {
+        b.push_segment(0, s);
+    }
+    b.idle(200);
+    b.write_reg("START", 0, 0b01);
+    let start = b.now_ps();
+    b.idle(2_000);
+    let before2 = b.read_reg("STATUS", 0);
+    b.push_segment(0, &bad[1]);
+    b.idle(wait);
+    let seen2 = b.read_reg("STATUS", 0);
+    b.write_reg("STATUS", 0, STATUS_ERROR);
+    // 3. Axis 0 in its last segment, nothing queued.
+    b.idle_until_ps(start + 26_000 * 2 * CLOCKS.clk_half_ps);
+    let before3 = b.read_reg("STATUS", 0);
+    b.push_segment(0, &bad[2]);
+    b.idle(wait);
+    let seen3 = b.read_reg("STATUS", 0);
+    let irq3 = b.read_reg("IRQ_ERROR", 0);
+    b.idle_until_ps(start + 40_000 * 2 * CLOCKS.clk_half_ps);
+    let end0 = b.read_reg("STATUS", 0);
+    let pos = b.read_position(0);
+    let cycles = cycles_after(&b, 50);
+    let traces = [("Verilator", verilator_exported::<2>("system_push_errors", &b, cycles)), ("rust-hdl", rust_hdl::<2>(&b, cycles))];
+
+    for (sim, trace) in &traces {
+        let r = |id| read16(&b, trace, id);
+        let level = |s: u16| s & 0x1F;
+        let (b1, s1) = (r(before1), r(seen1));
+        assert_eq!((b1 & STATUS_ERROR, level(b1)), (0, 0), "{sim}: axis 1 before: {b1:#06x}");
+        assert_eq!((s1 & STATUS_ERROR, s1 >> 12, level(s1)), (STATUS_ERROR, codes[0], 0), "{sim}: idle axis: {s1:#06x}");
+        assert_eq!(r(irq1), 0b10, "{sim}: IRQ_ERROR after the idle axis's bad push");
+        let (b2, s2) = (r(before2), r(seen2));
+        assert!(level(b2) >= 1 && b2 & STATUS_ERROR == 0, "{sim}: axis 0 should have segments queued: {b2:#06x}");
+        assert_eq!((s2 & STATUS_ERROR, s2 >> 12, level(s2)), (STATUS_ERROR, codes[1], level(b2)), "{sim}: behind queued segments: {s2:#06x}");
+        let (b3, s3) = (r(before3), r(seen3));
+        assert_eq!((b3 & (STATUS_ERROR | 0x3F)), 0x20, "{sim}: axis 0 moving, nothing queued: {b3:#06x}");
+        assert_eq!((s3 & STATUS_ERROR, s3 >> 12, level(s3)), (STATUS_ERROR, codes[2], 0), "{sim}: running axis: {s3:#06x}");
+        assert_eq!(r(irq3), 0b01, "{sim}: IRQ_ERROR after axis 0's bad pushes");
+        let e0 = r(end0);
+        assert_eq!(e0 & 0x3F, 0, "{sim}: axis 0 at the end: {e0:#06x}");
+        assert_eq!(position(&b, trace, pos), Some(70), "{sim}: axis 0 position");
+    }
+    let trace = &traces[0].1;
+    check_edges(trace, &[good.clone(), vec![]], "bad pushes between good ones");
+    assert!(rises(trace, 1).is_empty(), "axis 1 moved");
+    assert_eq!(traces[0].1.changes, traces[1].1.changes, "Verilator and rust-hdl pins differ");
+}

@@ -39,11 +39,9 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub busy: Signal<Out, Bits<K>>,
     pub sel_axis: Signal<In, Bits<8>>,
     pub sel_position: Signal<Out, Bits<32>>,
-    pub sel_error: Signal<Out, Bits<8>>,
     pub sel_queue: Signal<Out, Bits<8>>,
     pub sel_fifo: Signal<Out, Bits<8>>,
     pub sel_taken: Signal<Out, Bits<8>>,
-    pub sel_rejected: Signal<Out, Bits<8>>,
     pub sel_done: Signal<Out, Bits<8>>,
     pub sel_underruns: Signal<Out, Bits<8>>,
     pub sel_busy: Signal<Out, Bit>,
@@ -88,11 +86,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             busy: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
-            sel_error: Default::default(),
             sel_queue: Default::default(),
             sel_fifo: Default::default(),
             sel_taken: Default::default(),
-            sel_rejected: Default::default(),
             sel_done: Default::default(),
             sel_underruns: Default::default(),
             sel_busy: Default::default(),
@@ -135,11 +131,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.cmd_error.next = self.cmd_err.q.val();
         self.fsm_state.next = self.cores[0].fsm_state.val();
         self.sel_position.next = 0.into();
-        self.sel_error.next = 0.into();
         self.sel_queue.next = 0.into();
         self.sel_fifo.next = 0.into();
         self.sel_taken.next = 0.into();
-        self.sel_rejected.next = 0.into();
         self.sel_done.next = 0.into();
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
@@ -164,11 +158,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
             if self.sel_axis.val().index() == i {
                 self.sel_position.next = self.cores[i].sel_position.val();
-                self.sel_error.next = self.cores[i].sel_error.val();
                 self.sel_queue.next = self.cores[i].sel_queue.val();
                 self.sel_fifo.next = self.cores[i].sel_fifo.val();
                 self.sel_taken.next = self.cores[i].sel_taken.val();
-                self.sel_rejected.next = self.cores[i].sel_rejected.val();
                 self.sel_done.next = self.cores[i].sel_done.val();
                 self.sel_underruns.next = self.cores[i].sel_underruns.val();
                 self.sel_busy.next = self.cores[i].sel_busy.val();

@@ -6,15 +6,13 @@
 //! last period is computed); `nwe` (a setup's commit into the next slot) writes the
 //! next slot's kind and `new_dwell`; `promote` makes the next segment current by
 //! flipping `slot` (a dwell only clears the next slot: the scheduler pushes its FIFO
-//! entry); `err_we` latches an error code. `reset` empties both slots and clears the
-//! error (slot 0). All writes take effect at the next clock edge (latency 1).
+//! entry). `reset` empties both slots (slot 0). All writes take effect at the next clock edge (latency 1).
 //!
 //! | flag | bits | meaning |
 //! |---|---|---|
 //! | kind | 2 | current segment: 0 idle, 1 uniform, 2 accelerate, 3 decelerate |
 //! | slot | 1 | which of the axis's two context words is current |
 //! | next kind, next dwell | 2 + 1 | the next slot holds a set-up segment or a dwell |
-//! | err | 8 | the last error code |
 
 use rust_hdl::prelude::*;
 
@@ -23,20 +21,16 @@ pub struct AxisContext {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub we: Signal<In, Bit>,
-    pub err_we: Signal<In, Bit>,
     pub nwe: Signal<In, Bit>,
     pub promote: Signal<In, Bit>,
     pub new_dwell: Signal<In, Bit>,
     pub new_kind: Signal<In, Bits<2>>,
-    pub new_err: Signal<In, Bits<8>>,
     pub kind: Signal<Out, Bits<2>>,
-    pub err: Signal<Out, Bits<8>>,
     pub slot: Signal<Out, Bit>,
     /// The next slot holds a segment (a set-up segment or a dwell).
     pub next_valid: Signal<Out, Bit>,
     pub next_dwell: Signal<Out, Bit>,
     r_kind: DFF<Bits<2>>,
-    r_err: DFF<Bits<8>>,
     r_slot: DFF<Bit>,
     x_kind: DFF<Bits<2>>,
     x_dwell: DFF<Bit>,
@@ -45,17 +39,13 @@ pub struct AxisContext {
 impl Logic for AxisContext {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, r_kind, r_err, r_slot, x_kind, x_dwell);
+        dff_setup!(self, clock, r_kind, r_slot, x_kind, x_dwell);
         self.kind.next = self.r_kind.q.val();
-        self.err.next = self.r_err.q.val();
         self.slot.next = self.r_slot.q.val();
         self.next_valid.next = (self.x_kind.q.val() != 0) | self.x_dwell.q.val();
         self.next_dwell.next = self.x_dwell.q.val();
         if self.we.val() {
             self.r_kind.d.next = self.new_kind.val();
-        }
-        if self.err_we.val() {
-            self.r_err.d.next = self.new_err.val();
         }
         if self.nwe.val() {
             self.x_kind.d.next = self.new_kind.val();
@@ -71,7 +61,6 @@ impl Logic for AxisContext {
         }
         if self.reset.val() {
             self.r_kind.d.next = 0.into();
-            self.r_err.d.next = 0.into();
             self.x_kind.d.next = 0.into();
             self.x_dwell.d.next = false;
             self.r_slot.d.next = false;

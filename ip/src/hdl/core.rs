@@ -16,9 +16,12 @@
 //!
 //! **Commands.** `cmd_valid` with `cmd_axis`, `cmd_v0` (Q0.32 rate), `cmd_t` (ticks)
 //! and `cmd_steps` (signed) pushes a segment into that axis's queue when
-//! `cmd_ready`. Segments are validated when the scheduler reaches them; a rejected one
-//! is dropped with its error code in the axis status and disturbs nothing else. A
-//! command to an axis ≥ K is dropped and sets the sticky `cmd_error`.
+//! `cmd_ready`. The core takes only valid, effective segments
+//! ([`crate::model::Segment::validate`] passed, and [`crate::model::Segment::effective`]
+//! applied): in the exported IP the push check ([`super::push_check::PushCheck`], bus
+//! clock) rejects bad segments before they reach the command FIFO, so the core checks
+//! nothing and a bad segment given to it directly runs undefined. A command to an
+//! axis ≥ K is dropped and sets the sticky `cmd_error`.
 //!
 //! **Start.** `start` with `start_mask` arms a synchronised release ([`SyncStart`]):
 //! the masked axes get `go` on the same clock edge once each is idle with its first
@@ -32,8 +35,8 @@
 //!
 //! **Counters** for the register bus (8 bits each, wrapping, per axis, read through
 //! `sel_axis`): segments taken from the queue (`sel_taken`, counting the ones an abort
-//! flushes), rejected (`sel_rejected`), done (`sel_done`: their last period ended) and
-//! underruns begun (`sel_underruns`).
+//! flushes), done (`sel_done`: their last period ended) and underruns begun
+//! (`sel_underruns`).
 
 use super::bit_insert::{BitInsert, BitPick};
 use super::context::AxisContext;
@@ -47,7 +50,7 @@ use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::step_gen::StepAxis;
 use super::sync_start::SyncStart;
-use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
+use crate::model::Limits;
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
@@ -61,15 +64,15 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 pub const T_CALC_UNIFORM: usize = 3;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
-/// segment, from S_CHECK to its commit: the head into registers, the range checks,
-/// three 32×32 products issued back to back into the pipelined multiplier from
-/// registered operands (v0·T, T·RMAX, T²; the last arrives 2 + MUL_REG_LATENCY cycles
-/// after the first is issued), one on the sequential multiplier (v·T²;
-/// two with n·B' when decelerating) and two divides (P', B'), each issued in the
-/// cycle its operand arrives. Measured by tests/hdl_core.rs.
+/// segment, from S_CHECK to its commit: the head into registers, two 32×32
+/// products issued back to back into the pipelined multiplier from registered
+/// operands (v0·T, T²; the last arrives 1 + MUL_REG_LATENCY cycles after the first is
+/// issued), one on the sequential multiplier (v·T²; two with n·B' when decelerating)
+/// and two divides (P', B'), each issued in the cycle its operand arrives. Measured
+/// by tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
     let wide = if decelerating { 2 } else { 1 };
-    3 + (2 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
+    3 + (1 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
 
 // The fallback test reads the quotient's bits 103..64 by literal widths (rust-hdl
@@ -89,8 +92,8 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 22] = [
-    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_T2", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "S_REJECT", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
+pub const STATES: [&str; 20] = [
+    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
     "S_DRAIN",
 ];
 
@@ -135,11 +138,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// Status of axis `sel_axis`: position, last error code, queue and FIFO levels.
     pub sel_axis: Signal<In, Bits<8>>,
     pub sel_position: Signal<Out, Bits<32>>,
-    pub sel_error: Signal<Out, Bits<8>>,
     pub sel_queue: Signal<Out, Bits<8>>,
     pub sel_fifo: Signal<Out, Bits<8>>,
     pub sel_taken: Signal<Out, Bits<8>>,
-    pub sel_rejected: Signal<Out, Bits<8>>,
     pub sel_done: Signal<Out, Bits<8>>,
     pub sel_underruns: Signal<Out, Bits<8>>,
     pub sel_busy: Signal<Out, Bit>,
@@ -178,7 +179,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     sat_bus: [BitInsert<K>; K],
     go_pick: [BitPick<K>; K],
     taken: [DFF<Bits<8>>; K],
-    rejected: [DFF<Bits<8>>; K],
     sync: SyncStart<K>,
     mulw: MulReg<32, 32, 64>,
     mul: MulSeq<R>,
@@ -216,7 +216,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_vend: DFF<Bits<64>>,
     s_t2: DFF<Bits<64>>,
     s_anew: DFF<Bits<100>>,
-    s_code: DFF<Bits<8>>,
     /// A step's E computed in P_WAIT or U_STEP: its entry is formed from registers and
     /// pushed into axis m's FIFO one cycle later (in S_COMMIT_STEP, m unchanged), so
     /// that no path runs from the arithmetic into the FIFO RAMs in one cycle.
@@ -258,12 +257,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     // Datapath.
     dq: Signal<Local, Bits<64>>,
     vend: Signal<Local, Bits<64>>,
-    // A deceleration that rounds past rest (−T < v_end·T·2^32 < 0) runs with v0 − 1:
-    // v_end·T·2^32 + T, and |D·2^32| − T (docs/model.md, "Deceleration to rest").
-    vend_fix: Signal<Local, Bits<64>>,
-    dmag_fix: Signal<Local, Bits<64>>,
-    vend_fix_neg: Signal<Local, Bit>,
-    near_rest: Signal<Local, Bit>,
     n64: Signal<Local, Bits<64>>,
     narrow: Signal<Local, Bits<64>>,
     t_num: Signal<Local, Bits<DIV_NUM_BITS>>,
@@ -279,15 +272,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     // Actions on axis m.
     pop_now: Signal<Local, Bit>,
     commit: Signal<Local, Bit>,
-    err_now: Signal<Local, Bit>,
     cmd_ok_axis: Signal<Local, Bit>,
 
-    c_rmax: Constant<Bits<32>>,
-    /// RMAX + 1: a segment that rounds past rest runs with v0 − 1, which must be ≤ RMAX.
-    c_rmax1: Constant<Bits<32>>,
-    c_max_t: Constant<Bits<32>>,
-    c_max_n: Constant<Bits<32>>,
-    c_max_v0: Constant<Bits<32>>,
     c_last_axis: Constant<Bits<8>>,
     /// K = 1: axis m + 1 is axis m, so a promote flips the slot the next PICK reads.
     c_single: Constant<Bit>,
@@ -302,13 +288,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_tr: Constant<Bits<STATE_BITS>>,
     k_dwell: Constant<Bits<STATE_BITS>>,
     k_udiv: Constant<Bits<STATE_BITS>>,
-    k_t2: Constant<Bits<STATE_BITS>>,
     k_x: Constant<Bits<STATE_BITS>>,
     k_p: Constant<Bits<STATE_BITS>>,
     k_b: Constant<Bits<STATE_BITS>>,
     k_nb: Constant<Bits<STATE_BITS>>,
     k_commit_setup: Constant<Bits<STATE_BITS>>,
-    k_reject: Constant<Bits<STATE_BITS>>,
     k_pstart: Constant<Bits<STATE_BITS>>,
     k_pwait: Constant<Bits<STATE_BITS>>,
     k_ustep: Constant<Bits<STATE_BITS>>,
@@ -319,8 +303,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
-    /// A core whose every emitted period is at least `limits.min_period_ticks`.
+    /// A core for segments validated against `limits` (by the push check: every
+    /// emitted period is then at least `limits.min_period_ticks`). The core itself
+    /// checks nothing, so the limits do not change its logic.
     pub fn new(limits: Limits) -> Self {
+        let _ = limits;
         assert!((1..=CTX_MAX_AXES).contains(&K), "TdmCore: K = {K} outside 1..={CTX_MAX_AXES}");
         assert!(
             QDEPTH.is_power_of_two() && (2..=MAX_QUEUE_DEPTH).contains(&QDEPTH),
@@ -353,11 +340,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             pulse: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
-            sel_error: Default::default(),
             sel_queue: Default::default(),
             sel_fifo: Default::default(),
             sel_taken: Default::default(),
-            sel_rejected: Default::default(),
             sel_done: Default::default(),
             sel_underruns: Default::default(),
             sel_busy: Default::default(),
@@ -381,7 +366,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             sat_bus: std::array::from_fn(BitInsert::new),
             go_pick: std::array::from_fn(BitPick::new),
             taken: std::array::from_fn(|_| Default::default()),
-            rejected: std::array::from_fn(|_| Default::default()),
             sync: Default::default(),
             mulw: Default::default(),
             mul: Default::default(),
@@ -411,7 +395,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_vend: Default::default(),
             s_t2: Default::default(),
             s_anew: Default::default(),
-            s_code: Default::default(),
             pe_valid: Default::default(),
             op_a: Default::default(),
             op_b: Default::default(),
@@ -441,10 +424,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             h_n: Default::default(),
             dq: Default::default(),
             vend: Default::default(),
-            vend_fix: Default::default(),
-            dmag_fix: Default::default(),
-            vend_fix_neg: Default::default(),
-            near_rest: Default::default(),
             n64: Default::default(),
             narrow: Default::default(),
             t_num: Default::default(),
@@ -459,13 +438,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             u_r1: Default::default(),
             pop_now: Default::default(),
             commit: Default::default(),
-            err_now: Default::default(),
             cmd_ok_axis: Default::default(),
-            c_rmax: Constant::new((limits.max_rate() as u64).into()),
-            c_rmax1: Constant::new((limits.max_rate() as u64 + 1).into()),
-            c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
-            c_max_n: Constant::new((MAX_STEPS as u64).into()),
-            c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
             c_single: Constant::new(K == 1),
             c_step_bit: Constant::new((1u64 << 32).into()),
@@ -479,13 +452,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_tr: state("S_TR"),
             k_dwell: state("S_DWELL"),
             k_udiv: state("S_UDIV"),
-            k_t2: state("S_T2"),
             k_x: state("S_X"),
             k_p: state("S_P"),
             k_b: state("S_B"),
             k_nb: state("S_NB"),
             k_commit_setup: state("S_COMMIT_SETUP"),
-            k_reject: state("S_REJECT"),
             k_pstart: state("P_START"),
             k_pwait: state("P_WAIT"),
             k_ustep: state("U_STEP"),
@@ -499,11 +470,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     core_connect_ports!();
 
     /// Axis `axis`'s current segment as the simulation holds it: its kind (0 idle,
-    /// 1 uniform, 2 accelerate, 3 decelerate), error code and context word.
-    pub fn context(&self, axis: usize) -> (u8, u8, ContextWord) {
+    /// 1 uniform, 2 accelerate, 3 decelerate) and context word.
+    pub fn context(&self, axis: usize) -> (u8, ContextWord) {
         let c = &self.ctx[axis];
         let addr = 2 * axis + c.slot.val() as usize;
-        (c.kind.val().to_u64() as u8, c.err.val().to_u64() as u8, self.ctx_ram.word(addr))
+        (c.kind.val().to_u64() as u8, self.ctx_ram.word(addr))
     }
 }
 
@@ -514,7 +485,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_code, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog
+            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -540,7 +511,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.commit.next = false;
         self.promote_now.next = false;
         self.nwe_now.next = false;
-        self.err_now.next = false;
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
 
@@ -615,10 +585,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.dq.next = (self.n64.val() << 32) - self.narrow.val();
         self.vend.next = (self.n64.val() << 33) - self.narrow.val();
         // From the registered values in S_TR: v_end·T·2^32 + T, and |D·2^32| − T (D < 0).
-        self.vend_fix.next = self.s_vend.q.val() + bit_cast::<64, 32>(self.w_t.q.val());
-        self.dmag_fix.next = ((!self.s_dq.q.val()) + 1) - bit_cast::<64, 32>(self.w_t.q.val());
-        self.vend_fix_neg.next = self.vend_fix.val().get_bit(63);
-        self.near_rest.next = self.s_vend.q.val().get_bit(63) & !self.vend_fix_neg.val() & (self.vend_fix.val() != 0);
         // P' + 2T' ≥ 2^64 (the fallback test) without a 128-bit adder: the quotient's high
         // half, or the carry out of its low half plus 2T'.
         self.p_test.next = bit_cast::<65, 64>(self.div.quotient.val().get_bits::<64>(0))
@@ -701,64 +667,30 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_rev.d.next = self.h_steps.val().get_bit(31);
             self.st.d.next = self.k_issue_vt.val();
         } else if self.st.q.val() == self.k_issue_vt.val() {
-            // v0·T goes into the multiplier whatever the checks find (a rejected
-            // segment's product is never read); load T·RMAX's operands. Range checks,
-            // in the model's order, into s_code (0: in range); S_ISSUE_TR acts on it.
-            self.op_a.d.next = self.w_t.q.val();
-            self.op_b.d.next = self.c_rmax.val();
-            self.w_n.d.next = self.h_n.val();
-            if self.w_t.q.val() == 0 {
-                self.s_code.d.next = 1.into();
-            } else if self.w_t.q.val() > self.c_max_t.val() {
-                self.s_code.d.next = 4.into();
-            } else if self.h_n.val() > self.c_max_n.val() {
-                self.s_code.d.next = 5.into();
-            } else if self.s_v0.q.val() > self.c_max_v0.val() {
-                self.s_code.d.next = 6.into();
-            } else {
-                self.s_code.d.next = 0.into();
-            }
-            self.st.d.next = self.k_issue_tr.val();
-        } else if self.st.q.val() == self.k_issue_tr.val() {
-            // T·RMAX goes in; load T²'s operands.
+            // v0·T goes into the multiplier; load T²'s operands.
             self.op_a.d.next = self.w_t.q.val();
             self.op_b.d.next = self.w_t.q.val();
-            if self.s_code.q.val() != 0 {
-                self.st.d.next = self.k_reject.val();
-            } else {
-                self.st.d.next = self.k_vt.val();
-            }
+            self.w_n.d.next = self.h_n.val();
+            self.st.d.next = self.k_issue_tr.val();
+        } else if self.st.q.val() == self.k_issue_tr.val() {
+            // T² goes in.
+            self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
-            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it). T² goes in
-            // whatever the reversal test finds; S_TR acts on it.
+            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it).
             self.s_dq.d.next = self.dq.val();
             self.s_vend.d.next = self.vend.val();
             self.st.d.next = self.k_tr.val();
         } else if self.st.q.val() == self.k_tr.val() {
-            // T·RMAX arrived.
+            // T² arrived. The segment is valid and effective (the push check in the bus
+            // clock dropped bad ones and ran a deceleration that rounds past rest with
+            // v0 − 1), so the setup only chooses its path.
             if self.s_dq.q.val().get_bit(63) {
                 self.s_dmag.d.next = (!self.s_dq.q.val()) + 1;
             } else {
                 self.s_dmag.d.next = self.s_dq.q.val();
             }
-            if self.near_rest.val() {
-                // A deceleration to rest whose v0 was rounded up: it runs as v0 − 1 (its
-                // end speed then in [0, 1/T) rate units; never too fast at that end).
-                if self.s_v0.q.val() > self.c_rmax1.val() {
-                    self.s_code.d.next = 3.into();
-                    self.st.d.next = self.k_reject.val();
-                } else {
-                    self.s_vend.d.next = self.vend_fix.val();
-                    self.s_dmag.d.next = self.dmag_fix.val();
-                    self.st.d.next = self.k_t2.val();
-                }
-            } else if self.s_vend.q.val().get_bit(63) {
-                self.s_code.d.next = 2.into();
-                self.st.d.next = self.k_reject.val();
-            } else if (self.s_v0.q.val() > self.c_rmax.val()) | (self.s_vend.q.val() > self.narrow.val()) {
-                self.s_code.d.next = 3.into();
-                self.st.d.next = self.k_reject.val();
-            } else if self.w_n.q.val() == 0 {
+            self.s_t2.d.next = self.narrow.val();
+            if self.w_n.q.val() == 0 {
                 self.st.d.next = self.k_dwell.val();
             } else if self.s_dq.q.val() == 0 {
                 self.div.numerator.next = self.t_num.val() << 1;
@@ -766,8 +698,17 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.div.start.next = true;
                 self.st.d.next = self.k_udiv.val();
             } else {
-                // T² arrives in S_T2 (issued in S_VT).
-                self.st.d.next = self.k_t2.val();
+                // v·T² needs the wide multiplier.
+                if self.s_dq.q.val().get_bit(63) {
+                    // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
+                    self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.s_vend.q.val());
+                    self.mul.b.next = self.w_t.q.val();
+                } else {
+                    self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.narrow.val());
+                    self.mul.b.next = self.s_v0.q.val();
+                }
+                self.mul.start.next = true;
+                self.st.d.next = self.k_x.val();
             }
         } else if self.st.q.val() == self.k_dwell.val() {
             // A dwell goes into the next slot like any segment; its FIFO entry is pushed
@@ -786,19 +727,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_e.d.next = 0.into();
                 self.st.d.next = self.k_commit_setup.val();
             }
-        } else if self.st.q.val() == self.k_t2.val() {
-            // T² arrived; v·T² needs the wide multiplier.
-            self.s_t2.d.next = self.narrow.val();
-            if self.s_dq.q.val().get_bit(63) {
-                // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
-                self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.s_vend.q.val());
-                self.mul.b.next = self.w_t.q.val();
-            } else {
-                self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.narrow.val());
-                self.mul.b.next = self.s_v0.q.val();
-            }
-            self.mul.start.next = true;
-            self.st.d.next = self.k_x.val();
         } else if self.st.q.val() == self.k_x.val() {
             if self.mul.valid.val() {
                 // P' = round(v·T²·2^4 / (2|D·2^32|))
@@ -872,12 +800,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_pick.val();
             }
         } else if self.st.q.val() == self.k_push_dwell.val() {
-            self.m.d.next = self.next_m.val();
-            self.ra.d.next = self.addr_next.val();
-            self.st.d.next = self.k_pick.val();
-        } else if self.st.q.val() == self.k_reject.val() {
-            self.err_now.next = true;
-            self.pop_now.next = true;
             self.m.d.next = self.next_m.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
@@ -973,11 +895,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();
         self.cmd_ready.next = true;
         self.sel_position.next = 0.into();
-        self.sel_error.next = 0.into();
         self.sel_queue.next = 0.into();
         self.sel_fifo.next = 0.into();
         self.sel_taken.next = 0.into();
-        self.sel_rejected.next = 0.into();
         self.sel_done.next = 0.into();
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
@@ -1002,20 +922,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
         for i in 0..K {
             self.taken[i].clock.next = self.clock.val();
-            self.rejected[i].clock.next = self.clock.val();
             self.taken[i].d.next = self.taken[i].q.val();
-            self.rejected[i].d.next = self.rejected[i].q.val();
             if self.abort.val() {
                 self.taken[i].d.next = self.taken[i].q.val() + self.q_count[i].q.val();
             } else if self.pop_now.val() & (self.m.q.val().index() == i) {
                 self.taken[i].d.next = self.taken[i].q.val() + 1;
             }
-            if self.err_now.val() & (self.m.q.val().index() == i) {
-                self.rejected[i].d.next = self.rejected[i].q.val() + 1;
-            }
             if self.reset.val() {
                 self.taken[i].d.next = 0.into();
-                self.rejected[i].d.next = 0.into();
             }
             // Axis i's queue: pointers and count here, entries in seg_ram. A push when
             // full and a pop when empty are ignored; both in one cycle is allowed.
@@ -1069,12 +983,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ctx[i].clock.next = self.clock.val();
             self.ctx[i].reset.next = self.flush.val();
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
-            self.ctx[i].err_we.next = self.err_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].nwe.next = self.nwe_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].new_dwell.next = self.w_dwell.q.val();
             self.ctx[i].new_kind.next = self.w_kind.q.val();
-            self.ctx[i].new_err.next = self.s_code.q.val();
             self.step_bus[i].value.next = self.axes[i].step.val();
             self.dir_bus[i].value.next = self.axes[i].dir.val();
             self.under_bus[i].value.next = self.axes[i].underrun.val();
@@ -1087,11 +999,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
             if self.sel_axis.val().index() == i {
                 self.sel_position.next = self.axes[i].position.val();
-                self.sel_error.next = self.ctx[i].err.val();
                 self.sel_queue.next = self.q_count[i].q.val();
                 self.sel_fifo.next = self.axes[i].level.val();
                 self.sel_taken.next = self.taken[i].q.val();
-                self.sel_rejected.next = self.rejected[i].q.val();
                 self.sel_done.next = self.axes[i].done_count.val();
                 self.sel_underruns.next = self.axes[i].under_count.val();
                 self.sel_busy.next = self.busy_bus[i].value.val();

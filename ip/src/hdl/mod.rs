@@ -20,6 +20,7 @@
 //! | 2-FF bit synchroniser and 4-deep Gray-pointer async FIFO | `cdc.rs` | 2 edges / 2–3 edges |
 //! | EXMC/FSMC async SRAM slave, 16-bit | `exmc.rs` | write commits ≤ 4 bus clocks after NWE rises; read data ≤ 4 after NOE falls |
 //! | status handshake, core clock to bus clock, one axis per copy | `status_sync.rs` | ~3 + 3 cycles per axis |
+//! | push check: every command to the core, a push validated with the model's rules (bus clock) | `push_check.rs` | 4 cycles |
 //! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
 //! | the whole IP core, `tdm_stepper` (and its baseline form) | `top.rs` | — |
 //!
@@ -71,6 +72,7 @@ pub mod mul_seq;
 pub mod mul_wide;
 pub mod lut_ram;
 pub mod pulse_stage;
+pub mod push_check;
 pub mod ram_fifo;
 pub mod regfile;
 pub mod root;

@@ -37,6 +37,8 @@
 
 use super::bit_insert::BitInsert;
 use super::lut_ram::LutRam;
+use super::push_check::PushCheck;
+use crate::model::Limits;
 use super::status_sync::STATUS_BITS;
 use crate::regs::{self, CoreParams, ADDR_BITS};
 use rust_hdl::prelude::*;
@@ -45,15 +47,13 @@ use rust_hdl::prelude::*;
 /// axis (103..96), kind (105..104: 0 push, 1 start with the mask in 15..0, 2 abort).
 pub const CMD_BITS: usize = 106;
 /// Status word fields (bit offsets): position (32 bits), segments taken, done,
-/// rejected, underruns (8 bits each), last error code (4), busy, core enabled.
+/// underruns (8 bits each), busy, core enabled.
 pub const W_POS: usize = 0;
 pub const W_TAKEN: usize = 32;
 pub const W_DONE: usize = 40;
-pub const W_REJECTED: usize = 48;
-pub const W_UNDERRUNS: usize = 56;
-pub const W_ERROR: usize = 64;
-pub const W_BUSY: usize = 68;
-pub const W_ENABLED: usize = 69;
+pub const W_UNDERRUNS: usize = 48;
+pub const W_BUSY: usize = 56;
+pub const W_ENABLED: usize = 57;
 // (The decoder below writes these offsets as literals: rust-hdl would print a Rust
 // constant's name into the Verilog. tests/system.rs reads every field back.)
 
@@ -106,7 +106,9 @@ pub struct RegFile<const K: usize> {
     /// Mirror read by the bus: {done count (39..32), position (31..0)} at `r_axis`.
     mb_ram: LutRam<40, 4>,
     /// Mirror read by the event logic: {underruns, rejected, done} at `st_axis`.
-    mc_ram: LutRam<24, 4>,
+    mc_ram: LutRam<16, 4>,
+    /// Every command on its way to the command FIFO: pushes validated here.
+    chk: PushCheck,
     /// A status word of this axis has arrived since reset (POS and DONE_COUNT read 0
     /// before it).
     m_vld: [DFF<Bit>; K],
@@ -168,14 +170,11 @@ pub struct RegFile<const K: usize> {
     s_pos: Signal<Local, Bits<32>>,
     s_taken: Signal<Local, Bits<8>>,
     s_done: Signal<Local, Bits<8>>,
-    s_rej: Signal<Local, Bits<8>>,
     s_under: Signal<Local, Bits<8>>,
-    s_err: Signal<Local, Bits<4>>,
     s_busy: Signal<Local, Bit>,
     s_en: Signal<Local, Bit>,
     o_taken: Signal<Local, Bits<8>>,
     o_done: Signal<Local, Bits<8>>,
-    o_rej: Signal<Local, Bits<8>>,
     o_under: Signal<Local, Bits<8>>,
     o_pushed: Signal<Local, Bits<8>>,
     s_onehot: Signal<Local, Bits<16>>,
@@ -184,6 +183,10 @@ pub struct RegFile<const K: usize> {
     ev_qlow: Signal<Local, Bits<16>>,
     ev_err: Signal<Local, Bits<16>>,
     push_ok: Signal<Local, Bit>,
+    c_busy: Signal<Local, Bit>,
+    c_write: Signal<Local, Bit>,
+    c_data: Signal<Local, Bits<CMD_BITS>>,
+    rej_onehot: Signal<Local, Bits<16>>,
     x_v0: Signal<Local, Bits<32>>,
     x_t: Signal<Local, Bits<32>>,
     x_steps: Signal<Local, Bits<32>>,
@@ -282,6 +285,7 @@ impl<const K: usize> RegFile<K> {
             st_vld: std::array::from_fn(|_| Default::default()),
             mb_ram: Default::default(),
             mc_ram: Default::default(),
+            chk: PushCheck::new(Limits { min_period_ticks: p.min_period }),
             m_vld: std::array::from_fn(|_| Default::default()),
             pushed: std::array::from_fn(|_| Default::default()),
             q_full: std::array::from_fn(|_| Default::default()),
@@ -339,14 +343,11 @@ impl<const K: usize> RegFile<K> {
             s_pos: Default::default(),
             s_taken: Default::default(),
             s_done: Default::default(),
-            s_rej: Default::default(),
             s_under: Default::default(),
-            s_err: Default::default(),
             s_busy: Default::default(),
             s_en: Default::default(),
             o_taken: Default::default(),
             o_done: Default::default(),
-            o_rej: Default::default(),
             o_under: Default::default(),
             o_pushed: Default::default(),
             s_onehot: Default::default(),
@@ -355,6 +356,10 @@ impl<const K: usize> RegFile<K> {
             ev_qlow: Default::default(),
             ev_err: Default::default(),
             push_ok: Default::default(),
+            c_busy: Default::default(),
+            c_write: Default::default(),
+            c_data: Default::default(),
+            rej_onehot: Default::default(),
             x_v0: Default::default(),
             x_t: Default::default(),
             x_steps: Default::default(),
@@ -471,8 +476,18 @@ impl<const K: usize> Logic for RegFile<K> {
         self.enable.next = self.ctrl_en.q.val();
         self.irq.next = self.irq_q.q.val();
         self.accepting.next = self.ctrl_en.q.val() & self.core_en.q.val();
-        self.cmd_write.next = false;
-        self.cmd_data.next = 0.into();
+        self.c_write.next = false;
+        self.c_data.next = 0.into();
+        // The push check: busy while a command is in flight; its verdict 4 cycles on.
+        self.chk.clock.next = self.clock.val();
+        self.chk.reset.next = self.reset.val() | !self.ctrl_en.q.val();
+        self.c_busy.next = self.chk.busy.val();
+        self.cmd_write.next = self.chk.out_valid.val();
+        self.cmd_data.next = self.chk.out_data.val();
+        self.rej_onehot.next = 0.into();
+        if self.chk.rej_valid.val() {
+            self.rej_onehot.next = self.c_one.val() << bit_cast::<16, 4>(self.chk.rej_axis.val());
+        }
 
         // ---- decode ----------------------------------------------------------
         self.w_glob.next = self.wr.val() & !self.wr_addr.val().get_bit(8);
@@ -487,11 +502,9 @@ impl<const K: usize> Logic for RegFile<K> {
         self.s_pos.next = self.st_word.val().get_bits::<32>(0);
         self.s_taken.next = self.st_word.val().get_bits::<8>(32);
         self.s_done.next = self.st_word.val().get_bits::<8>(40);
-        self.s_rej.next = self.st_word.val().get_bits::<8>(48);
-        self.s_under.next = self.st_word.val().get_bits::<8>(56);
-        self.s_err.next = self.st_word.val().get_bits::<4>(64);
-        self.s_busy.next = self.st_word.val().get_bit(68);
-        self.s_en.next = self.st_word.val().get_bit(69);
+        self.s_under.next = self.st_word.val().get_bits::<8>(48);
+        self.s_busy.next = self.st_word.val().get_bit(56);
+        self.s_en.next = self.st_word.val().get_bit(57);
         self.s_onehot.next = self.c_one.val() << bit_cast::<16, 8>(self.st_axis.val());
         self.w_ok.next = self.w_ax.val() & (self.w_axis.val() <= bit_cast::<4, 8>(self.c_last_axis.val()));
         // Which staging half-word a write addresses (one-hot, V0_LO first).
@@ -540,13 +553,10 @@ impl<const K: usize> Logic for RegFile<K> {
         self.mc_ram.clock.next = self.clock.val();
         self.mc_ram.we.next = self.st_valid.val();
         self.mc_ram.waddr.next = self.st_axis.val().get_bits::<4>(0);
-        self.mc_ram.wdata.next = bit_cast::<24, 8>(self.s_done.val())
-            | (bit_cast::<24, 8>(self.s_rej.val()) << 8)
-            | (bit_cast::<24, 8>(self.s_under.val()) << 16);
+        self.mc_ram.wdata.next = bit_cast::<16, 8>(self.s_done.val()) | (bit_cast::<16, 8>(self.s_under.val()) << 8);
         self.mc_ram.raddr.next = self.st_axis.val().get_bits::<4>(0);
         self.o_done.next = self.mc_ram.rdata.val().get_bits::<8>(0);
-        self.o_rej.next = self.mc_ram.rdata.val().get_bits::<8>(8);
-        self.o_under.next = self.mc_ram.rdata.val().get_bits::<8>(16);
+        self.o_under.next = self.mc_ram.rdata.val().get_bits::<8>(8);
 
         // The mirror's previous values for the axis in the status word, and the
         // level of the axis being written.
@@ -608,7 +618,7 @@ impl<const K: usize> Logic for RegFile<K> {
             {
                 self.ev_qlow.next = self.s_onehot.val();
             }
-            if (self.s_rej.val() != self.o_rej.val()) | (self.s_under.val() != self.o_under.val()) {
+            if self.s_under.val() != self.o_under.val() {
                 self.ev_err.next = self.s_onehot.val();
             }
         }
@@ -625,7 +635,7 @@ impl<const K: usize> Logic for RegFile<K> {
         // cycle later, which can only refuse a push that would just have fitted.
         self.push_ok.next = false;
         if self.w_ok.val() & (self.w_off.val() == self.o_steps_hi.val()) {
-            if !self.accepting.val() {
+            if !self.accepting.val() | self.c_busy.val() {
                 self.refused.d.next = true;
             } else if self.cmd_full.val() | self.w_full.val() {
                 self.ev_err.next = self.ev_err.val() | self.w_onehot.val();
@@ -642,9 +652,12 @@ impl<const K: usize> Logic for RegFile<K> {
             self.ev_err.next = self.ev_err.val() | self.start_last.q.val();
         }
 
+        // A rejected push: STATUS.ERROR with the code, IRQ_ERROR, and LEVEL no longer
+        // counts it (below).
+        self.ev_err.next = self.ev_err.val() | self.rej_onehot.val();
         if self.push_ok.val() {
-            self.cmd_write.next = true;
-            self.cmd_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
+            self.c_write.next = true;
+            self.c_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
                 | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
                 | (bit_cast::<CMD_BITS, 32>(self.x_steps.val()) << 64)
                 | (bit_cast::<CMD_BITS, 4>(self.w_axis.val()) << 96);
@@ -658,7 +671,7 @@ impl<const K: usize> Logic for RegFile<K> {
                 if self.w_off.val() == self.o_steps_hi.val() {
                     if self.push_ok.val() {
                         self.pushed[i].d.next = self.pushed[i].q.val() + 1;
-                    } else if self.accepting.val() {
+                    } else if self.accepting.val() & !self.c_busy.val() {
                         self.f_over[i].d.next = true;
                     }
                 }
@@ -680,14 +693,19 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.m_vld[i].d.next = true;
                 self.m_taken[i].d.next = self.s_taken.val();
                 self.m_busy[i].d.next = self.s_busy.val();
-                if self.accepting.val() {
-                    if self.s_rej.val() != self.o_rej.val() {
-                        self.f_err[i].d.next = true;
-                        self.f_code[i].d.next = self.s_err.val();
-                    }
-                    if self.s_under.val() != self.o_under.val() {
-                        self.f_under[i].d.next = true;
-                    }
+                if self.accepting.val() & (self.s_under.val() != self.o_under.val()) {
+                    self.f_under[i].d.next = true;
+                }
+            }
+            // A push rejected by the check: counted at its write, uncounted now (a
+            // push of the same axis in this cycle keeps the count).
+            if self.chk.rej_valid.val() & (self.chk.rej_axis.val().index() == i) {
+                self.f_err[i].d.next = true;
+                self.f_code[i].d.next = self.chk.rej_code.val();
+                if self.push_ok.val() & (self.w_axis.val().index() == i) {
+                    self.pushed[i].d.next = self.pushed[i].q.val();
+                } else {
+                    self.pushed[i].d.next = self.pushed[i].q.val() - 1;
                 }
             }
             self.busy_bus[i].value.next =
@@ -754,18 +772,18 @@ impl<const K: usize> Logic for RegFile<K> {
                 }
             }
             if self.wr_addr.val() == self.a_start.val() {
-                if self.accepting.val() & !self.cmd_full.val() {
-                    self.cmd_write.next = true;
-                    self.cmd_data.next = bit_cast::<CMD_BITS, 16>(self.wr_data.val()) | (bit_cast::<CMD_BITS, 2>(1.into()) << 104);
+                if self.accepting.val() & !self.cmd_full.val() & !self.c_busy.val() {
+                    self.c_write.next = true;
+                    self.c_data.next = bit_cast::<CMD_BITS, 16>(self.wr_data.val()) | (bit_cast::<CMD_BITS, 2>(1.into()) << 104);
                     self.start_last.d.next = self.wr_data.val() & self.c_axmask.val();
                 } else {
                     self.refused.d.next = true;
                 }
             }
             if (self.wr_addr.val() == self.a_abort.val()) & self.wr_data.val().get_bit(0) {
-                if self.accepting.val() & !self.cmd_full.val() {
-                    self.cmd_write.next = true;
-                    self.cmd_data.next = bit_cast::<CMD_BITS, 2>(2.into()) << 104;
+                if self.accepting.val() & !self.cmd_full.val() & !self.c_busy.val() {
+                    self.c_write.next = true;
+                    self.c_data.next = bit_cast::<CMD_BITS, 2>(2.into()) << 104;
                 } else {
                     self.refused.d.next = true;
                 }
@@ -798,6 +816,9 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.start_failed.d.next = false;
             }
         }
+        // Every command goes through the check (its writes above are all made).
+        self.chk.in_valid.next = self.c_write.val();
+        self.chk.in_data.next = self.c_data.val();
         self.irq_q.d.next = ((self.irq_done.q.val() & self.mask_done.q.val())
             | (self.irq_qlow.q.val() & self.mask_qlow.q.val())
             | (self.irq_err.q.val() & self.mask_err.q.val()))

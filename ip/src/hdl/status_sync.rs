@@ -14,7 +14,7 @@
 use rust_hdl::prelude::*;
 
 /// Width of a status word.
-pub const STATUS_BITS: usize = 72;
+pub const STATUS_BITS: usize = 58;
 
 #[derive(LogicBlock)]
 pub struct StatusSync<const K: usize> {

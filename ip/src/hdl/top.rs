@@ -202,11 +202,9 @@ macro_rules! stepper_top {
                 self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_done.val()) << 40)
-                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_rejected.val()) << 48)
-                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_underruns.val()) << 56)
-                    | (bit_cast::<STATUS_BITS, 4>(self.core.sel_error.val().get_bits::<4>(0)) << 64)
-                    | (bit_cast::<STATUS_BITS, 1>(self.core.sel_busy.val().into()) << 68)
-                    | (bit_cast::<STATUS_BITS, 1>((!self.core_reset.val()).into()) << 69);
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_underruns.val()) << 48)
+                    | (bit_cast::<STATUS_BITS, 1>(self.core.sel_busy.val().into()) << 56)
+                    | (bit_cast::<STATUS_BITS, 1>((!self.core_reset.val()).into()) << 57);
                 self.regs.st_valid.next = self.status.valid.val();
                 self.regs.st_axis.next = self.status.axis.val();
                 self.regs.st_word.next = self.status.word.val();

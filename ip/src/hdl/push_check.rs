@@ -1,0 +1,215 @@
+//! Push check: every command from the register file passes here, in the bus clock, on
+//! its way to the command FIFO. A push (kind 0) is validated with the model's rules and
+//! codes ([`crate::model::Segment::validate`], bit for bit); a valid one goes on with
+//! its effective start rate ([`crate::model::Segment::effective`]: v0 − 1 for a
+//! deceleration that rounds past rest), a bad one is dropped and reported on `rej_*`.
+//! START and ABORT pass unchanged, with the same delay, so the order of commands is
+//! kept. The core behind the FIFO therefore only ever sees valid segments.
+//!
+//! Pipeline (one command in flight; latency 4 cycles):
+//! * edge 0 registers the command (`in_valid`, `in_data`, layout
+//!   [`super::regfile::CMD_BITS`]) and v0 + RMAX;
+//! * cycle 1: the two 32×32 products v0·T and (v0 + RMAX)·T go into two [`MulReg`]s;
+//!   the range codes (T = 0, T, |θ|, v0 above their maxima), n·2^33 and the two
+//!   start-rate limits are registered;
+//! * cycle 3: the products arrive and three 64-bit compares against 2n·2^32 are
+//!   registered: reverses (2n·2^32 < v0·T), rounds past rest (and 2n·2^32 + T > v0·T)
+//!   and too fast at the end (2n·2^32 > (v0 + RMAX)·T, that is v_end·T·2^32 > T·RMAX);
+//! * cycle 4: the verdict. `out_valid`/`out_data` for a valid push, START or ABORT;
+//!   `rej_valid` with `rej_axis` and `rej_code` for a rejected push.
+//!
+//! `busy` is 1 in cycles 1 to 3: a command offered then would be lost, so the register
+//! file refuses it (GSTATUS.REFUSED). A command offered in cycle 4 is taken. The bus
+//! slave commits writes at least 4 bus clocks apart when the MCU keeps the documented
+//! timing (NWE low ≥ 3, high ≥ 2 bus clocks), so a host within the timing is never
+//! refused. `reset` (synchronous) drops the command in flight.
+
+use super::mul_wide::MulReg;
+use super::regfile::CMD_BITS;
+use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
+use rust_hdl::prelude::*;
+
+/// Cycles from `in_valid` to `out_valid` / `rej_valid`.
+pub const PUSH_CHECK_LATENCY: usize = 4;
+
+#[derive(LogicBlock)]
+pub struct PushCheck {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub in_valid: Signal<In, Bit>,
+    pub in_data: Signal<In, Bits<CMD_BITS>>,
+    pub busy: Signal<Out, Bit>,
+    pub out_valid: Signal<Out, Bit>,
+    pub out_data: Signal<Out, Bits<CMD_BITS>>,
+    pub rej_valid: Signal<Out, Bit>,
+    pub rej_axis: Signal<Out, Bits<4>>,
+    pub rej_code: Signal<Out, Bits<4>>,
+    /// Which cycle of the check the command is in (1, 2, 3, 4).
+    s1: DFF<Bit>,
+    s2: DFF<Bit>,
+    s3: DFF<Bit>,
+    s4: DFF<Bit>,
+    cmd: DFF<Bits<CMD_BITS>>,
+    vr: DFF<Bits<32>>,
+    /// The first failing range check's code (1, 4, 5, 6), or 0.
+    rcode: DFF<Bits<4>>,
+    n2: DFF<Bits<64>>,
+    n2t: DFF<Bits<64>>,
+    v0_fast: DFF<Bit>,
+    v0_fast1: DFF<Bit>,
+    rev: DFF<Bit>,
+    near: DFF<Bit>,
+    fast: DFF<Bit>,
+    mul_vt: MulReg<32, 32, 64>,
+    mul_rt: MulReg<32, 32, 64>,
+    c_rmax: Constant<Bits<32>>,
+    c_rmax1: Constant<Bits<32>>,
+    c_max_t: Constant<Bits<32>>,
+    c_max_n: Constant<Bits<32>>,
+    c_max_v0: Constant<Bits<32>>,
+    is_push: Signal<Local, Bit>,
+    x_v0: Signal<Local, Bits<32>>,
+    x_t: Signal<Local, Bits<32>>,
+    x_steps: Signal<Local, Bits<32>>,
+    x_n: Signal<Local, Bits<32>>,
+    x_v0m1: Signal<Local, Bits<32>>,
+    code: Signal<Local, Bits<4>>,
+}
+
+impl PushCheck {
+    /// The check for a core with these limits (RMAX = [`Limits::max_rate`]).
+    pub fn new(limits: Limits) -> Self {
+        let rmax = limits.max_rate() as u64;
+        assert!(rmax + MAX_V0_RATE as u64 <= u32::MAX as u64, "v0 + RMAX must fit 32 bits");
+        PushCheck {
+            clock: Default::default(),
+            reset: Default::default(),
+            in_valid: Default::default(),
+            in_data: Default::default(),
+            busy: Default::default(),
+            out_valid: Default::default(),
+            out_data: Default::default(),
+            rej_valid: Default::default(),
+            rej_axis: Default::default(),
+            rej_code: Default::default(),
+            s1: Default::default(),
+            s2: Default::default(),
+            s3: Default::default(),
+            s4: Default::default(),
+            cmd: Default::default(),
+            vr: Default::default(),
+            rcode: Default::default(),
+            n2: Default::default(),
+            n2t: Default::default(),
+            v0_fast: Default::default(),
+            v0_fast1: Default::default(),
+            rev: Default::default(),
+            near: Default::default(),
+            fast: Default::default(),
+            mul_vt: Default::default(),
+            mul_rt: Default::default(),
+            c_rmax: Constant::new(rmax.into()),
+            c_rmax1: Constant::new((rmax + 1).into()),
+            c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
+            c_max_n: Constant::new((MAX_STEPS as u64).into()),
+            c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
+            is_push: Default::default(),
+            x_v0: Default::default(),
+            x_t: Default::default(),
+            x_steps: Default::default(),
+            x_n: Default::default(),
+            x_v0m1: Default::default(),
+            code: Default::default(),
+        }
+    }
+}
+
+impl Logic for PushCheck {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, s1, s2, s3, s4, cmd, vr, rcode, n2, n2t, v0_fast, v0_fast1, rev, near, fast);
+        self.mul_vt.clock.next = self.clock.val();
+        self.mul_rt.clock.next = self.clock.val();
+
+        // Cycle 0: take the command.
+        self.s1.d.next = self.in_valid.val();
+        self.s2.d.next = self.s1.q.val();
+        self.s3.d.next = self.s2.q.val();
+        self.s4.d.next = self.s3.q.val();
+        if self.in_valid.val() {
+            self.cmd.d.next = self.in_data.val();
+            self.vr.d.next = self.in_data.val().get_bits::<32>(0) + self.c_rmax.val();
+        }
+        self.busy.next = self.s1.q.val() | self.s2.q.val() | self.s3.q.val();
+
+        // Cycle 1: the products in, the range checks and 2n·2^32 registered.
+        self.x_v0.next = self.cmd.q.val().get_bits::<32>(0);
+        self.x_t.next = self.cmd.q.val().get_bits::<32>(32);
+        self.x_steps.next = self.cmd.q.val().get_bits::<32>(64);
+        if self.x_steps.val().get_bit(31) {
+            self.x_n.next = (!self.x_steps.val()) + 1;
+        } else {
+            self.x_n.next = self.x_steps.val();
+        }
+        self.is_push.next = self.cmd.q.val().get_bits::<2>(104) == 0;
+        self.mul_vt.a.next = self.x_v0.val();
+        self.mul_vt.b.next = self.x_t.val();
+        self.mul_rt.a.next = self.vr.q.val();
+        self.mul_rt.b.next = self.x_t.val();
+        if self.x_t.val() == 0 {
+            self.rcode.d.next = 1.into();
+        } else if self.x_t.val() > self.c_max_t.val() {
+            self.rcode.d.next = 4.into();
+        } else if self.x_n.val() > self.c_max_n.val() {
+            self.rcode.d.next = 5.into();
+        } else if self.x_v0.val() > self.c_max_v0.val() {
+            self.rcode.d.next = 6.into();
+        } else {
+            self.rcode.d.next = 0.into();
+        }
+        // n ≤ 2^24 when the range check passes, so n·2^33 < 2^58; T < 2^32 fills the
+        // bits below 33, so n·2^33 + T is an OR.
+        self.n2.d.next = bit_cast::<64, 32>(self.x_n.val()) << 33;
+        self.n2t.d.next = (bit_cast::<64, 32>(self.x_n.val()) << 33) | bit_cast::<64, 32>(self.x_t.val());
+        self.v0_fast.d.next = self.x_v0.val() > self.c_rmax.val();
+        self.v0_fast1.d.next = self.x_v0.val() > self.c_rmax1.val();
+
+        // Cycle 3: the products arrive (MulReg latency 2).
+        self.rev.d.next = self.n2.q.val() < self.mul_vt.p.val();
+        self.near.d.next = (self.n2.q.val() < self.mul_vt.p.val()) & (self.n2t.q.val() > self.mul_vt.p.val());
+        self.fast.d.next = self.n2.q.val() > self.mul_rt.p.val();
+
+        // Cycle 4: the verdict, in the model's order.
+        if self.rcode.q.val() != 0 {
+            self.code.next = self.rcode.q.val();
+        } else if self.near.q.val() {
+            if self.v0_fast1.q.val() {
+                self.code.next = 3.into();
+            } else {
+                self.code.next = 0.into();
+            }
+        } else if self.rev.q.val() {
+            self.code.next = 2.into();
+        } else if self.v0_fast.q.val() | self.fast.q.val() {
+            self.code.next = 3.into();
+        } else {
+            self.code.next = 0.into();
+        }
+        self.out_valid.next = self.s4.q.val() & (!self.is_push.val() | (self.code.val() == 0));
+        self.x_v0m1.next = self.x_v0.val() - 1;
+        self.out_data.next = self.cmd.q.val();
+        if self.is_push.val() & self.near.q.val() {
+            self.out_data.next = ((self.cmd.q.val() >> 32) << 32) | bit_cast::<CMD_BITS, 32>(self.x_v0m1.val());
+        }
+        self.rej_valid.next = self.s4.q.val() & self.is_push.val() & (self.code.val() != 0);
+        self.rej_axis.next = self.cmd.q.val().get_bits::<4>(96);
+        self.rej_code.next = self.code.val();
+
+        if self.reset.val() {
+            self.s1.d.next = false;
+            self.s2.d.next = false;
+            self.s3.d.next = false;
+            self.s4.d.next = false;
+        }
+    }
+}

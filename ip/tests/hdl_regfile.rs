@@ -1,0 +1,197 @@
+//! The register file's command path, in rust-hdl and in its exported Verilog
+//! (Verilator and Icarus), against what the contract says: every command reaches the
+//! command FIFO PUSH_CHECK_LATENCY bus clocks after its write, in order; a valid push
+//! goes through, a bad one is dropped with STATUS.ERROR and its code, and LEVEL counts
+//! it only while it is checked; a push captured before a later staging write keeps its
+//! values; a rejection and a push of the same axis in one cycle leave LEVEL right; a
+//! command written while the check is busy is refused (GSTATUS.REFUSED) and never
+//! reaches the FIFO.
+
+mod common;
+
+use common::*;
+use rust_hdl::prelude::*;
+use tdm_stepper::hdl::push_check::PUSH_CHECK_LATENCY;
+use tdm_stepper::hdl::regfile::{RegFile, CMD_BITS, W_ENABLED};
+use tdm_stepper::hdl::status_sync::STATUS_BITS;
+use tdm_stepper::model::{Limits, Segment};
+use tdm_stepper::regs::{self, CoreParams, ADDR_BITS};
+use tdm_stepper::verify::{run, run_rust_hdl, Port, TbSpec};
+
+const K: usize = 2;
+const L: usize = PUSH_CHECK_LATENCY;
+
+fn uut() -> RegFile<K> {
+    let p = CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: 16, fifo_depth: 4, t_calc: 22, min_period: 2 };
+    let mut u = RegFile::<K>::new(p);
+    u.clock.connect();
+    u.reset.connect();
+    u.wr.connect();
+    u.wr_addr.connect();
+    u.wr_data.connect();
+    u.rd.connect();
+    u.rd_addr.connect();
+    u.st_valid.connect();
+    u.st_axis.connect();
+    u.st_word.connect();
+    u.cmd_full.connect();
+    u.start_fail_toggle.connect();
+    u.connect_all();
+    u
+}
+
+fn spec() -> TbSpec {
+    TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("wr", 1),
+            Port::new("wr_addr", ADDR_BITS),
+            Port::new("wr_data", 16),
+            Port::new("rd", 1),
+            Port::new("rd_addr", ADDR_BITS),
+            Port::new("st_valid", 1),
+            Port::new("st_axis", 8),
+            Port::new("st_word", STATUS_BITS),
+            Port::new("cmd_full", 1),
+            Port::new("start_fail_toggle", 1),
+        ],
+        outputs: vec![Port::new("cmd_write", 1), Port::new("cmd_data", CMD_BITS), Port::new("rd_data", 16)],
+    }
+}
+
+/// Rows of stimulus, built cycle by cycle.
+struct Stim {
+    rows: Vec<Vec<u128>>,
+}
+
+impl Stim {
+    fn idle(&mut self) -> usize {
+        self.rows.push(vec![0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+        self.rows.len() - 1
+    }
+    fn write(&mut self, addr: u16, data: u16) -> usize {
+        self.rows.push(vec![0, 1, addr as u128, data as u128, 0, 0, 0, 0, 0, 0, 0]);
+        self.rows.len() - 1
+    }
+    fn read(&mut self, addr: u16) -> usize {
+        self.rows.push(vec![0, 0, 0, 0, 1, addr as u128, 0, 0, 0, 0, 0]);
+        self.rows.len() - 1
+    }
+    /// Idles until row `r` is next.
+    fn until(&mut self, r: usize) {
+        while self.rows.len() < r {
+            self.idle();
+        }
+    }
+}
+
+fn a(name: &str, axis: usize) -> u16 {
+    regs::register(name).address(axis)
+}
+
+fn push_cmd(seg: &Segment, axis: usize) -> u128 {
+    seg.v0_rate as u128 | (seg.t_ticks as u128) << 32 | (seg.steps as u32 as u128) << 64 | (axis as u128) << 96
+}
+
+#[test]
+fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
+    let limits = Limits::default();
+    let good = Segment::new(0, 1000, 5);
+    assert!(good.validate(&limits).is_ok());
+    assert_eq!(Segment::new(0, 0, 5).validate(&limits).unwrap_err().code(), 1);
+    let mut s = Stim { rows: vec![] };
+    s.rows.push(vec![1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+    s.rows.push(vec![1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
+    s.write(regs::addr("CTRL"), 1);
+    s.idle();
+    // The core's view: ENABLED, from the last axis's status word.
+    s.rows.push(vec![0, 0, 0, 0, 0, 0, 1, (K - 1) as u128, 1u128 << W_ENABLED, 0, 0]);
+    s.idle();
+    // 1. A valid push on axis 0, a START 2 cycles later (refused: the check is busy),
+    //    and one at the verdict's cycle (taken).
+    s.write(a("T_LO", 0), 1000);
+    s.write(a("STEPS_LO", 0), 5);
+    s.idle();
+    let p1 = s.write(a("STEPS_HI", 0), 0);
+    s.idle();
+    let early = s.write(regs::addr("START"), 0b01);
+    s.until(p1 + L);
+    let st1 = s.write(regs::addr("START"), 0b01);
+    s.until(st1 + L + 2);
+    let gstatus = s.read(regs::addr("GSTATUS"));
+    // 2. A bad push on axis 1 (T = 0: never written): LEVEL counts it while it is
+    //    checked, then STATUS shows ERROR with code 1 and LEVEL 0.
+    s.write(a("STEPS_LO", 1), 5);
+    s.idle();
+    let p2 = s.write(a("STEPS_HI", 1), 0);
+    let during = s.read(a("STATUS", 1));
+    s.until(p2 + L + 1);
+    let after = s.read(a("STATUS", 1));
+    s.write(a("STATUS", 1), 1 << 8);
+    // 3. Axis 1 again: a bad push, T written while it is checked (the push keeps what it
+    //    captured), and a push of the now valid segment at the rejection's cycle.
+    s.idle();
+    let p3 = s.write(a("STEPS_HI", 1), 0);
+    s.idle();
+    s.write(a("T_LO", 1), 1000);
+    s.until(p3 + L);
+    let p4 = s.write(a("STEPS_HI", 1), 0);
+    s.idle();
+    let level = s.read(a("STATUS", 1));
+    s.until(p4 + L + 3);
+    let level_end = s.read(a("STATUS", 1));
+    for _ in 0..4 {
+        s.idle();
+    }
+    let rows = s.rows;
+
+    let out = run_rust_hdl(
+        &mut uut(),
+        &rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.wr.next = r[1] == 1;
+            u.wr_addr.next = (r[2] as u64).into();
+            u.wr_data.next = (r[3] as u64).into();
+            u.rd.next = r[4] == 1;
+            u.rd_addr.next = (r[5] as u64).into();
+            u.st_valid.next = r[6] == 1;
+            u.st_axis.next = (r[7] as u64).into();
+            u.st_word.next = (r[8] as u64).into();
+            u.cmd_full.next = r[9] == 1;
+            u.start_fail_toggle.next = r[10] == 1;
+        },
+        |u| vec![u.cmd_write.val() as u128, bits_to_u128(u.cmd_data.val()), u.rd_data.val().to_u64() as u128],
+    );
+    let writes: Vec<(usize, u128)> = out.iter().enumerate().filter(|(_, o)| o[0] == 1).map(|(k, o)| (k, o[1])).collect();
+    let start = |mask: u128| mask | 1 << 104;
+    assert_eq!(
+        writes,
+        vec![(p1 + L, push_cmd(&good, 0)), (st1 + L, start(0b01)), (p4 + L, push_cmd(&good, 1))],
+        "commands into the FIFO (the early START at row {early} refused, the bad pushes dropped)"
+    );
+    assert_eq!(out[gstatus][2] & 0b10, 0b10, "GSTATUS.REFUSED after the early START");
+    let status = |r: usize| out[r][2] as u16;
+    assert_eq!(status(during) & 0x11F, 1, "axis 1 while its push is checked: LEVEL 1, no ERROR");
+    assert_eq!((status(after) & 0x11F, status(after) >> 12), (0x100, 1), "axis 1 after the verdict");
+    assert_eq!(status(level) & 0x11F, 0x101, "reject and push in one cycle: LEVEL 1, ERROR");
+    assert_eq!(status(level_end) & 0x1F, 1, "the valid push stays counted");
+
+    let verilog = generate_verilog(&uut());
+    let reads = [gstatus, during, after, level, level_end];
+    for sim in SIMULATORS {
+        let got = run(sim, &sim_dir("regfile_commands", sim), &verilog, &spec(), &rows).unwrap();
+        for (k, (g, r)) in got.iter().zip(&out).enumerate().skip(2) {
+            let what = |p: usize| g[p].unwrap_or_else(|| panic!("{sim:?}: x at row {k}, output {p}"));
+            assert_eq!(what(0), r[0], "{sim:?}: cmd_write at row {k}");
+            if r[0] == 1 {
+                assert_eq!(what(1), r[1], "{sim:?}: cmd_data at row {k}");
+            }
+            if reads.contains(&k) {
+                assert_eq!(what(2), r[2], "{sim:?}: rd_data at row {k}");
+            }
+        }
+    }
+}
