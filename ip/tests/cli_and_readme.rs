@@ -295,3 +295,14 @@ fn moves_schema_is_committed_and_the_examples_follow_it() {
         }
     }
 }
+
+/// The README's promise about errors at push is the contract's number, which
+/// system::a_bad_push_is_reported_at_the_bus_within_the_documented_bound measures.
+#[test]
+fn readme_push_error_bound_is_the_contracts() {
+    let n = tdm_stepper::regs::PUSH_VERDICT_BUS_CLOCKS;
+    let text = readme().split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(text.contains(&format!("STATUS.ERROR shows it within {n} bus clocks")), "README's push-error bound is not {n} bus clocks");
+    let regs_md = std::fs::read_to_string(repo().join("docs/registers.md")).unwrap();
+    assert!(regs_md.contains(&format!("at most {n} bus clocks after NWE rises")), "docs/registers.md's push-error bound is not {n}");
+}
