@@ -25,7 +25,7 @@ fn tick<B: Block>(u: &mut B, clock: impl Fn(&mut B, bool)) {
 
 /// A K-axis core, reset, with the paper's segments on every axis, started.
 fn running_core<const K: usize>() -> Box<TdmCore<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>> {
-    let mut u = Box::new(TdmCore::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(Limits::default()));
+    let mut u = Box::new(TdmCore::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new());
     u.connect_ports();
     let clk = |u: &mut TdmCore<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>, c: bool| u.clock.next = Clock::from(c);
     u.reset.next = true;

@@ -156,8 +156,8 @@ impl ExportOptions {
 macro_rules! stepper_fn {
     ($fname:ident, $top:ident) => {
         #[inline(never)]
-        fn $fname<const K: usize>(limits: Limits, params: CoreParams) -> String {
-            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(limits, params));
+        fn $fname<const K: usize>(params: CoreParams) -> String {
+            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(params));
             u.connect_ports();
             generate_verilog(u.as_ref())
         }
@@ -167,11 +167,11 @@ stepper_fn!(tdm_verilog, TdmStepper);
 stepper_fn!(baseline_verilog, BaselineStepper);
 
 macro_rules! dispatch {
-    ($opts:expr, $limits:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
+    ($opts:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
         let o = $opts;
         match o.arch {
-            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($limits, $params),)* _ => unreachable!() },
-            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($limits, $params),)* _ => unreachable!() },
+            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($params),)* _ => unreachable!() },
+            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($params),)* _ => unreachable!() },
         }
     }};
 }
@@ -184,12 +184,11 @@ pub const BASELINE_AXES: [usize; 5] = [1, 2, 4, 8, 16];
 pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
     opts.check()?;
     let params = opts.params();
-    let limits = opts.limits();
     let o = *opts;
     // The blocks are large; build them on a thread with room for them.
     let text = std::thread::Builder::new()
         .stack_size(256 << 20)
-        .spawn(move || dispatch!(o, limits, params, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16], [1, 2, 4, 8, 16]))
+        .spawn(move || dispatch!(o, params, [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16], [1, 2, 4, 8, 16]))
         .map_err(|e| format!("cannot start the generator thread: {e}"))?
         .join()
         .map_err(|_| "the Verilog generator panicked".to_string())?;

@@ -29,11 +29,11 @@ pub const MAGIC: u16 = 0x5453;
 pub const VERSION: u16 = 0x0103;
 /// Bus clocks from NWE rising at the end of a push (the STEPS_HI write) until STATUS
 /// (ERROR, ERROR_CODE, LEVEL) and IRQ_ERROR show the push check's verdict: a STATUS read
-/// whose NOE falls this late sees it. The slave commits the write at most 2 bus clocks
-/// after the first sample of NWE high (≤ 1 clock after it rises), the check takes
-/// [`crate::hdl::push_check::PUSH_CHECK_LATENCY`] clocks, and a read latches its data 2
-/// clocks after the first sample of NOE low: 1 + 2 + 4 + 1 − 2 = 6. Measured through the
-/// bus by tests/system.rs.
+/// whose NOE falls this late sees it: NWE's first high sample comes ≤ 1 clock after it
+/// rises, the slave's commit cycle ends 2 clocks after that sample, the check takes
+/// [`crate::hdl::push_check::PUSH_CHECK_LATENCY`] more, and a read returns the registers
+/// as they are 1 clock after NOE's first low sample: 1 + 2 + 4 − 1 = 6. Measured
+/// through the bus by tests/system.rs (which fails with 4).
 pub const PUSH_VERDICT_BUS_CLOCKS: u64 = 6;
 /// Bus clocks the push check needs between two command writes (STEPS_HI, START, ABORT),
 /// commit to commit; the documented write timing always leaves at least this.
@@ -436,8 +436,8 @@ fn contract(m: &mut String, p: &CoreParams) {
          period of every axis). It sets up at most f/{dec} segments per second over all axes \
          together ({:.0} at {:.0} MHz). Keep the load Σ over the axes of (t_setup/T + \
          ID_T_CALC/Δ) below 1, with T each axis's segment duration and Δ its shortest period \
-         (the 16-axis streaming test, 1 ms segments at half the maximum rate, runs at about \
-         0.55 with no underrun); past that, the FIFOs' slack decides. A train of segments far \
+         (the 16-axis streaming test, 1 ms segments at half the maximum rate, runs with no \
+         underrun); past that, the FIFOs' slack decides. A train of segments far \
          shorter than t_setup (say one step each) runs late and sets STATUS.UNDERRUN, though \
          every step is still emitted in order.",
         p.clock_hz as f64 / dec as f64,

@@ -584,7 +584,7 @@ fn rust_hdl_run(k: usize, exp: ExportOptions, clocks: &Clocks, b: &BusModel, cyc
 }
 
 fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
-    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(exp.limits(), exp.params()));
+    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(exp.params()));
     u.connect_ports();
     let pauses = bus_pauses(b.events(), 1_000_000_000);
     let trace = run_stepper_rust_hdl(u.as_mut(), clocks, b.events(), cycles, &pauses, progress);

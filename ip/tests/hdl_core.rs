@@ -157,11 +157,11 @@ fn uut_q<const K: usize, const Q: usize>() -> TdmCore<K, R, DEPTH, Q> {
 }
 
 fn uut_rq<const K: usize, const RR: usize, const Q: usize>() -> TdmCore<K, RR, DEPTH, Q> {
-    connect_core!(TdmCore::<K, RR, DEPTH, Q>::new(Limits::default()))
+    connect_core!(TdmCore::<K, RR, DEPTH, Q>::new())
 }
 
 fn baseline<const K: usize>() -> Baseline<K, R, DEPTH, QDEPTH> {
-    connect_core!(Baseline::<K, R, DEPTH, QDEPTH>::new(Limits::default()))
+    connect_core!(Baseline::<K, R, DEPTH, QDEPTH>::new())
 }
 
 /// Runs `axes` in Verilator on the given Verilog and checks them against the model.

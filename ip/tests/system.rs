@@ -29,7 +29,7 @@ fn params<const K: usize>() -> CoreParams {
 }
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
-    let mut u = TdmStepper::<K, R, DEPTH, QDEPTH>::new(Limits::default(), params::<K>());
+    let mut u = TdmStepper::<K, R, DEPTH, QDEPTH>::new(params::<K>());
     u.connect_ports();
     u
 }

@@ -10,7 +10,6 @@
 use super::bit_insert::{BitInsert, BitPick};
 use super::core::{TdmCore, STATE_BITS};
 use super::sync_start::SyncStart;
-use crate::model::Limits;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
@@ -62,7 +61,7 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Baseline<K, R, DEPTH, QDEPTH> {
-    pub fn new(limits: Limits) -> Self {
+    pub fn new() -> Self {
         assert!((1..=64).contains(&K), "Baseline: K = {K} outside 1..=64");
         Baseline {
             clock: Default::default(),
@@ -97,7 +96,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             low_min: Default::default(),
             start_failed: Default::default(),
             fail_tog: Default::default(),
-            cores: std::array::from_fn(|_| TdmCore::new(limits)),
+            cores: std::array::from_fn(|_| TdmCore::new()),
             sync: Default::default(),
             step_bus: std::array::from_fn(BitInsert::new),
             dir_bus: std::array::from_fn(BitInsert::new),

@@ -50,7 +50,6 @@ use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::step_gen::StepAxis;
 use super::sync_start::SyncStart;
-use crate::model::Limits;
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
@@ -303,11 +302,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
-    /// A core for segments validated against `limits` (by the push check: every
-    /// emitted period is then at least `limits.min_period_ticks`). The core itself
-    /// checks nothing, so the limits do not change its logic.
-    pub fn new(limits: Limits) -> Self {
-        let _ = limits;
+    /// A core for segments already validated (by the push check, against the
+    /// export's minimum period); the core itself checks nothing.
+    pub fn new() -> Self {
         assert!((1..=CTX_MAX_AXES).contains(&K), "TdmCore: K = {K} outside 1..={CTX_MAX_AXES}");
         assert!(
             QDEPTH.is_power_of_two() && (2..=MAX_QUEUE_DEPTH).contains(&QDEPTH),

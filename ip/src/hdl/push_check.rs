@@ -73,6 +73,7 @@ pub struct PushCheck {
     x_steps: Signal<Local, Bits<32>>,
     x_n: Signal<Local, Bits<32>>,
     x_v0m1: Signal<Local, Bits<32>>,
+    below_vt: Signal<Local, Bit>,
     code: Signal<Local, Bits<4>>,
 }
 
@@ -119,6 +120,7 @@ impl PushCheck {
             x_steps: Default::default(),
             x_n: Default::default(),
             x_v0m1: Default::default(),
+            below_vt: Default::default(),
             code: Default::default(),
         }
     }
@@ -175,8 +177,9 @@ impl Logic for PushCheck {
         self.v0_fast1.d.next = self.x_v0.val() > self.c_rmax1.val();
 
         // Cycle 3: the products arrive (MulReg latency 2).
-        self.rev.d.next = self.n2.q.val() < self.mul_vt.p.val();
-        self.near.d.next = (self.n2.q.val() < self.mul_vt.p.val()) & (self.n2t.q.val() > self.mul_vt.p.val());
+        self.below_vt.next = self.n2.q.val() < self.mul_vt.p.val();
+        self.rev.d.next = self.below_vt.val();
+        self.near.d.next = self.below_vt.val() & (self.n2t.q.val() > self.mul_vt.p.val());
         self.fast.d.next = self.n2.q.val() > self.mul_rt.p.val();
 
         // Cycle 4: the verdict, in the model's order.

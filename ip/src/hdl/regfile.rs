@@ -23,11 +23,15 @@
 //! **Status** arrives one axis at a time (`st_valid`, `st_axis`, `st_word`, layout
 //! [`STATUS_BITS`](super::status_sync::STATUS_BITS), see the `W_*` constants) and is
 //! kept in the mirror. Comparing a new word with the mirror makes the events: a change
-//! of the done, rejected or underrun counters sets IRQ_DONE, STATUS.ERROR (with the
-//! code) and STATUS.UNDERRUN; a change of the taken counter with LEVEL now ≤
+//! of the done or underrun counters sets IRQ_DONE and STATUS.UNDERRUN; a change of the taken counter with LEVEL now ≤
 //! QLOW_LEVEL sets IRQ_QLOW. LEVEL is `pushed − taken` (8-bit counters), so a push
 //! counts at once and a push is refused (OVERFLOW) when LEVEL has reached the queue
 //! depth: the core's queue can never overflow and nothing queued is lost.
+//!
+//! **Commands** (a push, START, ABORT) reach `cmd_write`/`cmd_data` through the
+//! [`PushCheck`], 4 cycles after their write: a rejected push sets STATUS.ERROR with
+//! its code and IRQ_ERROR, and gives back the push count it took, so LEVEL never
+//! counts it. A command written while the check is busy is refused (GSTATUS.REFUSED).
 //!
 //! **Enable.** While CTRL.ENABLE is 0 the core is held in reset and this side clears
 //! its push counters, sticky flags and IRQ status. GSTATUS.ENABLED follows the core's
@@ -105,7 +109,7 @@ pub struct RegFile<const K: usize> {
     st_vld: [DFF<Bits<6>>; K],
     /// Mirror read by the bus: {done count (39..32), position (31..0)} at `r_axis`.
     mb_ram: LutRam<40, 4>,
-    /// Mirror read by the event logic: {underruns, rejected, done} at `st_axis`.
+    /// Mirror read by the event logic: {underruns, done} at `st_axis`.
     mc_ram: LutRam<16, 4>,
     /// Every command on its way to the command FIFO: pushes validated here.
     chk: PushCheck,

@@ -29,7 +29,6 @@ use super::core::{TdmCore, STATE_BITS};
 use super::exmc::ExmcSlave;
 use super::regfile::{RegFile, CMD_BITS};
 use super::status_sync::{StatusSync, STATUS_BITS};
-use crate::model::Limits;
 use crate::regs::{CoreParams, ADDR_BITS};
 use rust_hdl::prelude::*;
 
@@ -67,8 +66,9 @@ macro_rules! stepper_top {
         }
 
         impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> $name<K, R, DEPTH, QDEPTH> {
-            /// The core for these parameters; `params` must agree with K and QDEPTH.
-            pub fn new(limits: Limits, params: CoreParams) -> Self {
+            /// The core for these parameters (the minimum period among them); `params`
+            /// must agree with K, DEPTH and QDEPTH.
+            pub fn new(params: CoreParams) -> Self {
                 assert_eq!(params.queue_depth, QDEPTH, "queue depth parameter");
                 assert_eq!(params.fifo_depth, DEPTH, "period FIFO depth parameter");
                 $name {
@@ -94,7 +94,7 @@ macro_rules! stepper_top {
                     regs: RegFile::new(params),
                     cmd_fifo: Default::default(),
                     status: Default::default(),
-                    core: $core::new(limits),
+                    core: $core::new(),
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
                 }

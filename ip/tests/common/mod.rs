@@ -143,7 +143,7 @@ pub fn tick_core<const R: usize, const D: usize, const Q: usize>(u: &mut tdm_ste
 pub fn one_segment_core<const R: usize, const D: usize, const Q: usize>(
     seg: tdm_stepper::model::Segment,
 ) -> tdm_stepper::hdl::core::TdmCore<1, R, D, Q> {
-    let mut u = connect_core!(tdm_stepper::hdl::core::TdmCore::<1, R, D, Q>::new(tdm_stepper::model::Limits::default()));
+    let mut u = connect_core!(tdm_stepper::hdl::core::TdmCore::<1, R, D, Q>::new());
     u.reset.next = true;
     tick_core(&mut u);
     tick_core(&mut u);
