@@ -59,8 +59,10 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
     3 + root_latency(r)
 }
 
-/// Cycles per period on the uniform path: PICK, U_STEP, commit.
-pub const T_CALC_UNIFORM: usize = 3;
+/// Cycles per period on the uniform path: PICK, U_ADD (the running quotient and
+/// remainder plus their per-step increments, registered), U_STEP (the remainder's
+/// compare and subtract), commit.
+pub const T_CALC_UNIFORM: usize = 4;
 
 /// Cycles the shared unit spends setting up an accelerating or decelerating
 /// segment, from S_CHECK to its commit: the head into registers, two 32×32
@@ -91,8 +93,8 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 20] = [
-    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "P_START", "P_WAIT", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
+pub const STATES: [&str; 21] = [
+    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "P_START", "P_WAIT", "U_ADD", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
     "S_DRAIN",
 ];
 
@@ -266,8 +268,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     e_next: Signal<Local, Bits<32>>,
     i_next: Signal<Local, Bits<32>>,
     two_n: Signal<Local, Bits<32>>,
-    u_q1: Signal<Local, Bits<32>>,
-    u_r1: Signal<Local, Bits<32>>,
+    u_q1: DFF<Bits<32>>,
+    u_r1: DFF<Bits<32>>,
     // Actions on axis m.
     pop_now: Signal<Local, Bit>,
     commit: Signal<Local, Bit>,
@@ -294,6 +296,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_commit_setup: Constant<Bits<STATE_BITS>>,
     k_pstart: Constant<Bits<STATE_BITS>>,
     k_pwait: Constant<Bits<STATE_BITS>>,
+    k_uadd: Constant<Bits<STATE_BITS>>,
     k_ustep: Constant<Bits<STATE_BITS>>,
     k_commit_step: Constant<Bits<STATE_BITS>>,
     k_promote: Constant<Bits<STATE_BITS>>,
@@ -456,6 +459,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_commit_setup: state("S_COMMIT_SETUP"),
             k_pstart: state("P_START"),
             k_pwait: state("P_WAIT"),
+            k_uadd: state("U_ADD"),
             k_ustep: state("U_STEP"),
             k_commit_step: state("S_COMMIT_STEP"),
             k_promote: state("S_PROMOTE"),
@@ -482,7 +486,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -603,8 +607,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.e_next.next = self.w_t.q.val() - self.rounded.val();
         }
         self.two_n.next = self.w_n.q.val() << 1;
-        self.u_q1.next = self.w_uq.q.val() + self.w_uqs.q.val();
-        self.u_r1.next = self.w_ur.q.val() + self.w_urs.q.val();
+        // Registered every cycle, read in U_STEP (one carry chain per cycle).
+        self.u_q1.d.next = self.w_uq.q.val() + self.w_uqs.q.val();
+        self.u_r1.d.next = self.w_ur.q.val() + self.w_urs.q.val();
 
         // Every axis satisfied (the last element of the chain holds the whole bus). Read
         // by PICK below, so written here first: a local read before it is written is a
@@ -631,7 +636,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             if (self.cur_kind.val() != 0) & !self.cur_full.val() {
                 // Axis m's next period.
                 if self.cur_kind.val() == 1 {
-                    self.st.d.next = self.k_ustep.val();
+                    self.st.d.next = self.k_uadd.val();
                 } else {
                     self.st.d.next = self.k_pstart.val();
                 }
@@ -817,16 +822,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 }
                 self.st.d.next = self.k_commit_step.val();
             }
+        } else if self.st.q.val() == self.k_uadd.val() {
+            self.st.d.next = self.k_ustep.val();
         } else if self.st.q.val() == self.k_ustep.val() {
             // E_i = ⌊(2iT + n)/(2n)⌋ as a quotient and a remainder.
-            if self.u_r1.val() >= self.two_n.val() {
-                self.w_uq.d.next = self.u_q1.val() + 1;
-                self.w_ur.d.next = self.u_r1.val() - self.two_n.val();
-                self.e_next.next = self.u_q1.val() + 1;
+            if self.u_r1.q.val() >= self.two_n.val() {
+                self.w_uq.d.next = self.u_q1.q.val() + 1;
+                self.w_ur.d.next = self.u_r1.q.val() - self.two_n.val();
+                self.e_next.next = self.u_q1.q.val() + 1;
             } else {
-                self.w_uq.d.next = self.u_q1.val();
-                self.w_ur.d.next = self.u_r1.val();
-                self.e_next.next = self.u_q1.val();
+                self.w_uq.d.next = self.u_q1.q.val();
+                self.w_ur.d.next = self.u_r1.q.val();
+                self.e_next.next = self.u_q1.q.val();
             }
             if self.i_next.val() == self.w_n.q.val() {
                 self.e_next.next = self.w_t.q.val();
