@@ -17,6 +17,8 @@ REQUIRED=(
     "iverilog:iverilog"     # exported Verilog, second simulator
     "vvp:iverilog"
     "yosys:yosys"           # synthesis checks of the exported Verilog
+    "arm-none-eabi-gcc:gcc-arm-none-eabi"   # the C driver cross-compiled for a Cortex-M4
+    "arm-none-eabi-size:binutils-arm-none-eabi"
     "python3:python3"       # the venv for the PyPI tools below
 )
 

@@ -63,8 +63,75 @@ impl Arch {
 }
 
 /// What to export.
+/// The exported top module's name (`--name`): a Verilog-2001 identifier of letters,
+/// digits and `_` that does not start with a digit, at most [`ModuleName::MAX_LEN`]
+/// characters, not a keyword. Every submodule is named `<name>__<path>` (no `$`), so
+/// cores exported under different names live in one design.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub struct ModuleName {
+    bytes: [u8; ModuleName::MAX_LEN],
+    len: u8,
+}
+
+impl ModuleName {
+    pub const MAX_LEN: usize = 40;
+
+    pub fn new(s: &str) -> Result<ModuleName, String> {
+        const KEYWORDS: [&str; 24] = [
+            "module", "endmodule", "input", "output", "inout", "wire", "reg", "integer", "assign", "always", "initial",
+            "begin", "end", "if", "else", "case", "endcase", "for", "function", "task", "parameter", "localparam",
+            "posedge", "negedge",
+        ];
+        let ok = !s.is_empty()
+            && s.len() <= Self::MAX_LEN
+            && s.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_')
+            && !s.as_bytes()[0].is_ascii_digit()
+            && !KEYWORDS.contains(&s);
+        if !ok {
+            return Err(format!(
+                "--name {s:?}: a module name is 1 to {} letters, digits and _, not starting with a digit, and not a Verilog keyword",
+                Self::MAX_LEN
+            ));
+        }
+        let mut bytes = [0u8; Self::MAX_LEN];
+        bytes[..s.len()].copy_from_slice(s.as_bytes());
+        Ok(ModuleName { bytes, len: s.len() as u8 })
+    }
+
+    pub fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..self.len as usize]).expect("ASCII")
+    }
+}
+
+impl Default for ModuleName {
+    fn default() -> Self {
+        ModuleName::new(TOP_MODULE).expect("the default name is valid")
+    }
+}
+
+impl std::fmt::Debug for ModuleName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:?}", self.as_str())
+    }
+}
+
+impl std::fmt::Display for ModuleName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl std::str::FromStr for ModuleName {
+    type Err = String;
+    fn from_str(s: &str) -> Result<ModuleName, String> {
+        ModuleName::new(s)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ExportOptions {
+    /// The top module's name; submodules are `<name>__<path>`.
+    pub name: ModuleName,
     pub axes: usize,
     pub arch: Arch,
     pub clock_hz: u32,
@@ -76,7 +143,7 @@ pub struct ExportOptions {
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: 4, min_period: None }
+        ExportOptions { name: ModuleName::default(), axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: 4, min_period: None }
     }
 }
 
@@ -180,7 +247,8 @@ macro_rules! dispatch {
 /// compile time).
 pub const BASELINE_AXES: [usize; 5] = [1, 2, 4, 8, 16];
 
-/// The exported Verilog, top module [`TOP_MODULE`].
+/// The exported Verilog: top module `opts.name` ([`TOP_MODULE`] by default), each
+/// submodule `<name>__<path>`.
 pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
     opts.check()?;
     let params = opts.params();
@@ -192,26 +260,41 @@ pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
         .map_err(|e| format!("cannot start the generator thread: {e}"))?
         .join()
         .map_err(|_| "the Verilog generator panicked".to_string())?;
-    rename_top(&text)
+    rename_top(&text, opts.name.as_str())
 }
 
-/// rust-hdl calls the top module `top` and each submodule `top$path`; the IP's are
-/// `tdm_stepper` and `tdm_stepper$path`.
-fn rename_top(text: &str) -> Result<String, String> {
+/// rust-hdl calls the top module `top` and each submodule `top$path$to$it`; the IP's
+/// are `name` and `name__path__to__it` (no `$`: a plain Verilog-2001 identifier). The
+/// names stay distinct (checked).
+fn rename_top(text: &str, name: &str) -> Result<String, String> {
     let from = "\nmodule top(";
     if text.matches(from).count() != 1 {
         return Err("generated Verilog has no single `module top(`".into());
     }
-    let text = text.replacen(from, &format!("\nmodule {TOP_MODULE}("), 1);
+    let text = text.replacen(from, &format!("\nmodule {name}("), 1);
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '$';
     let mut out = String::with_capacity(text.len() + 4096);
     let mut rest = text.as_str();
     while let Some(k) = rest.find("top$") {
-        let boundary = rest[..k].chars().last().is_none_or(|c| !(c.is_ascii_alphanumeric() || c == '_' || c == '$'));
+        let boundary = rest[..k].chars().last().is_none_or(|c| !ident(c));
         out.push_str(&rest[..k]);
-        out.push_str(if boundary { "tdm_stepper$" } else { "top$" });
-        rest = &rest[k + 4..];
+        rest = &rest[k..];
+        if boundary {
+            let end = rest.find(|c: char| !ident(c)).unwrap_or(rest.len());
+            out.push_str(name);
+            out.push_str(&rest[3..end].replace('$', "__"));
+            rest = &rest[end..];
+        } else {
+            out.push_str("top$");
+            rest = &rest[4..];
+        }
     }
     out.push_str(rest);
+    let modules: Vec<&str> = out.lines().filter_map(|l| l.strip_prefix("module ")).map(|l| l.split('(').next().unwrap_or(l).trim()).collect();
+    let distinct: std::collections::HashSet<&&str> = modules.iter().collect();
+    if distinct.len() != modules.len() {
+        return Err("renaming the submodules made two of them equal".into());
+    }
     Ok(out)
 }
 
@@ -274,7 +357,7 @@ pub fn ports(axes: usize) -> Vec<PortDoc> {
 
 #[derive(Serialize)]
 struct Manifest {
-    top_module: &'static str,
+    top_module: String,
     arch: Arch,
     axes: usize,
     clock_hz: u32,
@@ -301,7 +384,7 @@ struct Tools {
 
 fn manifest(opts: &ExportOptions) -> Manifest {
     Manifest {
-        top_module: TOP_MODULE,
+        top_module: opts.name.to_string(),
         arch: opts.arch,
         axes: opts.axes,
         clock_hz: opts.clock_hz,

@@ -40,6 +40,10 @@ enum Command {
         /// baseline); a shorter one lets an axis underrun when several run fast.
         #[arg(long)]
         min_period: Option<u32>,
+        /// The top module's name (a Verilog identifier); submodules are NAME__path, so
+        /// cores exported under different names coexist in one design.
+        #[arg(long, default_value = export::TOP_MODULE)]
+        name: export::ModuleName,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -129,8 +133,8 @@ enum Command {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, out } => {
-            let opts = ExportOptions { axes, arch, clock_hz, fifo_depth, min_period };
+        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, out } => {
+            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = export::export(&opts, &out)?;

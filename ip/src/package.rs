@@ -4,7 +4,7 @@
 //! FuseSoC CAPI2 core description. Each is generated from the same port list as the
 //! manifest ([`crate::export::ports`]), so none can name a port the Verilog lacks.
 
-use crate::export::{ports, ExportOptions, TOP_MODULE};
+use crate::export::{ports, ExportOptions};
 use std::fmt::Write as _;
 
 /// The lint waivers for the exported Verilog (Verilator configuration file), the
@@ -19,6 +19,15 @@ pub const SDC_FILE: &str = "tdm_stepper.sdc";
 pub const LPF_FILE: &str = "tdm_stepper.lpf";
 pub const PCF_FILE: &str = "tdm_stepper_pcf.txt";
 pub const CORE_FILE: &str = "tdm_stepper.core";
+
+/// The MCU driver and the planner (portable C99), written beside the register
+/// header they include: (file name, text).
+pub const C_SOURCES: [(&str, &str); 4] = [
+    ("tdm_driver.h", include_str!("../c/tdm_driver.h")),
+    ("tdm_driver.c", include_str!("../c/tdm_driver.c")),
+    ("tdm_planner.h", include_str!("../c/tdm_planner.h")),
+    ("tdm_planner.c", include_str!("../c/tdm_planner.c")),
+];
 
 /// `bus_clk` frequency the constraints assume (the register file and the slave close
 /// timing above it on the measured parts; edit the files for another).
@@ -35,17 +44,18 @@ fn mhz(hz: u32) -> String {
 /// An instance of the core with every port connected to a signal of the same name
 /// and commented (direction, width, clock domain, meaning).
 pub fn instantiation_template(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
     let ps = ports(opts.axes);
     let mut t = String::new();
     let _ = writeln!(
         t,
-        "// {TOP_MODULE}: instantiation template for K = {} axes, core clock {} Hz.\n\
+        "// {top}: instantiation template for K = {} axes, core clock {} Hz.\n\
          // Include it where the signals it names exist (or copy it and rename them);\n\
          // registers.md and manifest.json describe every port and register.",
         opts.axes, opts.clock_hz
     );
     let width = ps.iter().map(|p| p.name.len()).max().unwrap_or(0);
-    let _ = writeln!(t, "{TOP_MODULE} u_{TOP_MODULE} (");
+    let _ = writeln!(t, "{top} u_{top} (");
     for (i, p) in ps.iter().enumerate() {
         let comma = if i + 1 < ps.len() { "," } else { " " };
         let conn = if p.name == "fsm_state" { String::new() } else { p.name.to_string() };
@@ -91,13 +101,14 @@ fn comment_block(prefix: &str, text: &str) -> String {
 /// Vivado (XDC) or SDC (Quartus, Libero, Gowin and other Synopsys-style tools):
 /// the same commands; `xdc` adds Vivado's scoping note.
 fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
+    let top = opts.name.as_str();
     let mut t = String::new();
-    let _ = writeln!(t, "{}", comment_block("# ", &format!("{TOP_MODULE} timing constraints (K = {}, clk {} Hz).", opts.axes, opts.clock_hz)));
+    let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} timing constraints (K = {}, clk {} Hz).", opts.axes, opts.clock_hz)));
     let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
     if xdc {
         let _ = writeln!(
             t,
-            "#\n# Read it scoped to the core (read_xdc -ref {TOP_MODULE} {XDC_FILE}), so that get_ports names\n\
+            "#\n# Read it scoped to the core (read_xdc -ref {top} {XDC_FILE}), so that get_ports names\n\
              # the core's ports; or replace each get_ports with your top level's pins and nets."
         );
     }
@@ -133,8 +144,9 @@ pub fn sdc(opts: &ExportOptions) -> String {
 /// clock domain on its own and does not time cross-domain paths or paths from and
 /// to unconstrained I/O, which is what the notes ask for.
 pub fn lpf(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
     let mut t = String::new();
-    let _ = writeln!(t, "{}", comment_block("# ", &format!("{TOP_MODULE} clock constraints for nextpnr-ecp5 (K = {}).", opts.axes)));
+    let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} clock constraints for nextpnr-ecp5 (K = {}).", opts.axes)));
     let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
     let _ = writeln!(
         t,
@@ -149,8 +161,9 @@ pub fn lpf(opts: &ExportOptions) -> String {
 
 /// nextpnr-ice40 and nextpnr-generic read PCF; the clock lines it needs.
 pub fn pcf_note(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
     let mut t = String::new();
-    let _ = writeln!(t, "{}", comment_block("# ", &format!("{TOP_MODULE} clock constraints, PCF style (nextpnr-ice40), K = {}.", opts.axes)));
+    let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} clock constraints, PCF style (nextpnr-ice40), K = {}.", opts.axes)));
     let _ = writeln!(
         t,
         "# Add these lines to your .pcf (with your nets' names); the notes in {LPF_FILE}\n\
@@ -164,15 +177,16 @@ pub fn pcf_note(opts: &ExportOptions) -> String {
 /// FuseSoC CAPI2 core description: the Verilog, the waivers, a lint target
 /// (Verilator -Wall) and a simulation target (Icarus) on the smoke testbench.
 pub fn fusesoc_core(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
     format!(
         "CAPI=2:\n\
-         name: tdm-stepper:ip:{TOP_MODULE}_k{k}:{ver}\n\
+         name: tdm-stepper:ip:{top}_k{k}:{ver}\n\
          description: TDM multi-axis stepper motor controller, K = {k} axes, clk {hz} Hz\n\
          \n\
          filesets:\n\
          \x20 rtl:\n\
          \x20   files:\n\
-         \x20     - {TOP_MODULE}.v\n\
+         \x20     - tdm_stepper.v\n\
          \x20   file_type: verilogSource\n\
          \x20 waivers:\n\
          \x20   files:\n\
@@ -186,11 +200,11 @@ pub fn fusesoc_core(opts: &ExportOptions) -> String {
          targets:\n\
          \x20 default:\n\
          \x20   filesets: [rtl]\n\
-         \x20   toplevel: {TOP_MODULE}\n\
+         \x20   toplevel: {top}\n\
          \x20 lint:\n\
          \x20   default_tool: verilator\n\
          \x20   filesets: [rtl, waivers]\n\
-         \x20   toplevel: {TOP_MODULE}\n\
+         \x20   toplevel: {top}\n\
          \x20   tools:\n\
          \x20     verilator:\n\
          \x20       mode: lint-only\n\
@@ -198,7 +212,7 @@ pub fn fusesoc_core(opts: &ExportOptions) -> String {
          \x20 sim:\n\
          \x20   default_tool: icarus\n\
          \x20   filesets: [rtl, smoke_tb]\n\
-         \x20   toplevel: {TOP_MODULE}_smoke_tb\n",
+         \x20   toplevel: {top}_smoke_tb\n",
         k = opts.axes,
         hz = opts.clock_hz,
         ver = env!("CARGO_PKG_VERSION"),
@@ -211,6 +225,7 @@ pub const TB_FILE: &str = "tdm_stepper_smoke_tb.v";
 /// reads ID_MAGIC and ID_AXES over the EXMC pins at a slow, safe timing, and
 /// prints PASS or FAIL (with `$fatal` on failure).
 pub fn smoke_testbench(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
     let p = opts.params();
     let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
     let axes = crate::regs::register("ID_AXES").reset_value(&p);
@@ -221,9 +236,9 @@ pub fn smoke_testbench(opts: &ExportOptions) -> String {
     let sb = crate::hdl::core::STATE_BITS;
     format!(
         "`timescale 1ns/1ps\n\
-// Smoke test of the exported {TOP_MODULE}: reset, then read ID_MAGIC and ID_AXES\n\
+// Smoke test of the exported {top}: reset, then read ID_MAGIC and ID_AXES\n\
 // over the EXMC pins with wide strobes (20 bus_clk cycles). Prints PASS or FAIL.\n\
-module {TOP_MODULE}_smoke_tb;\n\
+module {top}_smoke_tb;\n\
   reg clk = 0, bus_clk = 0, reset = 1, ne = 1, noe = 1, nwe = 1;\n\
   reg [{am}:0] addr = 0;\n\
   reg [15:0] data_in = 0;\n\
@@ -233,7 +248,7 @@ module {TOP_MODULE}_smoke_tb;\n\
   wire [{sm}:0] fsm_state;\n\
   always #10 clk = !clk;\n\
   always #5.003 bus_clk = !bus_clk;\n\
-  {TOP_MODULE} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe),\n\
+  {top} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe),\n\
     .addr(addr), .data_in(data_in), .data_out(data_out), .data_oe(data_oe), .step(step), .dir(dir),\n\
     .irq(irq), .fsm_state(fsm_state));\n\
   task read16(input [{am}:0] a, output [15:0] v);\n\
@@ -273,4 +288,7 @@ pub fn files(opts: &ExportOptions) -> Vec<(&'static str, String)> {
         (CORE_FILE, fusesoc_core(opts)),
         (TB_FILE, smoke_testbench(opts)),
     ]
+    .into_iter()
+    .chain(C_SOURCES.iter().map(|&(name, text)| (name, text.to_string())))
+    .collect()
 }

@@ -44,6 +44,21 @@ fn default_clock() -> u32 {
 pub enum AxisMove {
     Segments { segments: Vec<PhysSegment> },
     Trapezoid { trapezoid: Trapezoid },
+    Move {
+        #[serde(rename = "move")]
+        mv: RateMove,
+    },
+}
+
+/// A move as distance, top speed, acceleration and deceleration (integers), planned
+/// by [`planner::trapezoid_by_rates`] (the C planner's `tdm_plan_rates`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RateMove {
+    pub steps: i64,
+    pub speed_steps_per_s: u32,
+    pub accel_steps_per_s2: u32,
+    pub decel_steps_per_s2: u32,
 }
 
 #[derive(Clone, Debug, Deserialize)]
@@ -121,7 +136,8 @@ pub const MOVES_FIELDS: &[(&str, &str, &str, &str)] = &[
     ("file", "clock_hz", "integer", "core clock in Hz (default 50000000; 1 MHz to 400 MHz)"),
     ("file", "axes", "array", "one entry per axis, axis 0 first (at most the core's K)"),
     ("axis", "segments", "array", "the axis's segments, in order"),
-    ("axis", "trapezoid", "object", "a trapezoid move, planned into segments"),
+    ("axis", "trapezoid", "object", "a trapezoid move by phase times, planned into segments"),
+    ("axis", "move", "object", "a move by distance, top speed and accelerations (a triangle when too short to reach the speed), planned into segments"),
     ("segment", "v0_steps_per_s", "number", "start speed, steps/s (>= 0)"),
     ("segment", "t_s", "number", "duration, seconds (> 0)"),
     ("segment", "steps", "integer", "signed steps (negative: DIR = 1)"),
@@ -129,6 +145,10 @@ pub const MOVES_FIELDS: &[(&str, &str, &str, &str)] = &[
     ("trapezoid", "t_acc_s", "number", "acceleration time, seconds"),
     ("trapezoid", "t_cruise_s", "number", "cruise time, seconds"),
     ("trapezoid", "t_dec_s", "number", "deceleration time, seconds"),
+    ("move", "steps", "integer", "signed distance in steps"),
+    ("move", "speed_steps_per_s", "integer", "top speed, steps/s (1 to clock_hz)"),
+    ("move", "accel_steps_per_s2", "integer", "acceleration, steps/s^2 (1 to 2147483647)"),
+    ("move", "decel_steps_per_s2", "integer", "deceleration, steps/s^2 (1 to 2147483647)"),
 ];
 
 fn fields_of(object: &str) -> Vec<&'static str> {
@@ -168,10 +188,18 @@ pub fn parse_moves(text: &str) -> Result<MovesFile, String> {
         check(ax, "axis", &path, &[])?;
         let m = ax.as_object().unwrap();
         if m.len() != 1 {
-            return Err(format!("{path}: give exactly one of \"segments\" or \"trapezoid\""));
+            return Err(format!("{path}: give exactly one of \"segments\", \"trapezoid\" or \"move\""));
         }
         if let Some(t) = m.get("trapezoid") {
             check(t, "trapezoid", &format!("{path}.trapezoid"), &fields_of("trapezoid"))?;
+        }
+        if let Some(t) = m.get("move") {
+            check(t, "move", &format!("{path}.move"), &fields_of("move"))?;
+            for f in ["speed_steps_per_s", "accel_steps_per_s2", "decel_steps_per_s2"] {
+                if t[f].as_u64().is_none_or(|x| x > u32::MAX as u64) {
+                    return Err(format!("{path}.move.{f}: expected an integer from 1 to {}, found {}", u32::MAX, t[f]));
+                }
+            }
         }
         if let Some(segs) = m.get("segments").and_then(|s| s.as_array()) {
             for (k, sg) in segs.iter().enumerate() {
@@ -198,6 +226,12 @@ pub fn moves_schema() -> String {
     segment["properties"]["t_s"]["exclusiveMinimum"] = json!(0);
     segment["properties"]["v0_steps_per_s"]["minimum"] = json!(0);
     let trapezoid = obj("trapezoid", fields_of("trapezoid"));
+    let mut rate_move = obj("move", fields_of("move"));
+    for f in ["speed_steps_per_s", "accel_steps_per_s2", "decel_steps_per_s2"] {
+        rate_move["properties"][f]["minimum"] = json!(1);
+    }
+    rate_move["properties"]["accel_steps_per_s2"]["maximum"] = json!(planner::MAX_ACCEL);
+    rate_move["properties"]["decel_steps_per_s2"]["maximum"] = json!(planner::MAX_ACCEL);
     let mut file = obj("file", vec!["axes"]);
     file["$schema"] = json!("https://json-schema.org/draft/2020-12/schema");
     file["title"] = json!("tdm-stepper sim moves file");
@@ -209,7 +243,9 @@ pub fn moves_schema() -> String {
             {"type": "object", "additionalProperties": false, "required": ["segments"],
              "properties": {"segments": {"type": "array", "items": segment, "description": MOVES_FIELDS[2].3}}},
             {"type": "object", "additionalProperties": false, "required": ["trapezoid"],
-             "properties": {"trapezoid": trapezoid}}
+             "properties": {"trapezoid": trapezoid}},
+            {"type": "object", "additionalProperties": false, "required": ["move"],
+             "properties": {"move": rate_move}}
         ]
     });
     serde_json::to_string_pretty(&file).expect("json") + "\n"
@@ -228,6 +264,15 @@ pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, Str
                 planner::trapezoid_by_times(t.steps, t.t_acc_s, t.t_cruise_s, t.t_dec_s, f, limits)
                     .map_err(|e| format!("axis {a}: trapezoid: {e}"))
             }
+            AxisMove::Move { mv } => planner::trapezoid_by_rates(
+                mv.steps,
+                mv.speed_steps_per_s,
+                mv.accel_steps_per_s2,
+                mv.decel_steps_per_s2,
+                f,
+                limits,
+            )
+            .map_err(|e| format!("axis {a}: move: {e}")),
             AxisMove::Segments { segments } => segments
                 .iter()
                 .enumerate()

@@ -557,10 +557,10 @@ pub fn critical_path(log: &str, clock: &str) -> Option<CriticalPath> {
     None
 }
 
-/// The block a module of the exported core belongs to (rust-hdl names a module by its
-/// instance path, `tdm_stepper$core$ctx$0$r_a`).
+/// The block a module of the exported core belongs to (a module is named by its
+/// instance path, `tdm_stepper__core__ctx__0__r_a`; rust-hdl's own `$` form is read too).
 pub fn block_of(module: &str) -> &'static str {
-    let path = module.trim_start_matches('\\');
+    let path = module.trim_start_matches('\\').replace("__", "$");
     let rest = match path.split_once('$') {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
@@ -655,11 +655,11 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
 pub fn breakdown_blocks_kept(axes: usize) -> Vec<String> {
     let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$seg_ram", "regs", "status", "cmd_fifo", "exmc"]
         .iter()
-        .map(|b| format!("tdm_stepper${b}"))
+        .map(|b| format!("tdm_stepper__{}", b.replace('$', "__")))
         .collect();
     for a in 0..axes {
         for b in ["ctx", "axes"] {
-            m.push(format!("tdm_stepper$core${b}${a}"));
+            m.push(format!("tdm_stepper__core__{b}__{a}"));
         }
     }
     m

@@ -179,6 +179,10 @@ fn bad_arguments_get_a_clear_error_and_no_panic() {
         (vec!["--fifo-depth".into(), "3".into()], "period FIFO depths"),
         (vec!["--arch".into(), "fast".into()], "expected tdm or baseline"),
         (vec!["--arch".into(), "baseline".into(), "--axes".into(), "3".into()], "baseline is built for"),
+        (vec!["--name".into(), "9lives".into()], "a module name is 1 to 40"),
+        (vec!["--name".into(), "my$core".into()], "a module name is 1 to 40"),
+        (vec!["--name".into(), "module".into()], "not a Verilog keyword"),
+        (vec!["--name".into(), "x".repeat(41)], "a module name is 1 to 40"),
     ];
     for (args, msg) in cases {
         let out = bin().args(["export", "--out"]).arg(tmp.join("x")).args(&args).output().unwrap();
@@ -340,4 +344,67 @@ fn min_period_option_sets_the_manifest_header_and_core() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains("supported minimum periods are 2 to 65535"), "--min-period {bad}: {err}");
     }
+}
+
+/// `--name`: two cores with different names and K in one design. Every module of an
+/// export is `<name>` or `<name>__path` (no `$`), each folder lints clean alone with
+/// its waivers, and yosys reads both exports with the two instantiation templates,
+/// elaborates and flattens them together.
+#[test]
+fn two_named_exports_live_in_one_design() {
+    use tdm_stepper::package as pkg;
+    let a = export_to(&["--name", "motion_a", "--axes", "2"], "export_named_a");
+    let b = export_to(&["--name", "motion_b", "--axes", "3", "--clock-hz", "40000000"], "export_named_b");
+    for (dir, name) in [(&a, "motion_a"), (&b, "motion_b")] {
+        let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
+        let modules: Vec<&str> = v.lines().filter_map(|l| l.strip_prefix("module ")).map(|l| l.split('(').next().unwrap().trim()).collect();
+        assert!(modules.len() > 50, "{name}: {} modules", modules.len());
+        for m in &modules {
+            assert!(!m.contains('$'), "{name}: module {m} has a $");
+            assert!(*m == name || m.starts_with(&format!("{name}__")), "{name}: module {m}");
+        }
+        assert!(!v.contains("tdm_stepper"), "{name}: the default name is left in the Verilog");
+        let out = Command::new("verilator")
+            .current_dir(dir)
+            .args(["--lint-only", "-Wall", pkg::WAIVER_FILE, "tdm_stepper.v", "--top-module", name])
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success() && !text.contains("%Warning"), "{name}: lint: {text}");
+        let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
+        assert_eq!(m["top_module"], name);
+        let tpl = std::fs::read_to_string(dir.join(pkg::TEMPLATE_FILE)).unwrap();
+        assert!(tpl.contains(&format!("{name} u_{name} (")), "{name}: template");
+        let core = std::fs::read_to_string(dir.join(pkg::CORE_FILE)).unwrap();
+        assert!(core.contains(&format!("toplevel: {name}\n")), "{name}: core file");
+    }
+    // One wrapper per core around its template, and a top with both.
+    let mut v = String::new();
+    for (dir, tag, k) in [(&a, "a", 2), (&b, "b", 3)] {
+        let ports = export::ports(k);
+        let decl: Vec<String> = ports
+            .iter()
+            .filter(|p| p.name != "fsm_state")
+            .map(|p| format!("{} [{}:0] {}", p.direction, p.width - 1, p.name))
+            .collect();
+        v += &format!("module w{tag}({});\n`include \"{}\"\nendmodule\n", decl.join(", "), dir.join(pkg::TEMPLATE_FILE).display());
+    }
+    v += "module both(input clk, input bus_clk, input reset, input ne_a, input ne_b, input noe, input nwe, input [8:0] addr, input [15:0] data_in,\n\
+          output [15:0] d_a, output [15:0] d_b, output oe_a, output oe_b, output [4:0] step, output [4:0] dir, output [1:0] irq);\n\
+          wa ua(.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne_a), .noe(noe), .nwe(nwe), .addr(addr), .data_in(data_in), .data_out(d_a), .data_oe(oe_a), .step(step[1:0]), .dir(dir[1:0]), .irq(irq[0]));\n\
+          wb ub(.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne_b), .noe(noe), .nwe(nwe), .addr(addr), .data_in(data_in), .data_out(d_b), .data_oe(oe_b), .step(step[4:2]), .dir(dir[4:2]), .irq(irq[1]));\n\
+          endmodule\n";
+    let top = sim_dir("export_named_both", Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&top);
+    std::fs::create_dir_all(&top).unwrap();
+    std::fs::write(top.join("both.v"), v).unwrap();
+    let script = format!(
+        "read_verilog {} {} both.v; hierarchy -check -top both; proc; flatten; opt_clean; stat",
+        a.join("tdm_stepper.v").display(),
+        b.join("tdm_stepper.v").display()
+    );
+    let out = Command::new("yosys").current_dir(&top).args(["-p", &script]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "yosys, both cores: {}{}", text, String::from_utf8_lossy(&out.stderr));
+    assert!(!text.contains("Warning: Replacing memory") && !text.contains("Re-definition"), "yosys: {text}");
 }

@@ -408,3 +408,67 @@ fn pulse_timing_check_refuses_zero_and_a_sum_over_the_minimum_period() {
     assert_eq!(PulseTiming::default().high_ticks(1), 1);
     assert_eq!(PulseTiming::default().high_ticks(u32::MAX), 65_535);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+
+    /// The distance/speed/acceleration planner: the steps sum to the request, every
+    /// segment is one the core accepts, the phases are the documented roundings of
+    /// the exact profile (within one tick, and a triangle exactly when the distance
+    /// is too short to reach the speed), the speed never exceeds the request by
+    /// more than the tick and step rounding, and the axis ends at rest within the
+    /// step rounding.
+    #[test]
+    fn moves_by_speed_and_acceleration_plan_exactly(
+        steps in log_uniform(1, 200_000),
+        neg in any::<bool>(),
+        speed in log_uniform(10, 2_000_000),
+        accel in log_uniform(100, 1_000_000_000),
+        decel in log_uniform(100, 1_000_000_000),
+        m in min_period(),
+    ) {
+        use tdm_stepper::model::planner::trapezoid_by_rates;
+        let f = 50_000_000u32;
+        let limits = Limits::new(m).unwrap();
+        let signed = if neg { -(steps as i64) } else { steps as i64 };
+        let Ok(segs) = trapezoid_by_rates(signed, speed as u32, accel as u32, decel as u32, f, &limits) else {
+            return Ok(());
+        };
+        prop_assert_eq!(segs.iter().map(|s| s.steps as i64).sum::<i64>(), signed);
+        for s in &segs {
+            prop_assert!(s.validate(&limits).is_ok(), "{:?}", s);
+        }
+        if steps == 1 {
+            prop_assert_eq!(segs.len(), 1, "one step is one segment");
+            return Ok(());
+        }
+        // The phases are the exact profile's, rounded, for the requested rates or
+        // (when a phase would get no step) both at the smaller one.
+        let (v, n) = (speed as f64, steps as f64);
+        let phases = |a: f64, d: f64| -> (bool, f64, f64) {
+            let reaches = v * v * (a + d) <= 2.0 * n * a * d;
+            let vp = if reaches { v } else { (2.0 * n * a * d / (a + d)).sqrt() };
+            (reaches, vp / a * f as f64, vp / d * f as f64)
+        };
+        let first = segs[0].t_ticks as f64;
+        let last = segs.last().unwrap().t_ticks as f64;
+        let lo = accel.min(decel) as f64;
+        let fits = |(_, ta, td): (bool, f64, f64)| (first - ta).abs() <= 1.0 && (last - td).abs() <= 1.0;
+        let asked = phases(accel as f64, decel as f64);
+        prop_assert!(fits(asked) || fits(phases(lo, lo)), "T_acc {} and T_dec {} against {:?}", first, last, asked);
+        prop_assert!(asked.0 || segs.len() <= 2, "a triangle has no cruise: {:?}", segs);
+        // Peak speed: the largest segment start rate, against the request: with at
+        // least 100 steps in every phase, within 5 % (the step split's rounding).
+        let big = segs.iter().all(|s| s.n_steps() >= 100);
+        let peak = segs.iter().map(|s| s.v0_rate as f64 * f as f64 / 2f64.powi(32)).fold(0.0, f64::max);
+        prop_assert!(!big || peak <= 1.05 * v + 1.0, "peak {} steps/s for a speed of {}", peak, v);
+        let end = segs.last().unwrap();
+        // At rest at the end, to the step split's rounding: each phase's steps are its
+        // exact share ± 1, so with at least 100 steps in every phase the end speed is
+        // under 5 % of the speed asked for (the README's planner paragraph).
+        if big {
+            let end_sps = end.v_end_t_q32() as f64 / end.t_ticks as f64 / 2f64.powi(32) * f as f64;
+            prop_assert!(end_sps <= 0.05 * v, "ends at {} steps/s for a speed of {}: {:?}", end_sps, v, segs);
+        }
+    }
+}

@@ -160,22 +160,22 @@ fn breakdown_counts_cells_by_block() {
     };
     let mut v = String::from(
         "module tdm_stepper(input clk, input [63:0] d, output [63:0] q0, output [63:0] q1, output [63:0] q2, output [7:0] q3);\n\
-         \\tdm_stepper$core$ctx$0 c0(.clk(clk), .d(d[9:0]), .q(q0[9:0]));\n\
-         \\tdm_stepper$core$ctx$1 c1(.clk(clk), .d(d[9:0]), .q(q1[9:0]));\n\
-         \\tdm_stepper$core$div d0(.clk(clk), .d(d[32:0]), .q(q2[32:0]));\n\
-         \\tdm_stepper$regs r0(.clk(clk), .d(d[6:0]), .q(q3[6:0]));\nendmodule\n",
+         \\tdm_stepper__core__ctx__0 c0(.clk(clk), .d(d[9:0]), .q(q0[9:0]));\n\
+         \\tdm_stepper__core__ctx__1 c1(.clk(clk), .d(d[9:0]), .q(q1[9:0]));\n\
+         \\tdm_stepper__core__div d0(.clk(clk), .d(d[32:0]), .q(q2[32:0]));\n\
+         \\tdm_stepper__regs r0(.clk(clk), .d(d[6:0]), .q(q3[6:0]));\nendmodule\n",
     );
     for (n, b) in [
-        ("tdm_stepper$core$ctx$0", 10),
-        ("tdm_stepper$core$ctx$1$r_a", 10),
-        ("tdm_stepper$core$div", 33),
-        ("tdm_stepper$regs", 7),
+        ("tdm_stepper__core__ctx__0", 10),
+        ("tdm_stepper__core__ctx__1__r_a", 10),
+        ("tdm_stepper__core__div", 33),
+        ("tdm_stepper__regs", 7),
     ] {
         v += &reg(n, b);
     }
     // A third level, a register whose hold multiplexer is in its parent, as rust-hdl
     // writes them: flattened into its block, the multiplexer becomes a clock enable.
-    v += "module \\tdm_stepper$core$ctx$1 (input clk, input [9:0] d, output [9:0] q);\n  wire [9:0] dd = {d[9], d[9] ? d[8:0] : q[8:0]};\n  \\tdm_stepper$core$ctx$1$r_a r(.clk(clk), .d(dd), .q(q));\nendmodule\n";
+    v += "module \\tdm_stepper__core__ctx__1 (input clk, input [9:0] d, output [9:0] q);\n  wire [9:0] dd = {d[9], d[9] ? d[8:0] : q[8:0]};\n  \\tdm_stepper__core__ctx__1__r_a r(.clk(clk), .d(dd), .q(q));\nendmodule\n";
     std::fs::write(dir.join("tdm_stepper.v"), v).unwrap();
     let run = Command::new("yosys")
         .current_dir(&dir)
@@ -192,22 +192,22 @@ fn breakdown_counts_cells_by_block() {
         String::from_utf8_lossy(&run.stderr)
     );
     let stat = std::fs::read_to_string(dir.join("stat.json")).unwrap();
-    assert!(!stat.contains("ctx$1$r_a"), "the register module is flattened into its block");
+    assert!(!stat.contains("ctx__1__r_a"), "the register module is flattened into its block");
     let blocks = breakdown_blocks(&stat, "tdm_stepper", Family::Xc7).unwrap();
     // yosys 0.23 writes a deep hierarchy as text after "modules": still read.
-    let garbled = stat.replacen("\"design\":", "tdm_stepper$core$ctx$1$r_a      1\n \"design\":", 1);
+    let garbled = stat.replacen("\"design\":", "tdm_stepper__core__ctx__1__r_a      1\n \"design\":", 1);
     assert!(serde_json::from_str::<serde_json::Value>(&garbled).is_err());
     assert_eq!(breakdown_blocks(&garbled, "tdm_stepper", Family::Xc7).unwrap(), blocks);
     let ffs = |n: &str| blocks.iter().find(|b| b.name == block_of(n)).map(|b| b.ffs);
     assert_eq!(
-        ffs("tdm_stepper$core$ctx$0"),
+        ffs("tdm_stepper__core__ctx__0"),
         Some(20),
         "two contexts of 10 bits: {blocks:?}"
     );
-    assert_eq!(ffs("tdm_stepper$core$div"), Some(33));
-    let ctx_luts = blocks.iter().find(|b| b.name == block_of("tdm_stepper$core$ctx$1")).unwrap().luts;
+    assert_eq!(ffs("tdm_stepper__core__div"), Some(33));
+    let ctx_luts = blocks.iter().find(|b| b.name == block_of("tdm_stepper__core__ctx__1")).unwrap().luts;
     assert_eq!(ctx_luts, 0, "the hold multiplexer must map to clock enables: {blocks:?}");
-    assert_eq!(ffs("tdm_stepper$regs"), Some(7));
+    assert_eq!(ffs("tdm_stepper__regs"), Some(7));
     assert_eq!(blocks.iter().map(|b| b.ffs).sum::<u64>(), 60);
     assert!(breakdown_blocks("{\"modules\": {}}", "tdm_stepper", Family::Xc7).is_err());
 

@@ -1,0 +1,311 @@
+/* tdm_driver.c: the MCU driver of the tdm-stepper IP core. See tdm_driver.h. */
+#include "tdm_driver.h"
+
+void tdm_open_mmio(tdm_dev *dev, volatile void *bank_base)
+{
+    tdm_dev zero = {0};
+    *dev = zero;
+    dev->base = (volatile uint16_t *)bank_base;
+}
+
+void tdm_open_hooks(tdm_dev *dev, tdm_read16_fn read16, tdm_write16_fn write16, void *ctx)
+{
+    tdm_dev zero = {0};
+    *dev = zero;
+    dev->read16 = read16;
+    dev->write16 = write16;
+    dev->ctx = ctx;
+}
+
+uint16_t tdm_read(const tdm_dev *dev, uint32_t byte_offset)
+{
+    if (dev->read16) {
+        return dev->read16(dev->ctx, byte_offset);
+    }
+    return dev->base[byte_offset / 2u];
+}
+
+void tdm_write(const tdm_dev *dev, uint32_t byte_offset, uint16_t value)
+{
+    if (dev->write16) {
+        dev->write16(dev->ctx, byte_offset, value);
+    } else {
+        dev->base[byte_offset / 2u] = value;
+    }
+}
+
+static uint32_t read32(const tdm_dev *dev, uint32_t lo, uint32_t hi)
+{
+    uint32_t l = tdm_read(dev, lo);
+    return l | ((uint32_t)tdm_read(dev, hi) << 16);
+}
+
+int tdm_identify(tdm_dev *dev)
+{
+    if (tdm_read(dev, TDM_ID_MAGIC) != TDM_MAGIC) {
+        return TDM_E_MAGIC;
+    }
+    dev->version = tdm_read(dev, TDM_ID_VERSION);
+    dev->axes = tdm_read(dev, TDM_ID_AXES);
+    dev->queue_depth = tdm_read(dev, TDM_ID_QUEUE_DEPTH);
+    dev->fifo_depth = tdm_read(dev, TDM_ID_FIFO_DEPTH);
+    dev->t_calc = tdm_read(dev, TDM_ID_T_CALC);
+    dev->min_period = tdm_read(dev, TDM_ID_MIN_PERIOD);
+    dev->clock_hz = read32(dev, TDM_ID_CLOCK_HZ_LO, TDM_ID_CLOCK_HZ_HI);
+    dev->max_rate = read32(dev, TDM_ID_MAX_RATE_LO, TDM_ID_MAX_RATE_HI);
+    if ((dev->version >> 8) != (TDM_VERSION >> 8) || (dev->version & 0xFFu) < (TDM_VERSION & 0xFFu)) {
+        return TDM_E_VERSION;
+    }
+    if (dev->axes != TDM_AXES || dev->clock_hz != TDM_CLOCK_HZ || dev->queue_depth != TDM_QUEUE_DEPTH
+        || dev->fifo_depth != TDM_FIFO_DEPTH || dev->min_period != TDM_MIN_PERIOD
+        || dev->max_rate != TDM_MAX_RATE || dev->axes == 0u || dev->axes > 16u) {
+        return TDM_E_CONFIG;
+    }
+    return 0;
+}
+
+static int poll_gstatus(tdm_dev *dev, uint16_t mask, uint16_t want)
+{
+    unsigned long i;
+    for (i = 0; i < TDM_POLL_LIMIT; i++) {
+        if ((tdm_read(dev, TDM_GSTATUS) & mask) == want) {
+            return 0;
+        }
+    }
+    return TDM_E_TIMEOUT;
+}
+
+int tdm_enable(tdm_dev *dev, uint16_t step_high, uint16_t step_low, uint16_t dir_setup, uint16_t dir_hold)
+{
+    uint32_t high = step_high > dir_hold ? step_high : dir_hold;
+    uint32_t low = step_low > dir_setup ? step_low : dir_setup;
+    int rc;
+    if (step_high == 0u || step_low == 0u || dir_setup == 0u || dir_hold == 0u || high + low > dev->min_period) {
+        return TDM_E_ARG;
+    }
+    tdm_write(dev, TDM_CTRL, 0u);
+    rc = poll_gstatus(dev, TDM_GSTATUS_ENABLED_MASK, 0u);
+    if (rc != 0) {
+        return rc;
+    }
+    tdm_write(dev, TDM_GSTATUS, TDM_GSTATUS_REFUSED_MASK);
+    tdm_write(dev, TDM_STEP_HIGH, step_high);
+    tdm_write(dev, TDM_STEP_LOW, step_low);
+    tdm_write(dev, TDM_DIR_SETUP, dir_setup);
+    tdm_write(dev, TDM_DIR_HOLD, dir_hold);
+    tdm_write(dev, TDM_CTRL, TDM_CTRL_ENABLE_MASK);
+    if (tdm_read(dev, TDM_GSTATUS) & TDM_GSTATUS_REFUSED_MASK) {
+        return TDM_E_REFUSED;
+    }
+    return poll_gstatus(dev, TDM_GSTATUS_ENABLED_MASK, TDM_GSTATUS_ENABLED_MASK);
+}
+
+void tdm_disable(tdm_dev *dev)
+{
+    tdm_write(dev, TDM_CTRL, 0u);
+}
+
+uint32_t tdm_rate_from_sps(uint32_t clock_hz, uint32_t steps_per_s)
+{
+    uint64_t num;
+    if (clock_hz == 0u || (uint64_t)steps_per_s * 2u >= clock_hz) {
+        return 0u;
+    }
+    num = ((uint64_t)steps_per_s << 32) + clock_hz / 2u;
+    return (uint32_t)(num / clock_hz);
+}
+
+int tdm_segment_check(const tdm_segment *seg, uint32_t max_rate)
+{
+    uint32_t n;
+    uint32_t v0 = seg->v0_rate;
+    int64_t v_end_t;
+    if (seg->t_ticks == 0u) {
+        return TDM_ERR_TICKS_ZERO;
+    }
+    if (seg->t_ticks > TDM_MAX_T_TICKS) {
+        return TDM_ERR_TICKS_RANGE;
+    }
+    n = seg->steps < 0 ? (uint32_t)0 - (uint32_t)seg->steps : (uint32_t)seg->steps;
+    if (n > TDM_MAX_STEPS) {
+        return TDM_ERR_STEPS_RANGE;
+    }
+    if (v0 > TDM_MAX_V0_RATE) {
+        return TDM_ERR_RATE_RANGE;
+    }
+    /* v_end·T·2^32 = 2n·2^32 − v0·T: |each| < 2^62, exact in 64 bits. */
+    v_end_t = (int64_t)((uint64_t)n << 33) - (int64_t)((uint64_t)v0 * seg->t_ticks);
+    if (v_end_t < 0 && v_end_t + (int64_t)seg->t_ticks > 0) {
+        /* A deceleration to rest whose v0 was rounded up: runs as v0 − 1. */
+        v0 -= 1u;
+        v_end_t += (int64_t)seg->t_ticks;
+    }
+    if (v_end_t < 0) {
+        return TDM_ERR_REVERSES;
+    }
+    if (v0 > max_rate || v_end_t > (int64_t)((uint64_t)seg->t_ticks * max_rate)) {
+        return TDM_ERR_PERIOD_TOO_SHORT;
+    }
+    return 0;
+}
+
+static uint32_t axis_reg(unsigned axis, uint32_t off)
+{
+    return TDM_AXIS_BASE + (uint32_t)axis * TDM_AXIS_STRIDE + off;
+}
+
+unsigned tdm_queue_room(tdm_dev *dev, unsigned axis)
+{
+    unsigned level;
+    if (axis >= dev->axes) {
+        return 0u;
+    }
+    level = (unsigned)(tdm_read(dev, TDM_STATUS(axis)) & TDM_STATUS_LEVEL_MASK) >> TDM_STATUS_LEVEL_SHIFT;
+    return level >= dev->queue_depth ? 0u : dev->queue_depth - level;
+}
+
+static void write_segment(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
+{
+    uint32_t steps = (uint32_t)seg->steps;
+    tdm_write(dev, axis_reg(axis, 0x00u), (uint16_t)(seg->v0_rate & 0xFFFFu));
+    tdm_write(dev, axis_reg(axis, 0x02u), (uint16_t)(seg->v0_rate >> 16));
+    tdm_write(dev, axis_reg(axis, 0x04u), (uint16_t)(seg->t_ticks & 0xFFFFu));
+    tdm_write(dev, axis_reg(axis, 0x06u), (uint16_t)(seg->t_ticks >> 16));
+    tdm_write(dev, axis_reg(axis, 0x08u), (uint16_t)(steps & 0xFFFFu));
+    tdm_write(dev, axis_reg(axis, 0x0Au), (uint16_t)(steps >> 16)); /* STEPS_HI: pushes */
+}
+
+int tdm_push(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
+{
+    int rc;
+    if (axis >= dev->axes || seg == 0) {
+        return axis >= dev->axes ? TDM_E_AXIS : TDM_E_ARG;
+    }
+    rc = tdm_segment_check(seg, dev->max_rate);
+    if (rc != 0) {
+        return rc;
+    }
+    if (tdm_queue_room(dev, axis) == 0u) {
+        return TDM_E_FULL;
+    }
+    write_segment(dev, axis, seg);
+    return 0;
+}
+
+int tdm_push_some(tdm_dev *dev, unsigned axis, const tdm_segment *segs, unsigned count, unsigned *taken)
+{
+    unsigned room;
+    unsigned i;
+    if (taken == 0 || (segs == 0 && count != 0u)) {
+        return TDM_E_ARG;
+    }
+    *taken = 0u;
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if (count == 0u) {
+        return 0;
+    }
+    room = tdm_queue_room(dev, axis);
+    for (i = 0; i < count && i < room; i++) {
+        int rc = tdm_segment_check(&segs[i], dev->max_rate);
+        if (rc != 0) {
+            return rc;
+        }
+        write_segment(dev, axis, &segs[i]);
+        *taken = i + 1u;
+    }
+    return 0;
+}
+
+int tdm_start(tdm_dev *dev, uint16_t mask)
+{
+    uint32_t all = (1ul << dev->axes) - 1u;
+    if (mask == 0u || (mask & ~all) != 0u) {
+        return TDM_E_AXIS;
+    }
+    tdm_write(dev, TDM_START, mask);
+    return 0;
+}
+
+void tdm_abort(tdm_dev *dev)
+{
+    tdm_write(dev, TDM_ABORT, TDM_ABORT_ALL_MASK);
+}
+
+uint16_t tdm_busy(tdm_dev *dev)
+{
+    return tdm_read(dev, TDM_BUSY);
+}
+
+int tdm_wait_idle(tdm_dev *dev, uint16_t mask, unsigned long poll_limit)
+{
+    unsigned long i;
+    for (i = 0; i < poll_limit; i++) {
+        if ((tdm_busy(dev) & mask) == 0u) {
+            return 0;
+        }
+    }
+    return TDM_E_TIMEOUT;
+}
+
+int32_t tdm_position(tdm_dev *dev, unsigned axis)
+{
+    uint32_t lo;
+    uint32_t hi;
+    if (axis >= dev->axes) {
+        return 0;
+    }
+    lo = tdm_read(dev, TDM_POS_LO(axis)); /* latches the high half */
+    hi = tdm_read(dev, TDM_POS_HI(axis));
+    return (int32_t)((hi << 16) | lo);
+}
+
+tdm_axis_status tdm_status(tdm_dev *dev, unsigned axis)
+{
+    tdm_axis_status s = {0, 0, 0, 0, 0, 0};
+    uint16_t v;
+    if (axis >= dev->axes) {
+        return s;
+    }
+    v = tdm_read(dev, TDM_STATUS(axis));
+    s.level = (uint8_t)((v & TDM_STATUS_LEVEL_MASK) >> TDM_STATUS_LEVEL_SHIFT);
+    s.busy = (uint8_t)((v & TDM_STATUS_BUSY_MASK) != 0u);
+    s.underrun = (uint8_t)((v & TDM_STATUS_UNDERRUN_MASK) != 0u);
+    s.overflow = (uint8_t)((v & TDM_STATUS_OVERFLOW_MASK) != 0u);
+    s.error = (uint8_t)((v & TDM_STATUS_ERROR_MASK) != 0u);
+    s.error_code = (uint8_t)((v & TDM_STATUS_ERROR_CODE_MASK) >> TDM_STATUS_ERROR_CODE_SHIFT);
+    return s;
+}
+
+void tdm_clear_status(tdm_dev *dev, unsigned axis)
+{
+    if (axis < dev->axes) {
+        tdm_write(dev, TDM_STATUS(axis),
+                  (uint16_t)(TDM_STATUS_UNDERRUN_MASK | TDM_STATUS_OVERFLOW_MASK | TDM_STATUS_ERROR_MASK));
+    }
+}
+
+tdm_events tdm_irq_service(tdm_dev *dev)
+{
+    tdm_events ev;
+    uint16_t g;
+    ev.done = tdm_read(dev, TDM_IRQ_DONE);
+    ev.queue_low = tdm_read(dev, TDM_IRQ_QLOW);
+    ev.error = tdm_read(dev, TDM_IRQ_ERROR);
+    g = tdm_read(dev, TDM_GSTATUS);
+    ev.start_failed = (uint16_t)((g & TDM_GSTATUS_START_FAILED_MASK) != 0u);
+    if (ev.done) {
+        tdm_write(dev, TDM_IRQ_DONE, ev.done);
+    }
+    if (ev.queue_low) {
+        tdm_write(dev, TDM_IRQ_QLOW, ev.queue_low);
+    }
+    if (ev.error) {
+        tdm_write(dev, TDM_IRQ_ERROR, ev.error);
+    }
+    if (ev.start_failed) {
+        tdm_write(dev, TDM_GSTATUS, TDM_GSTATUS_START_FAILED_MASK);
+    }
+    return ev;
+}

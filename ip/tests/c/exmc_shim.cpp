@@ -1,0 +1,141 @@
+// A pin-level EXMC shim: the C driver's read16/write16 hooks drive the exported
+// tdm_stepper's NE/NOE/NWE/A/D pins in Verilator with the documented minimum FSMC
+// timing (mode 1: ADDSET, then DATAST with the strobe low, then one HCLK of rest),
+// from an MCU clock unrelated to bus_clk and clk. Time only passes through the bus
+// accesses and shim_idle_ns(), as it would for firmware polling a real core.
+//
+// Printed on stdout (the Rust test parses it):
+//   E <axis> <clk cycle> <dir>   every rising STEP edge (the cycle is counted from
+//                                the first clk rising edge, as the system tests do)
+// and whatever the C program prints. Clock half periods come from the compile line.
+#include "Vtdm_stepper.h"
+#include "verilated.h"
+#include <cstdint>
+#include <cstdio>
+
+#ifndef CLK_HALF_PS
+#define CLK_HALF_PS 10000ull
+#endif
+#ifndef BUS_HALF_PS
+#define BUS_HALF_PS 5003ull
+#endif
+#ifndef MCU_HALF_PS
+#define MCU_HALF_PS 2976ull
+#endif
+
+static VerilatedContext *g_ctx;
+static Vtdm_stepper *g_top;
+static uint64_t g_now = 0;                  // ps
+static uint64_t g_next_clk = CLK_HALF_PS;   // clk starts high at 0
+static uint64_t g_next_bus = 1 + BUS_HALF_PS;
+static uint64_t g_clk_cycles = 0;           // clk rising edges seen
+static uint32_t g_last_step = 0;
+static unsigned long g_accesses = 0;
+
+// FSMC timing in HCLK cycles: ADDSET = ceil(2 T_bus / T_hclk), DATAST = ceil(3 T_bus /
+// T_hclk) for writes and ceil(5 T_bus / T_hclk) for reads (docs/registers.md).
+static uint64_t hclk(uint64_t bus_periods) { return (bus_periods * BUS_HALF_PS + MCU_HALF_PS - 1) / MCU_HALF_PS; }
+
+static void advance_to(uint64_t t)
+{
+    for (;;) {
+        uint64_t e = g_next_clk < g_next_bus ? g_next_clk : g_next_bus;
+        if (e > t) break;
+        g_now = e;
+        if (e == g_next_clk) {
+            g_top->clk = !g_top->clk;
+            g_next_clk += CLK_HALF_PS;
+            g_top->eval();
+            if (g_top->clk) {
+                g_clk_cycles++;
+                uint32_t s = (uint32_t)g_top->step;
+                uint32_t rose = s & ~g_last_step;
+                for (unsigned a = 0; rose; a++, rose >>= 1) {
+                    if (rose & 1u) printf("E %u %llu %u\n", a, (unsigned long long)g_clk_cycles, ((uint32_t)g_top->dir >> a) & 1u);
+                }
+                g_last_step = s;
+            }
+        } else {
+            g_top->bus_clk = !g_top->bus_clk;
+            g_next_bus += BUS_HALF_PS;
+            g_top->eval();
+        }
+    }
+    g_now = t;
+}
+
+static void mcu_cycles(uint64_t n) { advance_to(g_now + 2 * MCU_HALF_PS * n); }
+
+extern "C" {
+
+unsigned long shim_accesses(void) { return g_accesses; }
+unsigned long long shim_clk_cycles(void) { return (unsigned long long)g_clk_cycles; }
+
+void shim_idle_ns(unsigned long ns) { advance_to(g_now + (uint64_t)ns * 1000u); }
+
+void shim_write16(void *ctx, uint32_t byte_offset, uint16_t value)
+{
+    (void)ctx;
+    g_accesses++;
+    g_top->addr = byte_offset / 2u;
+    g_top->ne = 0;
+    g_top->eval();
+    mcu_cycles(hclk(2));
+    g_top->data_in = value;
+    g_top->nwe = 0;
+    g_top->eval();
+    mcu_cycles(hclk(3));
+    g_top->nwe = 1;
+    g_top->ne = 1;
+    g_top->eval();
+    mcu_cycles(1);
+}
+
+uint16_t shim_read16(void *ctx, uint32_t byte_offset)
+{
+    (void)ctx;
+    g_accesses++;
+    g_top->addr = byte_offset / 2u;
+    g_top->ne = 0;
+    g_top->eval();
+    mcu_cycles(hclk(2));
+    g_top->noe = 0;
+    g_top->eval();
+    mcu_cycles(hclk(5));
+    uint16_t v = g_top->data_oe ? (uint16_t)g_top->data_out : 0xDEADu;
+    g_top->noe = 1;
+    g_top->ne = 1;
+    g_top->eval();
+    mcu_cycles(1);
+    return v;
+}
+
+int driver_check_main(int argc, char **argv);
+
+}  // extern "C"
+
+int main(int argc, char **argv)
+{
+    g_ctx = new VerilatedContext;
+    g_ctx->commandArgs(argc, argv);
+    g_top = new Vtdm_stepper{g_ctx};
+    g_top->clk = 1;
+    g_top->bus_clk = 1;
+    g_top->ne = 1;
+    g_top->noe = 1;
+    g_top->nwe = 1;
+    g_top->addr = 0;
+    g_top->data_in = 0;
+    g_top->reset = 1;
+    g_top->eval();
+    mcu_cycles(200);
+    g_top->reset = 0;
+    g_top->eval();
+    mcu_cycles(200);
+    int rc = driver_check_main(argc, argv);
+    g_top->final();
+    fflush(stdout);
+    delete g_top;
+    delete g_ctx;
+    return rc;
+}

@@ -1,0 +1,379 @@
+//! The C driver and planner that `export` writes (`tdm_driver.[ch]`,
+//! `tdm_planner.[ch]`):
+//! * compiled with `gcc -std=c99 -Wall -Wextra -Werror -pedantic` and, for a
+//!   Cortex-M4, with `arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -Os` (no warnings;
+//!   the code size the README states);
+//! * the C planner gives exactly the Rust planner's segments and errors on random
+//!   moves (both forms, across and beyond the documented ranges);
+//! * the driver against the exported IP in Verilator, through a pin-level EXMC shim
+//!   (tests/c/exmc_shim.cpp, the documented minimum FSMC timing): the paper's
+//!   experiment and random moves planned in C on three axes, every STEP edge equal to
+//!   the Rust model's from one release tick, the positions read back through the
+//!   driver; host-side rejections that touch no bus, a full queue that never
+//!   overflows, an abort in motion with exact positions, a failed START seen through
+//!   the irq helper.
+
+mod common;
+
+use common::*;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use tdm_stepper::export::{self, ExportOptions};
+use tdm_stepper::model::planner::{trapezoid_by_rates, trapezoid_by_ticks, PlanError};
+use tdm_stepper::model::{AxisRun, Limits, Segment};
+use tdm_stepper::verify::Simulator;
+
+const GCC_FLAGS: [&str; 5] = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic"];
+
+fn tests_c() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/c")
+}
+
+fn run(cmd: &mut Command, what: &str) -> String {
+    let out = cmd.output().unwrap_or_else(|e| panic!("{what}: cannot run: {e}"));
+    let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{what} failed:\n{text}");
+    text
+}
+
+/// An export of K axes into a fresh folder.
+fn export_dir(name: &str, axes: usize) -> (PathBuf, ExportOptions) {
+    let dir = sim_dir(name, Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ExportOptions { axes, ..Default::default() };
+    export::export(&opts, &dir).unwrap();
+    (dir, opts)
+}
+
+/// gcc -c of `src` into `dir/<obj>` with the project's flags (warnings are errors).
+fn gcc_c(dir: &Path, src: &Path, obj: &str) -> PathBuf {
+    let out = dir.join(obj);
+    let mut cmd = Command::new("gcc");
+    cmd.args(GCC_FLAGS).args(["-O2", "-I"]).arg(dir).arg("-c").arg(src).arg("-o").arg(&out);
+    let text = run(&mut cmd, &format!("gcc {}", src.display()));
+    assert!(text.trim().is_empty(), "gcc printed diagnostics for {}:\n{text}", src.display());
+    out
+}
+
+#[test]
+fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
+    let (dir, _) = export_dir("c_compile", 2);
+    for f in ["tdm_driver.c", "tdm_planner.c"] {
+        gcc_c(&dir, &dir.join(f), &f.replace(".c", ".o"));
+    }
+    let mut sizes = Vec::new();
+    for f in ["tdm_driver.c", "tdm_planner.c"] {
+        let obj = dir.join(f.replace(".c", ".arm.o"));
+        let mut cmd = Command::new("arm-none-eabi-gcc");
+        cmd.args(["-mcpu=cortex-m4", "-mthumb", "-Os"]).args(GCC_FLAGS).arg("-I").arg(&dir).arg("-c").arg(dir.join(f)).arg("-o").arg(&obj);
+        let text = run(&mut cmd, &format!("arm-none-eabi-gcc {f}"));
+        assert!(text.trim().is_empty(), "arm-none-eabi-gcc printed diagnostics for {f}:\n{text}");
+        let size = run(Command::new("arm-none-eabi-size").arg(&obj), "arm-none-eabi-size");
+        // "   text    data     bss     dec     hex filename" then the numbers.
+        let nums: Vec<u64> = size.lines().nth(1).unwrap().split_whitespace().take(3).map(|s| s.parse().unwrap()).collect();
+        assert_eq!((nums[1], nums[2]), (0, 0), "{f}: no static data, no bss");
+        sizes.push(nums[0]);
+        println!("{f}: {} bytes of code for a Cortex-M4 (-Os)", nums[0]);
+    }
+    // The README states the sizes; they hold to 15 % (compiler versions differ).
+    let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let at = readme.find("bytes of Cortex-M4 code").expect("README states the driver's size");
+    let stated: Vec<u64> = readme[at.saturating_sub(200)..at]
+        .split(|c: char| !c.is_ascii_digit() && c != ',')
+        .filter(|s| !s.is_empty() && s.chars().any(|c| c.is_ascii_digit()))
+        .map(|s| s.replace(',', "").parse().unwrap())
+        .collect();
+    let stated = &stated[stated.len() - 2..];
+    for (got, want) in sizes.iter().zip(stated) {
+        let ratio = *got as f64 / *want as f64;
+        assert!((0.85..=1.15).contains(&ratio), "README says {want} bytes, the compiler gives {got}: update the README");
+    }
+}
+
+/// One planner result as the C programs print it: rc, bad phase, segments.
+fn c_form(r: &Result<Vec<Segment>, PlanError>) -> String {
+    match r {
+        Ok(segs) => {
+            let mut s = format!("0 0 {}", segs.len());
+            for g in segs {
+                s += &format!(" {} {} {}", g.v0_rate, g.t_ticks, g.steps);
+            }
+            s
+        }
+        Err(e) => {
+            let phase = if let PlanError::Segment { index, .. } = e { *index } else { 0 };
+            format!("{} {phase} 0", e.c_code())
+        }
+    }
+}
+
+/// A random value between lo and hi, spread over its orders of magnitude.
+fn log_uniform(rng: &mut Rng, lo: f64, hi: f64) -> u64 {
+    let x = (rng.next() % 1_000_000) as f64 / 1e6;
+    (lo * (hi / lo).powf(x)).round() as u64
+}
+
+#[test]
+fn the_c_planner_gives_the_rust_planners_segments() {
+    let (dir, _) = export_dir("c_plan", 2);
+    let bin = dir.join("plan_check");
+    let objs = [gcc_c(&dir, &dir.join("tdm_driver.c"), "d.o"), gcc_c(&dir, &dir.join("tdm_planner.c"), "p.o"), gcc_c(&dir, &tests_c().join("plan_check.c"), "c.o")];
+    run(Command::new("gcc").args(&objs).arg("-o").arg(&bin), "link plan_check");
+
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut input = String::new();
+    let mut want = Vec::new();
+    let (mut ok, mut errs) = (0, 0);
+    for k in 0..6000 {
+        let clock = [50_000_000u32, 100_000_000, 12_000_000, 400_000_000][k % 4];
+        let min_period = [2u32, 44, 66, 1000][(k / 4) % 4];
+        let limits = Limits::new(min_period).unwrap();
+        let max_rate = limits.max_rate();
+        let sign = if rng.next() % 2 == 0 { 1 } else { -1 };
+        let r;
+        if k % 3 != 2 {
+            // Distance, speed, acceleration, deceleration: mostly in range, some not.
+            let steps = sign * log_uniform(&mut rng, 1.0, 6e7) as i64;
+            let speed = match rng.next() % 20 {
+                0 => 0,
+                1 => clock as u64 + 1,
+                _ => log_uniform(&mut rng, 1.0, clock as f64 / 2.0),
+            } as u32;
+            let accel = if rng.next() % 25 == 0 { 0 } else { log_uniform(&mut rng, 1.0, 3e9).min(u32::MAX as u64) as u32 };
+            let decel = if rng.next() % 4 == 0 { accel } else { log_uniform(&mut rng, 1.0, 3e9).min(u32::MAX as u64) as u32 };
+            input += &format!("rates {steps} {speed} {accel} {decel} {clock} {max_rate}\n");
+            r = trapezoid_by_rates(steps, speed, accel, decel, clock, &limits);
+        } else {
+            let steps = if rng.next() % 10 == 0 { 0 } else { sign * log_uniform(&mut rng, 1.0, 6e7) as i64 };
+            let mut t = [0u32; 3];
+            for x in t.iter_mut() {
+                *x = if rng.next() % 5 == 0 { 0 } else { log_uniform(&mut rng, 1.0, 2.2e9) as u32 };
+            }
+            input += &format!("ticks {steps} {} {} {} {max_rate}\n", t[0], t[1], t[2]);
+            r = trapezoid_by_ticks(steps, t, &limits);
+        }
+        if r.is_ok() { ok += 1 } else { errs += 1 }
+        want.push(c_form(&r));
+    }
+    assert!(ok > 1500 && errs > 1000, "the inputs cover both outcomes: {ok} planned, {errs} errors");
+    let in_path = dir.join("plans.txt");
+    std::fs::write(&in_path, &input).unwrap();
+    let out = Command::new(&bin).stdin(std::fs::File::open(&in_path).unwrap()).output().unwrap();
+    assert!(out.status.success());
+    let got: Vec<String> = String::from_utf8(out.stdout).unwrap().lines().map(|s| s.to_string()).collect();
+    assert_eq!(got.len(), want.len(), "one result per input");
+    let inputs: Vec<&str> = input.lines().collect();
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert_eq!(g, w, "input {i}: `{}`: C planner against Rust planner", inputs[i]);
+    }
+}
+
+/// Random rest-to-rest moves for the core, kept to what K = 3 axes sustain: at most
+/// half the maximum step rate, every segment at least 3,000 ticks, each move at most
+/// 12 ms at 50 MHz, so no axis underruns.
+fn random_moves(rng: &mut Rng, axis: usize, count: usize, limits: &Limits, clock: u32) -> Vec<(String, Vec<Segment>)> {
+    let vmax = limits.max_rate() as f64 * clock as f64 / 2f64.powi(32);
+    let mut out = Vec::new();
+    while out.len() < count {
+        let sign = if rng.next() % 2 == 0 { 1 } else { -1 };
+        let steps = sign * log_uniform(rng, 1.0, 3000.0) as i64;
+        let speed = log_uniform(rng, 200.0, vmax / 2.0) as u32;
+        let accel = log_uniform(rng, 1e4, 1e8) as u32;
+        let decel = if rng.next() % 2 == 0 { accel } else { log_uniform(rng, 1e4, 1e8) as u32 };
+        let Ok(segs) = trapezoid_by_rates(steps, speed, accel, decel, clock, limits) else { continue };
+        let total: u64 = segs.iter().map(|s| s.t_ticks as u64).sum();
+        if segs.iter().all(|s| s.t_ticks >= 3000) && total <= 600_000 {
+            out.push((format!("rates {axis} {steps} {speed} {accel} {decel}"), segs));
+        }
+    }
+    out
+}
+
+/// STEP rising edges of each axis before `until`, as (clk cycle, dir).
+fn edges(out: &str, axes: usize, until: u64) -> Vec<Vec<(u64, bool)>> {
+    let mut e = vec![Vec::new(); axes];
+    for l in out.lines().filter(|l| l.starts_with("E ")) {
+        let v: Vec<u64> = l[2..].split_whitespace().map(|s| s.parse().unwrap()).collect();
+        if v[1] < until {
+            e[v[0] as usize].push((v[1], v[2] == 1));
+        }
+    }
+    e
+}
+
+fn field(out: &str, tag: &str) -> Vec<Vec<i64>> {
+    out.lines()
+        .filter(|l| l.split_whitespace().next() == Some(tag))
+        .map(|l| l.split_whitespace().skip(1).map(|s| s.parse().unwrap()).collect())
+        .collect()
+}
+
+/// Builds the exported core in `dir` with Verilator around tests/c/exmc_shim.cpp,
+/// linked with the driver, the planner, `main_c` (each compiled by gcc with the
+/// project's flags) and the objects `extra`. Returns the executable.
+fn build_with_shim(dir: &Path, main_c: &Path, extra: &[PathBuf]) -> PathBuf {
+    let stem = main_c.file_stem().unwrap().to_str().unwrap().to_string();
+    let objs = [
+        gcc_c(dir, &dir.join("tdm_driver.c"), "tdm_driver.o"),
+        gcc_c(dir, &dir.join("tdm_planner.c"), "tdm_planner.o"),
+        gcc_c(dir, main_c, &format!("{stem}.o")),
+    ];
+    std::fs::copy(tests_c().join("exmc_shim.cpp"), dir.join("exmc_shim.cpp")).unwrap();
+    let exe = format!("V{stem}");
+    let mut v = Command::new("verilator");
+    v.current_dir(dir)
+        .args(["--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast", "--x-initial", "fast"])
+        .args(["-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module", "tdm_stepper", "-o", &exe])
+        .args(["tdm_stepper.v", "exmc_shim.cpp"])
+        .args(&objs)
+        .args(extra);
+    run(&mut v, "verilator build of the shim");
+    dir.join("obj_dir").join(exe)
+}
+
+/// Every STEP edge the shim printed before `until` is the Rust model's for
+/// `per_axis`, every axis from one release tick (zero skew), DIR the segment's sign.
+fn check_model_edges(out: &str, per_axis: &[Vec<Segment>], limits: &Limits, until: u64) {
+    let e = edges(out, per_axis.len(), until);
+    let mut release = None;
+    for (a, segs) in per_axis.iter().enumerate() {
+        let run = AxisRun::run(segs, limits);
+        assert!(run.rejected.is_empty(), "axis {a}: the planner's segments are valid");
+        assert_eq!(e[a].len(), run.edge_ticks.len(), "axis {a}: step count");
+        let l0 = e[a][0].0 as i64 - 1 - run.edge_ticks[0] as i64;
+        assert_eq!(*release.get_or_insert(l0), l0, "axis {a}: released on another tick (skew)");
+        let mut s = 0;
+        let mut left = segs[0].n_steps();
+        for (i, (&(got, dir), &t)) in e[a].iter().zip(&run.edge_ticks).enumerate() {
+            assert_eq!(got as i64, l0 + 1 + t as i64, "axis {a} edge {i}");
+            while left == 0 {
+                s += 1;
+                left = segs[s].n_steps();
+            }
+            assert_eq!(dir, segs[s].steps < 0, "axis {a} edge {i}: DIR");
+            left -= 1;
+        }
+    }
+}
+
+/// The README's MCU worked example, compiled as written and run on the default
+/// export (K = 2, 50 MHz) through the shim: it returns 0, and every edge is the
+/// model's for the Rust planner's segments of the same two moves.
+#[test]
+fn readme_mcu_example_runs_as_written() {
+    let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let section = readme.split("## MCU driver (C)").nth(1).expect("README has an MCU driver section");
+    let code = section.split("```c\n").nth(1).expect("a C block").split("```").next().unwrap();
+    let (dir, opts) = export_dir("c_readme_example", 2);
+    std::fs::write(dir.join("readme_example.c"), code).unwrap();
+    let example = gcc_c(&dir, &dir.join("readme_example.c"), "readme_example.o");
+    let exe = build_with_shim(&dir, &tests_c().join("readme_main.c"), &[example]);
+    let out = run(Command::new(exe).current_dir(&dir), "the README example");
+    assert!(out.contains("RC 0\n"), "two_axis_move failed: {}", out.lines().last().unwrap_or(""));
+    let limits = opts.limits();
+    let per_axis = vec![
+        trapezoid_by_ticks(2400, [1_000_000, 500_000, 1_000_000], &limits).unwrap(),
+        trapezoid_by_rates(-1800, 60_000, 6_000_000, 3_000_000, opts.clock_hz, &limits).unwrap(),
+    ];
+    check_model_edges(&out, &per_axis, &limits, u64::MAX);
+}
+
+#[test]
+fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_exmc_pins() {
+    const K: usize = 3;
+    let (dir, opts) = export_dir("c_driver_ip", K);
+    let limits = Limits::new(opts.min_period_ticks() as u32).unwrap();
+    let clock = opts.clock_hz;
+
+    // The moves: the paper's experiment on axes 0 and 1 (ticks form), random moves on
+    // every axis, and moves the planner must refuse.
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let mut lines = vec!["ticks 0 2400 1000000 500000 1000000".to_string(), "ticks 1 -1800 1000000 500000 1000000".to_string()];
+    let mut per_axis: Vec<Vec<Segment>> = vec![Vec::new(); K];
+    per_axis[0] = trapezoid_by_ticks(2400, [1_000_000, 500_000, 1_000_000], &limits).unwrap();
+    per_axis[1] = trapezoid_by_ticks(-1800, [1_000_000, 500_000, 1_000_000], &limits).unwrap();
+    for (a, segs) in per_axis.iter_mut().enumerate() {
+        for (l, s) in random_moves(&mut rng, a, 6, &limits, clock) {
+            lines.push(l);
+            segs.extend(s);
+        }
+    }
+    let vmax = (limits.max_rate() as u64 * clock as u64 >> 32) as u32;
+    let impossible = [
+        format!("rates 2 1000000 {} 1000000000 1000000000", vmax + vmax / 100), // faster than the minimum period: 3
+        "rates 2 50331649 1000 1000 1000".to_string(),       // more than 3·2^24 steps
+        "rates 2 100 1000 0 1000".to_string(),               // no acceleration
+        "rates 2 100000 100000 1 1".to_string(),             // a phase longer than 2^30 ticks: 4
+        "ticks 2 100 0 0 0".to_string(),                     // no duration
+        "ticks 2 5 100 0 100".to_string(),                   // 5 steps in 4 µs: period too short
+    ];
+    lines.extend(impossible.iter().cloned());
+    std::fs::write(dir.join("moves.txt"), lines.join("\n") + "\n").unwrap();
+
+    let exe = build_with_shim(&dir, &tests_c().join("driver_check.c"), &[]);
+    let out = run(Command::new(exe).current_dir(&dir).arg("moves.txt"), "the driver check");
+
+    // Identification and enable.
+    let id = &field(&out, "IDENTIFY")[0];
+    assert_eq!(id[..4], [0, K as i64, clock as i64, export::QUEUE_DEPTH as i64], "identify: {out:.400}");
+    assert_eq!(id[6], limits.max_rate() as i64);
+    assert_eq!(field(&out, "ENABLE_BAD")[0], [-7], "output timing that does not fit is refused on the host");
+    assert_eq!(field(&out, "ENABLE")[0], [0]);
+
+    // Every plan is the Rust planner's.
+    let plans = field(&out, "PLAN");
+    assert_eq!(plans.len(), lines.len());
+    for (p, l) in plans.iter().zip(&lines) {
+        let w: Vec<i64> = l.split_whitespace().skip(1).map(|s| s.parse().unwrap()).collect();
+        let r = if l.starts_with("rates") {
+            trapezoid_by_rates(w[1], w[2] as u32, w[3] as u32, w[4] as u32, clock, &limits)
+        } else {
+            trapezoid_by_ticks(w[1], [w[2] as u32, w[3] as u32, w[4] as u32], &limits)
+        };
+        let got: Vec<String> = p[1..].iter().map(|x| x.to_string()).collect();
+        assert_eq!(got.join(" "), c_form(&r), "plan of `{l}`");
+    }
+    let refused: Vec<i64> = plans[plans.len() - impossible.len()..].iter().map(|p| p[1]).collect();
+    assert_eq!(refused, [3, -22, -21, 4, -20, 3], "the impossible moves' errors");
+
+    // Every STEP edge is the model's, all axes from one release tick; DIR matches.
+    let mark = field(&out, "MARK")[0][0] as u64;
+    check_model_edges(&out, &per_axis, &limits, mark);
+    // Positions read through the driver, no flag raised, every queue drained.
+    let pos = field(&out, "POS");
+    for (a, segs) in per_axis.iter().enumerate() {
+        let total: i64 = segs.iter().map(|s| s.steps as i64).sum();
+        assert_eq!(pos[a][2], total, "axis {a}: position read back");
+        assert_eq!(pos[a][3..], [0, 0, 0, 0], "axis {a}: underrun, overflow, error, level");
+    }
+    let irq = &field(&out, "IRQ")[0];
+    assert_eq!(irq[0], (1 << K) - 1, "every axis reported segments done");
+    assert_eq!(irq[2], 0, "no error event");
+
+    // Host-side rejections: the core's codes, not one bus access.
+    assert_eq!(field(&out, "BADPUSH"), [[0, 1, 0], [1, 5, 0], [2, 3, 0], [3, 2, 0]]);
+    assert_eq!(field(&out, "AXISPUSH")[0], [-4]);
+    assert_eq!(field(&out, "AXISSTART")[0], [-4]);
+
+    // A full queue: pushes stop at TDM_E_FULL with LEVEL = the depth and no overflow.
+    let full = &field(&out, "FULL")[0];
+    assert_eq!(full[0], -8, "the last push reports a full queue");
+    assert!(full[1] >= export::QUEUE_DEPTH as i64, "accepted {} pushes", full[1]);
+    assert_eq!(full[2..], [export::QUEUE_DEPTH as i64, 0], "LEVEL full, OVERFLOW never set");
+    assert_eq!(field(&out, "START2")[0], [0]);
+    // The abort in motion: axis 0 moved backwards for a while and stopped; the
+    // position read back counts exactly the edges emitted.
+    let abort = field(&out, "ABORT")[0][0] as u64;
+    let after: Vec<(u64, bool)> = edges(&out, K, u64::MAX)[0].iter().copied().filter(|&(c, _)| c >= mark).collect();
+    assert!(after.len() > 10 && after.iter().all(|&(_, d)| d), "axis 0 stepped backwards before the abort: {}", after.len());
+    assert!(after.iter().all(|&(c, _)| c <= abort + 10), "no edge long after the abort");
+    let pos2 = &field(&out, "POS")[K];
+    assert_eq!(pos2[2], pos[0][2] - after.len() as i64, "axis 0's position after the abort");
+    assert_eq!(pos2[6], 0, "the abort emptied the queue");
+    // The failed START, through the irq helper, then cleared.
+    let irqs = field(&out, "IRQ");
+    assert_eq!(field(&out, "START3")[0], [0]);
+    assert_eq!(irqs[2][3], 1, "START_FAILED seen");
+    assert_eq!(irqs[2][2] & (1 << (K - 1)), 1 << (K - 1), "IRQ_ERROR for the masked axis");
+    assert_eq!(irqs[3], [0, 0, 0, 0], "the helper cleared what it returned");
+}
