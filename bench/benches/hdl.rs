@@ -8,7 +8,6 @@ use rust_hdl::prelude::*;
 use std::time::Duration;
 use tdm_stepper::export::{self, ExportOptions, FIFO_DEPTH, QUEUE_DEPTH, RADIX_BITS};
 use tdm_stepper::hdl::core::TdmCore;
-use tdm_stepper::model::Limits;
 use tdm_stepper::vectors::paper_experiment_segments;
 use tdm_stepper::verify::bus::{system_spec, BusModel, BusTiming};
 use tdm_stepper::verify::system::{run_system_with, Clocks, RunOptions};

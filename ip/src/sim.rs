@@ -20,7 +20,7 @@ use crate::export::{self, ExportOptions, QUEUE_DEPTH, RADIX_BITS};
 use crate::hdl::top::TdmStepper;
 use crate::model::{planner, units, AxisRun, Limits, Segment};
 use crate::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming, ReadId};
-use crate::verify::system::{bus_pauses, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
+use crate::verify::system::{bus_pauses, gtkw_text, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -485,13 +485,16 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let trace = match opts.engine {
         Engine::Verilator => {
             let verilog = export::verilog(&exp)?;
-            let vcd = opts.vcd.as_ref().map(|p| {
-                let (w0, w1) = opts.vcd_window.unwrap_or((0.0, f64::MAX / 4e12));
+            // The probes are always built in (an empty window when no VCD is asked
+            // for), so runs with and without a VCD share one Verilator build.
+            let vcd = Some(opts.vcd.clone().unwrap_or_default()).map(|p| {
+                let (w0, w1) = if opts.vcd.is_some() { opts.vcd_window.unwrap_or((0.0, f64::MAX / 4e12)) } else { (0.0, 0.0) };
                 // Probe names (documented in the README).
                 let mut probes = Vec::new();
                 for a in 0..k {
                     probes.push((format!("step_{a}"), 1, format!("dut.step[{a}]")));
                     probes.push((format!("dir_{a}"), 1, format!("dut.dir[{a}]")));
+                    probes.push((format!("position_{a}"), 32, format!("dut.core.axes${a}$position")));
                 }
                 probes.push(("fsm_state".to_string(), crate::hdl::core::STATE_BITS, "dut.fsm_state".to_string()));
                 for a in 0..k {
@@ -506,11 +509,14 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
             let spec = system_spec(export::TOP_MODULE, watch);
             let work = std::path::absolute(&opts.work).map_err(|e| format!("{}: {e}", opts.work.display()))?;
             let trace = run_system_with(&work, &verilog, &spec, &clocks, b.events(), cycles, &ropts)?;
-            if let Some(v) = &ropts.vcd {
+            if let Some(v) = ropts.vcd.as_ref().filter(|_| opts.vcd.is_some()) {
                 if let Some(dir) = v.path.parent().filter(|p| !p.as_os_str().is_empty()) {
                     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
                 }
                 write_vcd(&v.path, v, &trace, moves.clock_hz)?;
+                let name = v.path.file_name().and_then(|n| n.to_str()).unwrap_or("sim.vcd");
+                let gtkw = v.path.with_extension("gtkw");
+                std::fs::write(&gtkw, gtkw_text(name, v)).map_err(|e| format!("cannot write {}: {e}", gtkw.display()))?;
             }
             trace
         }
@@ -592,6 +598,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     written.push(svg);
     if let Some(v) = &opts.vcd {
         written.push(v.clone());
+        written.push(v.with_extension("gtkw"));
     }
     Ok((report, written))
 }

@@ -87,20 +87,37 @@ fn readme_worked_example_runs_as_written() {
     let mut parser = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(&vcd_path).unwrap()));
     let header = parser.parse_header().unwrap();
     let step0 = header.find_var(&["tdm_stepper", "step_0"]).expect("step_0 in the VCD").code;
-    for name in ["dir_0", "step_1", "dir_1", "fsm_state", "fifo_level_0", "queue_level_1", "irq"] {
+    for name in ["dir_0", "step_1", "dir_1", "fsm_state", "fifo_level_0", "queue_level_1", "irq", "position_0", "position_1"] {
         assert!(header.find_var(&["tdm_stepper", name]).is_some(), "{name} in the VCD");
+    }
+    let pos_codes = [0, 1].map(|a| header.find_var(&["tdm_stepper", &format!("position_{a}")]).unwrap().code);
+    // The GTKWave save file beside it shows exactly the VCD's signals.
+    let gtkw = std::fs::read_to_string(vcd_path.with_extension("gtkw")).expect("a .gtkw beside the VCD");
+    assert!(gtkw.contains(&format!("[dumpfile] \"{}\"", vcd_path.file_name().unwrap().to_str().unwrap())));
+    let shown: Vec<&str> = gtkw.lines().filter_map(|l| l.strip_prefix("tdm_stepper.")).collect();
+    assert_eq!(shown.len(), 5 * 2 + 2, "every probe once: {shown:?}");
+    for s in &shown {
+        let name = s.split('[').next().unwrap();
+        let var = header.find_var(&["tdm_stepper", name]).unwrap_or_else(|| panic!(".gtkw names {s}, not in the VCD"));
+        let width: u32 = var.size;
+        assert_eq!(s.contains('['), width > 1, "{s}: the range GTKWave shows");
     }
     // The time axis is the user's clock exactly: 50 MHz is 20,000 ps, and each STEP
     // rise sits at its edge cycle (the report's) times that period.
     assert_eq!(header.timescale, Some((1, vcd::TimescaleUnit::PS)));
-    let (mut now, mut rise_ps) = (0u64, Vec::new());
+    let (mut now, mut rise_ps, mut pos) = (0u64, Vec::new(), [0i64; 2]);
     for cmd in parser {
         match cmd.unwrap() {
             vcd::Command::Timestamp(t) => now = t,
             vcd::Command::ChangeScalar(code, vcd::Value::V1) if code == step0 => rise_ps.push(now),
+            vcd::Command::ChangeVector(code, bits) if pos_codes.contains(&code) => {
+                let a = pos_codes.iter().position(|c| *c == code).unwrap();
+                pos[a] = bits.iter().fold(0u32, |acc, b| (acc << 1) | (*b == vcd::Value::V1) as u32) as i32 as i64;
+            }
             _ => {}
         }
     }
+    assert_eq!(pos, [2400, 1800], "the position traces end at the positions");
     assert_eq!(rise_ps.len(), 2400, "STEP rising edges of axis 0 in the VCD");
     let edges: Vec<u64> = report["axes"][0]["edge_cycles"].as_array().unwrap().iter().map(|c| c.as_u64().unwrap()).collect();
     let want: Vec<u64> = edges.iter().map(|c| c * 20_000).collect();
@@ -331,4 +348,45 @@ fn readme_fpga_example_runs_as_written() {
     assert!(printed[1].contains("PASS: ID_MAGIC 5453, ID_AXES 3"), "smoke: {}", printed[1]);
     assert_eq!(printed[2].trim(), "", "yosys: {}", printed[2]);
     assert!(readme().contains("the smoke test prints `PASS: ID_MAGIC 5453, ID_AXES 3`"));
+}
+
+/// The Verilator build is cached by what it is built from (the exported Verilog, the
+/// testbench, the main loop): a second `sim` of the same core, even with another move
+/// of a similar length and a VCD window, reuses it and gives the first run's result
+/// for the same move; another core (K = 3) rebuilds.
+#[test]
+fn sim_reuses_the_verilator_build_of_the_same_core() {
+    let moves = write_moves(
+        "cache.json",
+        r#"{"clock_hz": 1000000, "axes": [{"move": {"steps": 30, "speed_steps_per_s": 4000, "accel_steps_per_s2": 2000000, "decel_steps_per_s2": 1000000}}]}"#,
+    );
+    let other = write_moves("cache2.json", r#"{"clock_hz": 1000000, "axes": [{"trapezoid": {"steps": -25, "t_acc_s": 0.003, "t_cruise_s": 0.001, "t_dec_s": 0.003}}]}"#);
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim_cli/cache");
+    let _ = std::fs::remove_dir_all(&dir);
+    let work = dir.join("work");
+    let exe = work.join("obj_dir/Vsim");
+    let sim = |moves: &PathBuf, name: &str, extra: &[&str]| -> serde_json::Value {
+        let report = dir.join(format!("{name}.json"));
+        let out = bin().arg("sim").arg("--moves").arg(moves).arg("--report").arg(&report).arg("--work").arg(&work).args(extra).output().unwrap();
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap()
+    };
+    let modified = || std::fs::metadata(&exe).unwrap().modified().unwrap();
+    let first = sim(&moves, "first", &[]);
+    let built = modified();
+    let vcd = dir.join("second.vcd");
+    let second = sim(&other, "second", &["--vcd", vcd.to_str().unwrap()]);
+    assert_eq!(second["axes"][0]["final_position"], -25);
+    let third = sim(&moves, "third", &[]);
+    assert_eq!(modified(), built, "the same core was rebuilt");
+    assert_eq!(first["axes"][0]["edge_cycles"], third["axes"][0]["edge_cycles"]);
+    assert_eq!(first["axes"][0]["final_position"], 30);
+    assert!(std::fs::metadata(&vcd).unwrap().len() > 1000, "the VCD of the reused build");
+    let k3 = sim(&moves, "k3", &["--axes", "3"]);
+    assert_ne!(modified(), built, "another core must rebuild");
+    let rel = |r: &serde_json::Value| -> Vec<i64> {
+        let e: Vec<i64> = r["axes"][0]["edge_cycles"].as_array().unwrap().iter().map(|c| c.as_i64().unwrap()).collect();
+        e.iter().map(|c| c - e[0]).collect()
+    };
+    assert_eq!(rel(&k3), rel(&first), "the same move on K = 3, from its release");
 }
