@@ -348,8 +348,8 @@ fn min_period_option_sets_the_manifest_header_and_core() {
 
 /// `--name`: two cores with different names and K in one design. Every module of an
 /// export is `<name>` or `<name>__path` (no `$`), each folder lints clean alone with
-/// its waivers, and yosys reads both exports with the two instantiation templates,
-/// elaborates and flattens them together.
+/// its waivers, and yosys reads both exports with the two instantiation templates and
+/// synthesises them together (generic coarse synthesis, flattened).
 #[test]
 fn two_named_exports_live_in_one_design() {
     use tdm_stepper::package as pkg;
@@ -399,7 +399,7 @@ fn two_named_exports_live_in_one_design() {
     std::fs::create_dir_all(&top).unwrap();
     std::fs::write(top.join("both.v"), v).unwrap();
     let script = format!(
-        "read_verilog {} {} both.v; hierarchy -check -top both; proc; flatten; opt_clean; stat",
+        "read_verilog {} {} both.v; hierarchy -check -top both; synth -top both -flatten -run :fine; tee -q -o stat.txt stat",
         a.join("tdm_stepper.v").display(),
         b.join("tdm_stepper.v").display()
     );
@@ -407,4 +407,7 @@ fn two_named_exports_live_in_one_design() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "yosys, both cores: {}{}", text, String::from_utf8_lossy(&out.stderr));
     assert!(!text.contains("Warning: Replacing memory") && !text.contains("Re-definition"), "yosys: {text}");
+    let stat = std::fs::read_to_string(top.join("stat.txt")).unwrap();
+    let cells: u64 = stat.lines().find_map(|l| l.trim().strip_prefix("Number of cells:")).expect("cell count").trim().parse().unwrap();
+    assert!(cells > 2000, "both cores synthesised: {cells} coarse cells");
 }
