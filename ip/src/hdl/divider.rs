@@ -1,11 +1,12 @@
 //! Iterative unsigned divider: 104-bit numerator by 64-bit denominator, giving a
-//! 104-bit quotient and a 64-bit remainder, `R` radix-2 digits per clock. The setup's
-//! numerators are < 2^102 (docs/model.md, "Widths"); 104 digits keep R = 1, 2, 4 and 8
-//! whole.
+//! 104-bit quotient and a 64-bit remainder, `R` radix-2 digits per clock (R even, as
+//! R/2 radix-4 pairs). The setup's numerators are < 2^102 (docs/model.md, "Widths");
+//! 104 digits keep R = 2, 4 and 8 whole.
 //!
-//! Restoring division: each digit shifts one numerator bit into the partial
-//! remainder and keeps a quotient bit where `rem ≥ den`, decided by the borrow of
-//! the one 66-bit subtraction `rem − den` (a single carry chain per digit). Equals u128 `/` and `%` on
+//! Restoring division, two digits at a time: each pair shifts two numerator bits
+//! into the partial remainder and keeps the largest q in 0..=3 with `4·rem + bits ≥
+//! q·den`, decided by the borrows of three subtractions side by side (one carry
+//! chain per cycle at R = 2, where two chained digits had two). Equals u128 `/` and `%` on
 //! numerators < 2^104, which the reference model's setup uses. Dividing by 0 gives an all-ones quotient
 //! and the numerator's low bits as remainder (the scheduler never does it: D = 0
 //! takes the uniform path).
@@ -19,46 +20,65 @@ use rust_hdl::prelude::*;
 pub const DIV_NUM_BITS: usize = 104;
 pub const DIV_DEN_BITS: usize = 64;
 const REM_BITS: usize = DIV_DEN_BITS + 1;
-// DivDigit reads numerator bit 103 by a literal index (rust-hdl writes a Rust
+// DivPair reads numerator bits 103..102 by a literal index (rust-hdl writes a Rust
 // constant's name into the Verilog).
 const _: () = assert!(DIV_NUM_BITS == 104);
 
-/// Cycles from the `start` edge to `valid` for `r` digits per cycle.
+/// Cycles from the `start` edge to `valid` for `r` digits per cycle: the load, one
+/// cycle that forms 3d from the loaded d, and 104/r digit cycles.
 pub const fn div_latency(r: usize) -> usize {
-    1 + DIV_NUM_BITS / r
+    2 + DIV_NUM_BITS / r
 }
 
-/// One radix-2 digit, combinational. The quotient bits shift in at the bottom of
-/// the numerator register as its bits shift out at the top.
+/// One radix-4 digit (two radix-2 digits), combinational. The quotient bits shift in
+/// at the bottom of the numerator register as its bits shift out at the top. The
+/// shifted remainder 4·rem + two numerator bits is compared with d, 2d and 3d side
+/// by side (three 68-bit subtractions, whose borrows are the comparisons), and the
+/// largest that fits is taken: one carry chain and a 4:1 select per pair, the same
+/// quotient and remainder as two restoring steps.
 #[derive(LogicBlock, Default)]
-pub struct DivDigit {
+pub struct DivPair {
     pub rem_in: Signal<In, Bits<REM_BITS>>,
     pub num_in: Signal<In, Bits<DIV_NUM_BITS>>,
     pub den: Signal<In, Bits<DIV_DEN_BITS>>,
+    pub den3: Signal<In, Bits<66>>,
     pub rem_out: Signal<Out, Bits<REM_BITS>>,
     pub num_out: Signal<Out, Bits<DIV_NUM_BITS>>,
-    rem_sh: Signal<Local, Bits<REM_BITS>>,
-    diff: Signal<Local, Bits<66>>,
+    rem4: Signal<Local, Bits<68>>,
+    d1: Signal<Local, Bits<68>>,
+    d2: Signal<Local, Bits<68>>,
+    d3: Signal<Local, Bits<68>>,
 }
 
-impl Logic for DivDigit {
+impl Logic for DivPair {
     #[hdl_gen]
     fn update(&mut self) {
-        self.rem_sh.next =
-            (self.rem_in.val() << 1) | bit_cast::<REM_BITS, 1>(self.num_in.val().get_bits::<1>(103));
-        // One subtraction; its borrow (bit 65) is the comparison rem_sh < den.
-        self.diff.next = bit_cast::<66, REM_BITS>(self.rem_sh.val()) - bit_cast::<66, DIV_DEN_BITS>(self.den.val());
-        if self.diff.val().get_bit(65) {
-            self.rem_out.next = self.rem_sh.val();
-            self.num_out.next = self.num_in.val() << 1;
+        // rem < d < 2^64, so 4·rem + 3 < 2^66 and 3d < 2^66: 68 bits hold each
+        // difference with its borrow in bit 67.
+        self.rem4.next = (bit_cast::<68, REM_BITS>(self.rem_in.val()) << 2)
+            | bit_cast::<68, 2>(self.num_in.val().get_bits::<2>(102));
+        self.d1.next = self.rem4.val() - bit_cast::<68, DIV_DEN_BITS>(self.den.val());
+        self.d2.next = self.rem4.val() - (bit_cast::<68, DIV_DEN_BITS>(self.den.val()) << 1);
+        self.d3.next = self.rem4.val() - bit_cast::<68, 66>(self.den3.val());
+        if !self.d3.val().get_bit(67) {
+            self.rem_out.next = bit_cast::<REM_BITS, 68>(self.d3.val());
+            self.num_out.next = (self.num_in.val() << 2) | 3;
+        } else if !self.d2.val().get_bit(67) {
+            self.rem_out.next = bit_cast::<REM_BITS, 68>(self.d2.val());
+            self.num_out.next = (self.num_in.val() << 2) | 2;
+        } else if !self.d1.val().get_bit(67) {
+            self.rem_out.next = bit_cast::<REM_BITS, 68>(self.d1.val());
+            self.num_out.next = (self.num_in.val() << 2) | 1;
         } else {
-            self.rem_out.next = bit_cast::<REM_BITS, 66>(self.diff.val());
-            self.num_out.next = (self.num_in.val() << 1) | 1;
+            self.rem_out.next = bit_cast::<REM_BITS, 68>(self.rem4.val());
+            self.num_out.next = self.num_in.val() << 2;
         }
     }
 }
 
-/// The iterative divider with `R` digits per cycle.
+/// The iterative divider with `R` radix-2 digits per cycle, as `R / 2` [`DivPair`]s
+/// (R even). 3d is formed once, in the cycle after the load, from the registered d
+/// (so no adder follows the caller's operand select).
 #[derive(LogicBlock)]
 pub struct Divider<const R: usize> {
     pub clock: Signal<In, Clock>,
@@ -69,16 +89,18 @@ pub struct Divider<const R: usize> {
     pub remainder: Signal<Out, Bits<DIV_DEN_BITS>>,
     pub valid: Signal<Out, Bit>,
     pub busy: Signal<Out, Bit>,
-    digits: [DivDigit; R],
+    pairs: Vec<DivPair>,
     num: DFF<Bits<DIV_NUM_BITS>>,
     den: DFF<Bits<DIV_DEN_BITS>>,
+    den3: DFF<Bits<66>>,
+    prep: DFF<Bit>,
     rem: DFF<Bits<REM_BITS>>,
     ctl: Iterate,
 }
 
 impl<const R: usize> Default for Divider<R> {
     fn default() -> Self {
-        assert!(R >= 1 && DIV_NUM_BITS % R == 0, "Divider<{R}>: R must divide {DIV_NUM_BITS}");
+        assert!(R >= 2 && R % 2 == 0 && DIV_NUM_BITS % R == 0, "Divider<{R}>: R must be even and divide {DIV_NUM_BITS}");
         Divider {
             clock: Default::default(),
             start: Default::default(),
@@ -88,11 +110,13 @@ impl<const R: usize> Default for Divider<R> {
             remainder: Default::default(),
             valid: Default::default(),
             busy: Default::default(),
-            digits: std::array::from_fn(|_| Default::default()),
+            pairs: (0..R / 2).map(|_| Default::default()).collect(),
             num: Default::default(),
             den: Default::default(),
+            den3: Default::default(),
+            prep: Default::default(),
             rem: Default::default(),
-            ctl: Iterate::new(DIV_NUM_BITS / R),
+            ctl: Iterate::new(1 + DIV_NUM_BITS / R),
         }
     }
 }
@@ -100,31 +124,38 @@ impl<const R: usize> Default for Divider<R> {
 impl<const R: usize> Logic for Divider<R> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, num, den, rem);
+        dff_setup!(self, clock, num, den, den3, prep, rem);
         self.ctl.clock.next = self.clock.val();
         self.ctl.start.next = self.start.val();
-        self.digits[0].rem_in.next = self.rem.q.val();
-        self.digits[0].num_in.next = self.num.q.val();
-        for i in 0..R {
-            self.digits[i].den.next = self.den.q.val();
+        self.pairs[0].rem_in.next = self.rem.q.val();
+        self.pairs[0].num_in.next = self.num.q.val();
+        for i in 0..self.pairs.len() {
+            self.pairs[i].den.next = self.den.q.val();
+            self.pairs[i].den3.next = self.den3.q.val();
         }
-        for i in 1..R {
-            self.digits[i].rem_in.next = self.digits[i - 1].rem_out.val();
-            self.digits[i].num_in.next = self.digits[i - 1].num_out.val();
+        for i in 1..self.pairs.len() {
+            self.pairs[i].rem_in.next = self.pairs[i - 1].rem_out.val();
+            self.pairs[i].num_in.next = self.pairs[i - 1].num_out.val();
         }
         self.quotient.next = self.num.q.val();
         self.remainder.next = bit_cast::<DIV_DEN_BITS, REM_BITS>(self.rem.q.val());
         self.valid.next = self.ctl.valid.val();
         self.busy.next = self.ctl.busy.val();
-        if self.ctl.step.val() {
-            // The last digit's outputs win: later assignments override earlier ones.
-            for i in 0..R {
-                self.rem.d.next = self.digits[i].rem_out.val();
-                self.num.d.next = self.digits[i].num_out.val();
+        if self.ctl.step.val() & self.prep.q.val() {
+            // The first step cycle forms 3d; the digits start in the next.
+            self.den3.d.next =
+                bit_cast::<66, DIV_DEN_BITS>(self.den.q.val()) + (bit_cast::<66, DIV_DEN_BITS>(self.den.q.val()) << 1);
+            self.prep.d.next = false;
+        } else if self.ctl.step.val() {
+            // The last pair's outputs win: later assignments override earlier ones.
+            for i in 0..self.pairs.len() {
+                self.rem.d.next = self.pairs[i].rem_out.val();
+                self.num.d.next = self.pairs[i].num_out.val();
             }
         } else if self.ctl.load.val() {
             self.num.d.next = self.numerator.val();
             self.den.d.next = self.denominator.val();
+            self.prep.d.next = true;
             self.rem.d.next = 0.into();
         }
     }
