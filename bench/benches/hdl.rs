@@ -10,7 +10,7 @@ use tdm_stepper::export::{self, ExportOptions, FIFO_DEPTH, QUEUE_DEPTH, RADIX_BI
 use tdm_stepper::hdl::core::TdmCore;
 use tdm_stepper::vectors::paper_experiment_segments;
 use tdm_stepper::verify::bus::{system_spec, BusModel, BusTiming};
-use tdm_stepper::verify::system::{run_system_with, Clocks, RunOptions};
+use tdm_stepper::verify::system::{run_args, run_system_with, Clocks, RunOptions};
 use tdm_stepper::verify::Port;
 
 const CYCLES: u64 = 2_000;
@@ -99,8 +99,12 @@ fn verilator_ip(c: &mut Criterion) {
     g.measurement_time(Duration::from_secs(20));
     g.bench_function("paper_experiment_clk_cycles", |bch| {
         bch.iter(|| {
-            let out = std::process::Command::new(dir.join("obj_dir/Vsim")).current_dir(&dir).output().unwrap();
-            assert!(out.status.success());
+            let out = std::process::Command::new(dir.join("obj_dir/Vsim"))
+                .args(run_args(&clocks, cycles, &opts))
+                .current_dir(&dir)
+                .output()
+                .unwrap();
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         })
     });
     g.finish();

@@ -381,7 +381,7 @@ fn fnv1a(parts: &[&str]) -> u64 {
 }
 
 /// The run's plusargs: the clocks, its length, the VCD window and the progress bar.
-fn run_args(clocks: &Clocks, cycles: u64, opts: &RunOptions) -> Vec<String> {
+pub fn run_args(clocks: &Clocks, cycles: u64, opts: &RunOptions) -> Vec<String> {
     let (w0, w1) = opts.vcd.as_ref().map_or((0, 0), |o| o.window_cycles);
     vec![
         format!("+hc={}", clocks.clk_half_ps),
