@@ -149,11 +149,6 @@ int tdm_segment_check(const tdm_segment *seg, uint32_t max_rate)
     return 0;
 }
 
-static uint32_t axis_reg(unsigned axis, uint32_t off)
-{
-    return TDM_AXIS_BASE + (uint32_t)axis * TDM_AXIS_STRIDE + off;
-}
-
 unsigned tdm_queue_room(tdm_dev *dev, unsigned axis)
 {
     unsigned level;
@@ -167,19 +162,22 @@ unsigned tdm_queue_room(tdm_dev *dev, unsigned axis)
 static void write_segment(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
 {
     uint32_t steps = (uint32_t)seg->steps;
-    tdm_write(dev, axis_reg(axis, 0x00u), (uint16_t)(seg->v0_rate & 0xFFFFu));
-    tdm_write(dev, axis_reg(axis, 0x02u), (uint16_t)(seg->v0_rate >> 16));
-    tdm_write(dev, axis_reg(axis, 0x04u), (uint16_t)(seg->t_ticks & 0xFFFFu));
-    tdm_write(dev, axis_reg(axis, 0x06u), (uint16_t)(seg->t_ticks >> 16));
-    tdm_write(dev, axis_reg(axis, 0x08u), (uint16_t)(steps & 0xFFFFu));
-    tdm_write(dev, axis_reg(axis, 0x0Au), (uint16_t)(steps >> 16)); /* STEPS_HI: pushes */
+    tdm_write(dev, TDM_V0_LO(axis), (uint16_t)(seg->v0_rate & 0xFFFFu));
+    tdm_write(dev, TDM_V0_HI(axis), (uint16_t)(seg->v0_rate >> 16));
+    tdm_write(dev, TDM_T_LO(axis), (uint16_t)(seg->t_ticks & 0xFFFFu));
+    tdm_write(dev, TDM_T_HI(axis), (uint16_t)(seg->t_ticks >> 16));
+    tdm_write(dev, TDM_STEPS_LO(axis), (uint16_t)(steps & 0xFFFFu));
+    tdm_write(dev, TDM_STEPS_HI(axis), (uint16_t)(steps >> 16)); /* pushes */
 }
 
 int tdm_push(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
 {
     int rc;
-    if (axis >= dev->axes || seg == 0) {
-        return axis >= dev->axes ? TDM_E_AXIS : TDM_E_ARG;
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if (seg == 0) {
+        return TDM_E_ARG;
     }
     rc = tdm_segment_check(seg, dev->max_rate);
     if (rc != 0) {

@@ -162,7 +162,26 @@ static uint64_t triangle_phase_ticks(uint64_t n, uint64_t x, uint64_t y, uint64_
     return lo;
 }
 
-/* The phase durations of tdm_plan_rates, ticks: 0 or TDM_ERR_TICKS_RANGE (phase in *bad). */
+/* Bit k set: phase k has ticks but the step split gives it no step. */
+static unsigned empty_phases(uint64_t n, const uint64_t ticks[3])
+{
+    uint64_t w[3];
+    uint64_t parts[3];
+    unsigned k, e = 0u;
+    w[0] = ticks[0];
+    w[1] = 2u * ticks[1];
+    w[2] = ticks[2];
+    apportion(n, w, parts);
+    for (k = 0; k < 3u; k++) {
+        if (ticks[k] > 0u && parts[k] == 0u) {
+            e |= 1u << k;
+        }
+    }
+    return e;
+}
+
+/* The phase durations of tdm_plan_rates, ticks, a cruise that would get no step
+ * dropped: 0 or TDM_ERR_TICKS_RANGE (phase in *bad). */
 static int rate_phases(uint64_t n, uint64_t v, uint64_t a, uint64_t d, uint64_t f, uint64_t ticks[3], unsigned *bad)
 {
     int reaches = le128(mul64(v * v, a + d), mul64(2u * n * a, d));
@@ -191,26 +210,11 @@ static int rate_phases(uint64_t n, uint64_t v, uint64_t a, uint64_t d, uint64_t 
             *bad = 1u;
             return TDM_ERR_TICKS_RANGE;
         }
-    }
-    return 0;
-}
-
-/* Bit k set: phase k has ticks but the step split gives it no step. */
-static unsigned empty_phases(uint64_t n, const uint64_t ticks[3])
-{
-    uint64_t w[3];
-    uint64_t parts[3];
-    unsigned k, e = 0u;
-    w[0] = ticks[0];
-    w[1] = 2u * ticks[1];
-    w[2] = ticks[2];
-    apportion(n, w, parts);
-    for (k = 0; k < 3u; k++) {
-        if (ticks[k] > 0u && parts[k] == 0u) {
-            e |= 1u << k;
+        if (empty_phases(n, ticks) & 2u) {
+            ticks[1] = 0u;
         }
     }
-    return e;
+    return 0;
 }
 
 int tdm_plan_rates(int32_t steps, uint32_t speed, uint32_t accel, uint32_t decel, uint32_t clock_hz,
@@ -238,19 +242,14 @@ int tdm_plan_rates(int32_t steps, uint32_t speed, uint32_t accel, uint32_t decel
         return rc;
     }
     /* A phase the step split leaves without a step would start the next from rest:
-     * drop a cruise shorter than half a step; plan an empty accelerate or decelerate
-     * phase (very unequal rates) again with both rates at the smaller one. */
-    if (empty_phases(n, ticks) & 2u) {
-        ticks[1] = 0u;
-    }
+     * a cruise shorter than half a step is dropped (in rate_phases); an empty
+     * accelerate or decelerate phase (very unequal rates) is planned again with
+     * both rates at the smaller one. */
     if ((empty_phases(n, ticks) & 5u) && accel != decel) {
         uint64_t r = accel < decel ? accel : decel;
         rc = rate_phases(n, v, r, r, f, ticks, bad_phase);
         if (rc != 0) {
             return rc;
-        }
-        if (empty_phases(n, ticks) & 2u) {
-            ticks[1] = 0u;
         }
     }
     if (n == 1u) {

@@ -151,6 +151,9 @@ pub const MOVES_FIELDS: &[(&str, &str, &str, &str)] = &[
     ("move", "decel_steps_per_s2", "integer", "deceleration, steps/s^2 (1 to 2147483647)"),
 ];
 
+/// The `move` fields that are u32 rates (at least 1).
+const MOVE_RATE_FIELDS: [&str; 3] = ["speed_steps_per_s", "accel_steps_per_s2", "decel_steps_per_s2"];
+
 fn fields_of(object: &str) -> Vec<&'static str> {
     MOVES_FIELDS.iter().filter(|f| f.0 == object).map(|f| f.1).collect()
 }
@@ -195,7 +198,7 @@ pub fn parse_moves(text: &str) -> Result<MovesFile, String> {
         }
         if let Some(t) = m.get("move") {
             check(t, "move", &format!("{path}.move"), &fields_of("move"))?;
-            for f in ["speed_steps_per_s", "accel_steps_per_s2", "decel_steps_per_s2"] {
+            for f in MOVE_RATE_FIELDS {
                 if t[f].as_u64().is_none_or(|x| x > u32::MAX as u64) {
                     return Err(format!("{path}.move.{f}: expected an integer from 1 to {}, found {}", u32::MAX, t[f]));
                 }
@@ -227,7 +230,7 @@ pub fn moves_schema() -> String {
     segment["properties"]["v0_steps_per_s"]["minimum"] = json!(0);
     let trapezoid = obj("trapezoid", fields_of("trapezoid"));
     let mut rate_move = obj("move", fields_of("move"));
-    for f in ["speed_steps_per_s", "accel_steps_per_s2", "decel_steps_per_s2"] {
+    for f in MOVE_RATE_FIELDS {
         rate_move["properties"][f]["minimum"] = json!(1);
     }
     rate_move["properties"]["accel_steps_per_s2"]["maximum"] = json!(planner::MAX_ACCEL);
@@ -487,7 +490,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
             let verilog = export::verilog(&exp)?;
             // The probes are always built in (an empty window when no VCD is asked
             // for), so runs with and without a VCD share one Verilator build.
-            let vcd = Some(opts.vcd.clone().unwrap_or_default()).map(|p| {
+            let vcd = {
                 let (w0, w1) = if opts.vcd.is_some() { opts.vcd_window.unwrap_or((0.0, f64::MAX / 4e12)) } else { (0.0, 0.0) };
                 // Probe names (documented in the README).
                 let mut probes = Vec::new();
@@ -503,13 +506,13 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
                 }
                 probes.push(("irq".to_string(), 1, "dut.irq".to_string()));
                 let to_cycle = |s: f64| ((s * 1e12 / tick_ps as f64) as u64).min(cycles);
-                VcdOptions { path: p.clone(), window_cycles: (to_cycle(w0), to_cycle(w1)), probes }
-            });
-            let ropts = RunOptions { vcd, progress: opts.progress, pause_idle_bus_ps: Some(1_000_000_000) };
+                VcdOptions { path: opts.vcd.clone().unwrap_or_default(), window_cycles: (to_cycle(w0), to_cycle(w1)), probes }
+            };
+            let ropts = RunOptions { vcd: Some(vcd), progress: opts.progress, pause_idle_bus_ps: Some(1_000_000_000) };
             let spec = system_spec(export::TOP_MODULE, watch);
             let work = std::path::absolute(&opts.work).map_err(|e| format!("{}: {e}", opts.work.display()))?;
             let trace = run_system_with(&work, &verilog, &spec, &clocks, b.events(), cycles, &ropts)?;
-            if let Some(v) = ropts.vcd.as_ref().filter(|_| opts.vcd.is_some()) {
+            if let (Some(v), true) = (&ropts.vcd, opts.vcd.is_some()) {
                 if let Some(dir) = v.path.parent().filter(|p| !p.as_os_str().is_empty()) {
                     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
                 }

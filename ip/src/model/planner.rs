@@ -246,25 +246,15 @@ pub fn trapezoid_by_rates(
         return Err(PlanError::TooManySteps(steps));
     }
     let (v, f) = (speed as u64, clock_hz as u64);
-    let mut ticks = rate_phases(n, v, accel as u64, decel as u64, f)?;
     // A phase the step split leaves without a step would start the next one from
     // rest (the move would end at speed): a cruise shorter than half a step is
-    // dropped; an accelerate or decelerate phase left empty by very unequal rates
-    // is planned again with both rates at the smaller one.
-    let empty = |t: &[u64; 3]| -> [bool; 3] {
-        let parts = apportion(n, [t[0], 2 * t[1], t[2]]);
-        [t[0] > 0 && parts[0] == 0, t[1] > 0 && parts[1] == 0, t[2] > 0 && parts[2] == 0]
-    };
-    if empty(&ticks)[1] {
-        ticks[1] = 0;
-    }
-    let e = empty(&ticks);
+    // dropped (in rate_phases); an accelerate or decelerate phase left empty by
+    // very unequal rates is planned again with both rates at the smaller one.
+    let mut ticks = rate_phases(n, v, accel as u64, decel as u64, f)?;
+    let e = empty_phases(n, &ticks);
     if (e[0] || e[2]) && accel != decel {
         let r = accel.min(decel) as u64;
         ticks = rate_phases(n, v, r, r, f)?;
-        if empty(&ticks)[1] {
-            ticks[1] = 0;
-        }
     }
     if n == 1 {
         // One step: one segment from rest over the whole time.
@@ -276,7 +266,14 @@ pub fn trapezoid_by_rates(
     trapezoid_by_ticks(steps, [ticks[0] as u32, ticks[1] as u32, ticks[2] as u32], limits)
 }
 
-/// The phase durations of [`trapezoid_by_rates`], ticks (each checked ≤ 2^30).
+/// The phases that have ticks but get no step from the step split.
+fn empty_phases(n: u64, t: &[u64; 3]) -> [bool; 3] {
+    let parts = apportion(n, [t[0], 2 * t[1], t[2]]);
+    [t[0] > 0 && parts[0] == 0, t[1] > 0 && parts[1] == 0, t[2] > 0 && parts[2] == 0]
+}
+
+/// The phase durations of [`trapezoid_by_rates`], ticks (each checked ≤ 2^30), a
+/// cruise that would get no step dropped.
 fn rate_phases(n: u64, v: u64, a: u64, d: u64, f: u64) -> Result<[u64; 3], PlanError> {
     let reaches = (v * v) as u128 * (a + d) as u128 <= (2 * n * a) as u128 * d as u128;
     let mut ticks = if reaches {
@@ -295,6 +292,9 @@ fn rate_phases(n: u64, v: u64, a: u64, d: u64, f: u64) -> Result<[u64; 3], PlanE
         ticks[1] = if num <= 0 { 0 } else { (num / (2 * v) as i128) as u64 };
         if ticks[1] > MAX_T_TICKS as u64 {
             return Err(PlanError::Segment { index: 1, error: SegmentError::TicksRange });
+        }
+        if empty_phases(n, &ticks)[1] {
+            ticks[1] = 0;
         }
     }
     Ok(ticks)

@@ -362,9 +362,9 @@ pub const BUILD_STAMP: &str = "build.stamp";
 /// Verilator's options for [`build_verilator`]. The C++ is built for this machine
 /// with -O3: the paper's experiment (2.5 M clk cycles) runs in about 1.5 s instead of
 /// 4 s with Verilator's default -Os.
-const BUILD_FLAGS: [&str; 20] = [
+const BUILD_FLAGS: [&str; 19] = [
     "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast", "--x-initial", "fast", "-Wno-fatal", "-Wno-lint",
-    "-Wno-style", "--top-module", "tb", "-CFLAGS", "-march=native", "-MAKEFLAGS", "OPT_FAST=-O3 OPT_SLOW=-O1 OPT_GLOBAL=-O2", "-o",
+    "-Wno-style", "--top-module", "tb", "-CFLAGS", "-march=native", "-MAKEFLAGS", "OPT_FAST=-O3 OPT_SLOW=-O1 OPT_GLOBAL=-O2",
 ];
 
 /// FNV-1a, 64 bits, over the parts (each followed by a 0 byte): a stable hash for
@@ -398,7 +398,7 @@ pub fn run_args(clocks: &Clocks, cycles: u64, opts: &RunOptions) -> Vec<String> 
 pub fn build_verilator(dir: &Path) -> Result<(), String> {
     let mut cmd = std::process::Command::new("verilator");
     cmd.args(BUILD_FLAGS);
-    cmd.args(["Vsim", "tb.v", "dut.v", "main.cpp"]);
+    cmd.args(["-o", "Vsim", "tb.v", "dut.v", "main.cpp"]);
     tool(&mut cmd, dir, "verilator build")
 }
 

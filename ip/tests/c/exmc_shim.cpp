@@ -73,40 +73,46 @@ unsigned long long shim_clk_cycles(void) { return (unsigned long long)g_clk_cycl
 
 void shim_idle_ns(unsigned long ns) { advance_to(g_now + (uint64_t)ns * 1000u); }
 
-void shim_write16(void *ctx, uint32_t byte_offset, uint16_t value)
+// ADDSET: NE low with the address out, both strobes high.
+static void address_phase(uint32_t byte_offset)
 {
-    (void)ctx;
     g_accesses++;
     g_top->addr = byte_offset / 2u;
     g_top->ne = 0;
     g_top->eval();
     mcu_cycles(hclk(2));
-    g_top->data_in = value;
-    g_top->nwe = 0;
-    g_top->eval();
-    mcu_cycles(hclk(3));
+}
+
+// NE and the strobes rise together; the bus rests one HCLK.
+static void end_access(void)
+{
     g_top->nwe = 1;
+    g_top->noe = 1;
     g_top->ne = 1;
     g_top->eval();
     mcu_cycles(1);
 }
 
+void shim_write16(void *ctx, uint32_t byte_offset, uint16_t value)
+{
+    (void)ctx;
+    address_phase(byte_offset);
+    g_top->data_in = value;
+    g_top->nwe = 0;
+    g_top->eval();
+    mcu_cycles(hclk(3));
+    end_access();
+}
+
 uint16_t shim_read16(void *ctx, uint32_t byte_offset)
 {
     (void)ctx;
-    g_accesses++;
-    g_top->addr = byte_offset / 2u;
-    g_top->ne = 0;
-    g_top->eval();
-    mcu_cycles(hclk(2));
+    address_phase(byte_offset);
     g_top->noe = 0;
     g_top->eval();
     mcu_cycles(hclk(5));
     uint16_t v = g_top->data_oe ? (uint16_t)g_top->data_out : 0xDEADu;
-    g_top->noe = 1;
-    g_top->ne = 1;
-    g_top->eval();
-    mcu_cycles(1);
+    end_access();
     return v;
 }
 
