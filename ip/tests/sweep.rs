@@ -225,3 +225,58 @@ fn breakdown_counts_cells_by_block() {
     names.retain(|n| block_of(n) == "other");
     assert!(names.is_empty(), "modules in no block: {names:?}");
 }
+
+/// 12345 → "12,345", as the README writes counts.
+fn grouped(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The README's status row and "Clock limit" paragraph quote the committed full sweep
+/// (docs/results/sweep.json), so a rerun of the sweep cannot leave older figures behind.
+#[test]
+fn readme_quotes_the_committed_sweep() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(root.join("docs/results/sweep.json")).unwrap()).unwrap();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let status = readme.lines().find(|l| l.starts_with("| area and timing |")).expect("the README's status row on area and timing");
+    let clock = readme.split("**Clock limit").nth(1).expect("the README's \"Clock limit\" paragraph").split("\n\n").next().unwrap();
+    let res = |family: &str, arch: &str, k: u64| -> serde_json::Value {
+        let p = s["points"].as_array().unwrap().iter().find(|p| p["family"] == family && p["arch"] == arch && p["axes"] == k);
+        let p = p.unwrap_or_else(|| panic!("docs/results has no {family} {arch} K = {k}"));
+        assert_eq!(p["status"], "ok", "{family} {arch} K = {k}");
+        p["resources"].clone()
+    };
+    let (t2, t16) = (res("xc7", "tdm", 2), res("xc7", "tdm", 16));
+    let (b2, b16) = (res("xc7", "baseline", 2), res("xc7", "baseline", 16));
+    let n = |v: &serde_json::Value, f: &str| v[f].as_u64().unwrap();
+    let quoted = [
+        format!("{} LUT6 and {} FF at K = 2", grouped(n(&t2, "luts")), grouped(n(&t2, "ffs"))),
+        format!("{} LUT6 at K = 16", grouped(n(&t16, "luts"))),
+        format!(
+            "{:.1} % / {:.1} % smaller than the baseline",
+            tdm_stepper::sweep::saving_pct(n(&t2, "luts"), n(&b2, "luts")),
+            tdm_stepper::sweep::saving_pct(n(&t16, "luts"), n(&b16, "luts"))
+        ),
+    ];
+    for q in &quoted {
+        assert!(status.contains(q.as_str()), "the README's status row should say \"{q}\" (docs/results/sweep.json):\n{status}");
+    }
+    let fmax = s["fmax"].as_array().unwrap();
+    assert!(fmax.len() >= 3, "the full sweep measures Fmax at K = 2, 8 and 16");
+    for f in fmax {
+        let k = f["axes"].as_u64().unwrap();
+        let clk = format!("{:.1} MHz at K = {k}", f["fmax_clk_mhz"].as_f64().unwrap());
+        let bus = format!("{:.1}", f["fmax_bus_clk_mhz"].as_f64().unwrap());
+        for q in [&clk, &bus] {
+            assert!(status.contains(q.as_str()) && clock.contains(q.as_str()), "the README's status row and \"Clock limit\" should say \"{q}\" (docs/results/sweep.json)");
+        }
+    }
+}
