@@ -33,6 +33,8 @@ pub const FIFO_DEPTHS: [usize; 1] = [FIFO_DEPTH];
 pub const CLOCK_HZ_RANGE: std::ops::RangeInclusive<u32> = 1_000_000..=400_000_000;
 /// Name of the exported top module.
 pub const TOP_MODULE: &str = "tdm_stepper";
+/// The C register header written by `export`.
+pub const HEADER_FILE: &str = "tdm_stepper_regs.h";
 
 /// TDM core or the non-TDM baseline (K one-axis cores behind the same registers).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -311,7 +313,7 @@ pub fn export(opts: &ExportOptions, dir: &Path) -> Result<Exported, String> {
     let p = opts.params();
     let files = [
         ("tdm_stepper.v", v),
-        ("tdm_stepper_regs.h", regs::c_header(&p)),
+        (HEADER_FILE, regs::c_header(&p)),
         ("registers.md", regs::markdown(&p)),
         ("manifest.json", serde_json::to_string_pretty(&manifest(opts)).expect("json") + "\n"),
     ];

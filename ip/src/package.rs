@@ -174,8 +174,8 @@ pub fn pcf_note(opts: &ExportOptions) -> String {
     t
 }
 
-/// FuseSoC CAPI2 core description: the Verilog, the waivers, a lint target
-/// (Verilator -Wall) and a simulation target (Icarus) on the smoke testbench.
+/// FuseSoC CAPI2 core description: the Verilog, the waivers, the MCU's C files, a lint
+/// target (Verilator -Wall) and a simulation target (Icarus) on the smoke testbench.
 pub fn fusesoc_core(opts: &ExportOptions) -> String {
     let top = opts.name.as_str();
     format!(
@@ -196,6 +196,10 @@ pub fn fusesoc_core(opts: &ExportOptions) -> String {
          \x20   files:\n\
          \x20     - {TB_FILE}\n\
          \x20   file_type: verilogSource\n\
+         \x20 mcu_driver:\n\
+         \x20   files:\n\
+         {c_files}\
+         \x20   file_type: cSource\n\
          \n\
          targets:\n\
          \x20 default:\n\
@@ -216,7 +220,24 @@ pub fn fusesoc_core(opts: &ExportOptions) -> String {
         k = opts.axes,
         hz = opts.clock_hz,
         ver = env!("CARGO_PKG_VERSION"),
+        c_files = mcu_files(),
     )
+}
+
+/// The `mcu_driver` fileset's lines: the register header, then the driver and the
+/// planner, headers marked as include files (not used by any target: firmware builds
+/// take them from here).
+fn mcu_files() -> String {
+    std::iter::once(crate::export::HEADER_FILE)
+        .chain(C_SOURCES.iter().map(|&(name, _)| name))
+        .map(|f| {
+            if f.ends_with(".h") {
+                format!("      - {f}: {{is_include_file: true}}\n")
+            } else {
+                format!("      - {f}\n")
+            }
+        })
+        .collect()
 }
 
 pub const TB_FILE: &str = "tdm_stepper_smoke_tb.v";
