@@ -29,17 +29,19 @@ export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
 mutants=(
   "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_dmag.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
   "2#ip/src/hdl/core.rs#s/self.p_wide.next = \(self.div.quotient.val\(\).get_bits::<40>\(64\) != 0\) \| /self.p_wide.next = /#hdl_core_setup#setup_state_equals#fallback test ignores the quotient's high half (P' ≥ 2^64 takes the root)"
-  "3#ip/src/hdl/step_gen.rs#s/self.head_half.next = self.head_ticks.val\(\) >> 1;/self.head_half.next = self.head_ticks.val() >> 2;/#hdl_step_gen#short_segments_both_axes#STEP pulse a quarter period"
+  "3#ip/src/hdl/pulse_stage.rs#s/self.half1.d.next = self.d17.val\(\).get_bits::<16>\(1\);/self.half1.d.next = self.d17.val().get_bits::<16>(2);/#hdl_pulse_stage#high_time_equals_the_model#STEP pulse a quarter period"
   "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 1\)/(self.count.q.val() == 2)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
   "5#ip/src/hdl/step_gen.rs#s/self.under.d.next = true;/self.under.d.next = false;/#hdl_step_gen#starved_fifo_flags_underrun#underrun never flagged"
   "6#ip/src/hdl/step_gen.rs#s/if self.abort.val\(\) \{/if self.abort.val() & self.reset.val() {/#system#interrupts_random_traffic_and_abort#abort ignored by the step generators"
   "7#ip/src/hdl/exmc.rs#s/if !self.nwe2.q.val\(\) & !self.nwe3.q.val\(\) & !self.ne2.q.val\(\) & !self.ne3.q.val\(\) \{/if !self.nwe2.q.val() & !self.ne2.q.val() {/#system#bad_input_through_the_bus#bus write captured on a single sample"
   "8#ip/src/hdl/root.rs#s/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>\(self.t_lo.val\(\) \+ self.three_q.val\(\)\);/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() + self.quarter.val());/#hdl_root#root_two_digits#root pair: wrong trial step after digits 01"
   "9#ip/src/hdl/root.rs#s/self.d3.next = self.d2.val\(\) - self.t_hi.val\(\);/self.d3.next = self.d2.val() - self.t_lo.val();/#hdl_root#root_two_digits#root pair: wrong threshold for digits 11"
-  "10#ip/src/hdl/core.rs#s/self.s_code.d.next = 5.into\(\);/self.s_code.d.next = 4.into();/#system#bad_input_through_the_bus#range check reports the wrong code (steps range as T range)"
+  "10#ip/src/hdl/push_check.rs#s/self.rcode.d.next = 5.into\(\);/self.rcode.d.next = 4.into();/#hdl_push_check#verdicts_equal_the_model#range check reports the wrong code (steps range as T range)"
   "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
   "12#ip/src/hdl/core.rs#s/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
   "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
+  "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
+  "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#two_axes_match#uniform step: remainder equal to 2n not carried"
 )
 
 only=("$@")
