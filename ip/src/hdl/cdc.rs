@@ -12,11 +12,14 @@
 //! crosses, through two flip-flops, so a pointer is seen either before or after one
 //! increment, never torn. Hence `full` and `empty` are conservative: an entry is
 //! visible to the reader 2–3 `rclock` edges after its write, and a slot is free for
-//! the writer 2–3 `wclock` edges after its read. The entries are registers written
-//! in `wclock` and read through a multiplexer in `rclock`; a slot is never read until
-//! its write is two synchroniser stages old. `wreset` and `rreset` (synchronous, each
+//! the writer 2–3 `wclock` edges after its read. The entries live in a [`LutRam`]
+//! (32 words, of which 4 are used, so yosys maps it to LUT RAM: W bits cost W/6
+//! RAM32M on xc7 instead of 4·W flip-flops and a 4:1 multiplexer) written in `wclock`
+//! and read asynchronously at the read pointer in `rclock`; a slot is never read
+//! until its write is two synchroniser stages old. `wreset` and `rreset` (synchronous, each
 //! in its own domain) must be asserted together, as the top level's reset is.
 
+use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock, Default)]
@@ -53,7 +56,7 @@ pub struct AsyncFifo<const W: usize> {
     pub read: Signal<In, Bit>,
     pub data_out: Signal<Out, Bits<W>>,
     pub empty: Signal<Out, Bit>,
-    mem: [DFF<Bits<W>>; 4],
+    ram: LutRam<W, 5>,
     wbin: DFF<Bits<3>>,
     wgray: DFF<Bits<3>>,
     rgray_w1: DFF<Bits<3>>,
@@ -82,7 +85,7 @@ impl<const W: usize> Default for AsyncFifo<W> {
             read: Default::default(),
             data_out: Default::default(),
             empty: Default::default(),
-            mem: std::array::from_fn(|_| Default::default()),
+            ram: Default::default(),
             wbin: Default::default(),
             wgray: Default::default(),
             rgray_w1: Default::default(),
@@ -112,13 +115,10 @@ impl<const W: usize> Logic for AsyncFifo<W> {
         self.is_full.next = (self.wgray.q.val() ^ self.rgray_w2.q.val()) == self.c_full.val();
         self.full.next = self.is_full.val();
         self.wbin_inc.next = self.wbin.q.val() + 1;
-        for i in 0..4 {
-            self.mem[i].clock.next = self.wclock.val();
-            self.mem[i].d.next = self.mem[i].q.val();
-            if self.write.val() & !self.is_full.val() & (self.wbin.q.val().get_bits::<2>(0).index() == i) {
-                self.mem[i].d.next = self.data_in.val();
-            }
-        }
+        self.ram.clock.next = self.wclock.val();
+        self.ram.we.next = self.write.val() & !self.is_full.val();
+        self.ram.waddr.next = bit_cast::<5, 2>(self.wbin.q.val().get_bits::<2>(0));
+        self.ram.wdata.next = self.data_in.val();
         if self.write.val() & !self.is_full.val() {
             self.wbin.d.next = self.wbin_inc.val();
             self.wgray.d.next = self.wbin_inc.val() ^ (self.wbin_inc.val() >> 1);
@@ -135,12 +135,8 @@ impl<const W: usize> Logic for AsyncFifo<W> {
         self.is_empty.next = self.rgray.q.val() == self.wgray_r2.q.val();
         self.empty.next = self.is_empty.val();
         self.rbin_inc.next = self.rbin.q.val() + 1;
-        self.data_out.next = 0.into();
-        for i in 0..4 {
-            if self.rbin.q.val().get_bits::<2>(0).index() == i {
-                self.data_out.next = self.mem[i].q.val();
-            }
-        }
+        self.ram.raddr.next = bit_cast::<5, 2>(self.rbin.q.val().get_bits::<2>(0));
+        self.data_out.next = self.ram.rdata.val();
         if self.read.val() & !self.is_empty.val() {
             self.rbin.d.next = self.rbin_inc.val();
             self.rgray.d.next = self.rbin_inc.val() ^ (self.rbin_inc.val() >> 1);
