@@ -314,7 +314,7 @@ fn export_package_works_from_the_folder_alone() {
     let listed: Vec<&str> = core.lines().filter_map(|l| l.trim().strip_prefix("- ")).map(|f| f.split(':').next().unwrap()).collect();
     // The Verilog, the waivers, the smoke testbench, the register header and the C files.
     assert_eq!(listed.len(), 4 + pkg::C_SOURCES.len(), "{core}");
-    for f in ["tdm_stepper_regs.h"].into_iter().chain(pkg::C_SOURCES.iter().map(|&(n, _)| n)) {
+    for f in [tdm_stepper::export::HEADER_FILE].into_iter().chain(pkg::C_SOURCES.iter().map(|&(n, _)| n)) {
         assert!(listed.contains(&f), "{} does not list {f}", pkg::CORE_FILE);
     }
     for f in listed {
