@@ -69,11 +69,12 @@ pub const T_CALC_UNIFORM: usize = 4;
 /// products issued back to back into the pipelined multiplier from registered
 /// operands (v0·T, T²; the last arrives 1 + MUL_REG_LATENCY cycles after the first is
 /// issued), one on the sequential multiplier (v·T²; two with n·B' when decelerating)
-/// and two divides (P', B'), each issued in the cycle its operand arrives. Measured
-/// by tests/hdl_core.rs.
+/// and two divides (P', B'), P' issued in the cycle its operand arrives and B' one
+/// cycle after P' (the fallback test on P' is registered). Measured by
+/// tests/hdl_core.rs.
 pub const fn t_setup(r: usize, decelerating: bool) -> usize {
     let wide = if decelerating { 2 } else { 1 };
-    3 + (1 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
+    4 + (1 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
 
 // The fallback test reads the quotient's bits 103..64 by literal widths (rust-hdl
@@ -262,7 +263,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     narrow: Signal<Local, Bits<64>>,
     t_num: Signal<Local, Bits<DIV_NUM_BITS>>,
     p_test: Signal<Local, Bits<65>>,
-    p_wide: Signal<Local, Bit>,
+    p_wide: DFF<Bit>,
+    p_ready: DFF<Bit>,
+    last: DFF<Bit>,
     a_step: Signal<Local, Bits<100>>,
     rounded: Signal<Local, Bits<32>>,
     e_next: Signal<Local, Bits<32>>,
@@ -429,6 +432,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             t_num: Default::default(),
             p_test: Default::default(),
             p_wide: Default::default(),
+            p_ready: Default::default(),
+            last: Default::default(),
             a_step: Default::default(),
             rounded: Default::default(),
             e_next: Default::default(),
@@ -486,7 +491,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
+            p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -587,10 +593,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.vend.next = (self.n64.val() << 33) - self.narrow.val();
         // From the registered values in S_TR: v_end·T·2^32 + T, and |D·2^32| − T (D < 0).
         // P' + 2T' ≥ 2^64 (the fallback test) without a 128-bit adder: the quotient's high
-        // half, or the carry out of its low half plus 2T'.
+        // half, or the carry out of its low half plus 2T'. Registered, with `p_ready` one
+        // cycle after the quotient is valid in S_P: S_P decides on them, so the 65-bit add
+        // is not in front of the next state, the divider's operands and P's enable.
         self.p_test.next = bit_cast::<65, 64>(self.div.quotient.val().get_bits::<64>(0))
             + (bit_cast::<65, 32>(self.w_t.q.val()) << 5);
-        self.p_wide.next = (self.div.quotient.val().get_bits::<40>(64) != 0) | self.p_test.val().get_bit(64);
+        self.p_wide.d.next = (self.div.quotient.val().get_bits::<40>(64) != 0) | self.p_test.val().get_bit(64);
+        self.p_ready.d.next = self.div.valid.val() & (self.st.q.val() == self.k_p.val());
         if self.w_kind.q.val() == 2 {
             self.a_step.next = self.w_a.q.val() + self.w_b.q.val();
         } else {
@@ -599,7 +608,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // E = (τ' + 8) >> 4, τ' = x < 2^35.
         self.rounded.next = bit_cast::<32, 36>((self.root.x.val() + 8) >> 4);
         self.i_next.next = self.w_i.q.val() + 1;
-        if self.i_next.val() == self.w_n.q.val() {
+        // The last-step test i + 1 = n, registered: w_i and w_n are loaded in PICK and
+        // hold through P_START/P_WAIT and U_ADD/U_STEP, which read it, so the compare is
+        // not in front of the kind's and E's enables.
+        self.last.d.next = self.i_next.val() == self.w_n.q.val();
+        if self.last.q.val() {
             self.e_next.next = self.w_t.q.val();
         } else if self.w_kind.q.val() == 2 {
             self.e_next.next = self.rounded.val();
@@ -739,8 +752,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_p.val();
             }
         } else if self.st.q.val() == self.k_p.val() {
-            if self.div.valid.val() {
-                if self.p_wide.val() {
+            if self.p_ready.q.val() {
+                if self.p_wide.q.val() {
                     // P' + 2T' does not fit the root: the nearly-uniform fallback.
                     self.div.numerator.next = self.t_num.val() << 1;
                     self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
@@ -817,7 +830,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_a.d.next = self.s_anew.q.val();
                 self.w_e.d.next = self.e_next.val();
                 self.w_i.d.next = self.i_next.val();
-                if self.i_next.val() == self.w_n.q.val() {
+                if self.last.q.val() {
                     self.w_kind.d.next = 0.into();
                 }
                 self.st.d.next = self.k_commit_step.val();
@@ -835,7 +848,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_ur.d.next = self.u_r1.q.val();
                 self.e_next.next = self.u_q1.q.val();
             }
-            if self.i_next.val() == self.w_n.q.val() {
+            if self.last.q.val() {
                 self.e_next.next = self.w_t.q.val();
                 self.w_kind.d.next = 0.into();
             }
@@ -861,7 +874,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // The period entry of P_WAIT and U_STEP, pushed in S_COMMIT_STEP (pe_valid):
         // Δ = E − E_prev from registers (w_e holds the new E, s_eprev the one before),
         // with its step, direction and last flags.
-        self.pe_last.d.next = self.i_next.val() == self.w_n.q.val();
+        self.pe_last.d.next = self.last.q.val();
         self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
             | self.c_step_bit.val()
             | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33)
