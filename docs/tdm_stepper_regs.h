@@ -7,11 +7,11 @@
 
 #include <stdint.h>
 
-/* This export: K = 2, clk = 50000000 Hz, queue depth 16, period FIFO depth 4, t_calc 22 cycles, minimum period 44 ticks. */
+/* This export: K = 2, clk = 50000000 Hz, queue depth 16, period FIFO depth 8, t_calc 22 cycles, minimum period 44 ticks. */
 #define TDM_AXES 2u
 #define TDM_CLOCK_HZ 50000000u
 #define TDM_QUEUE_DEPTH 16u
-#define TDM_FIFO_DEPTH 4u
+#define TDM_FIFO_DEPTH 8u
 #define TDM_T_CALC 22u
 #define TDM_MIN_PERIOD 44u /* ticks: no STEP period is shorter */
 #define TDM_MAX_RATE 95443717u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */

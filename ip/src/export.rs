@@ -5,7 +5,7 @@
 //!
 //! The design is generic over K (and its internal widths) at compile time, so the
 //! supported configurations are instantiated here: K = 1..=16 ([`MAX_AXES`]), the
-//! TDM core (the non-TDM baseline for K in [`BASELINE_AXES`]), period FIFO depth 4. The shared
+//! TDM core (the non-TDM baseline for K in [`BASELINE_AXES`]), period FIFO depth 8 ([`FIFO_DEPTH`]). The shared
 //! unit retires R = 2 bits per cycle ([`RADIX_BITS`]): t_calc = 22 cycles per period.
 //! The segment queue holds [`QUEUE_DEPTH`] segments per axis.
 
@@ -24,9 +24,12 @@ pub const QUEUE_DEPTH: usize = 16;
 /// Most axes an export supports (the register map's limit).
 pub const MAX_AXES: usize = regs::MAX_AXES;
 /// The period FIFO depth of an export. Each supported configuration is compiled
-/// into the tool (the design is generic at compile time), so one depth is offered:
-/// 4 covers a segment change on every axis at once (docs/architecture.md).
-pub const FIFO_DEPTH: usize = 4;
+/// into the tool (the design is generic at compile time), so one depth is offered.
+/// 8 entries at the shortest period (K·t_calc) outlast a segment setup started while
+/// the FIFO was full plus the scheduler's round trip, at every K from 1 to 16
+/// (docs/architecture.md, "FIFO depth"; `fifo_depth_covers_a_setup_at_the_minimum_period`).
+/// The FIFO's LUT RAM has 32 entries whatever the depth, so the depth costs no area.
+pub const FIFO_DEPTH: usize = 8;
 /// Period FIFO depths an export supports.
 pub const FIFO_DEPTHS: [usize; 1] = [FIFO_DEPTH];
 /// Core clock range, Hz (the identity register holds it; every period is in ticks).
@@ -145,7 +148,7 @@ pub struct ExportOptions {
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { name: ModuleName::default(), axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: 4, min_period: None }
+        ExportOptions { name: ModuleName::default(), axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: FIFO_DEPTH, min_period: None }
     }
 }
 

@@ -53,7 +53,7 @@ fn default_export_writes_the_ip_and_the_committed_docs_are_current() {
     assert_eq!(m["clock_hz"], 50_000_000);
     assert_eq!(m["t_calc_cycles"], o.params().t_calc as u64);
     assert_eq!(m["queue_depth"], export::QUEUE_DEPTH as u64);
-    assert_eq!(m["period_fifo_depth"], 4);
+    assert_eq!(m["period_fifo_depth"], export::FIFO_DEPTH as u64);
     assert_eq!(m["min_period_ticks"], 2 * o.params().t_calc as u64);
     assert_eq!(m["sustainable_period_ticks"], 2 * o.params().t_calc as u64);
     let rmax = (1u64 << 32) / (2 * o.params().t_calc as u64 + 1);

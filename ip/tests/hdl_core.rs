@@ -399,6 +399,34 @@ fn t_setup_is_what_the_constant_says() {
     }
 }
 
+/// The exported period FIFO depth absorbs a setup begun while an axis's FIFO was full
+/// plus the scheduler's round trip at the shortest period the export enforces
+/// (docs/architecture.md, "FIFO depth"): DEPTH × Δ_min ≥ t_setup + K·t_calc for every
+/// TDM axis count and the baseline (one axis per shared unit). At 4 it fails for K = 1
+/// and 2, where the output timing test's top-rate reversal then underruns.
+#[test]
+fn fifo_depth_covers_a_setup_at_the_minimum_period() {
+    use tdm_stepper::export::{Arch, ExportOptions, BASELINE_AXES, FIFO_DEPTH, RADIX_BITS};
+    use tdm_stepper::hdl::core::t_setup;
+    let worst_setup = t_setup(RADIX_BITS, true).max(t_setup(RADIX_BITS, false)) as u64;
+    for arch in [Arch::Tdm, Arch::Baseline] {
+        for axes in 1..=16 {
+            if arch == Arch::Baseline && !BASELINE_AXES.contains(&axes) {
+                continue;
+            }
+            let o = ExportOptions { axes, arch, ..Default::default() };
+            let served = if arch == Arch::Tdm { axes as u64 } else { 1 };
+            let round_trip = served * t_calc_sqrt(RADIX_BITS) as u64;
+            let slack = FIFO_DEPTH as u64 * o.min_period_ticks();
+            assert!(
+                slack >= worst_setup + round_trip,
+                "{arch:?} K = {axes}: {FIFO_DEPTH} periods of {} ticks < t_setup {worst_setup} + round trip {round_trip}",
+                o.min_period_ticks()
+            );
+        }
+    }
+}
+
 #[test]
 fn t_calc_is_what_the_constant_says() {
     assert_eq!(measured_t_calc::<4>(), t_calc_sqrt(4) as u64);
