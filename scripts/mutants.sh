@@ -28,7 +28,7 @@ export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
 # id # file # perl -0pe substitution # test binary # test name filter # what it breaks
 mutants=(
   "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_dmag.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
-  "2#ip/src/hdl/core.rs#s/self.p_wide.next = \(self.div.quotient.val\(\).get_bits::<40>\(64\) != 0\) \| /self.p_wide.next = /#hdl_core_setup#setup_state_equals#fallback test ignores the quotient's high half (P' ≥ 2^64 takes the root)"
+  "2#ip/src/hdl/core.rs#s/self.p_wide.d.next = \(self.div.quotient.val\(\).get_bits::<40>\(64\) != 0\) \| /self.p_wide.d.next = /#hdl_core_setup#setup_state_equals#fallback test ignores the quotient's high half (P' ≥ 2^64 takes the root)"
   "3#ip/src/hdl/pulse_stage.rs#s/self.half1.d.next = self.d17.val\(\).get_bits::<16>\(1\);/self.half1.d.next = self.d17.val().get_bits::<16>(2);/#hdl_pulse_stage#high_time_equals_the_model#STEP pulse a quarter period"
   "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 1\)/(self.count.q.val() == 2)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
   "5#ip/src/hdl/step_gen.rs#s/self.under.d.next = true;/self.under.d.next = false;/#hdl_step_gen#starved_fifo_flags_underrun#underrun never flagged"
@@ -42,6 +42,7 @@ mutants=(
   "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
   "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
   "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#two_axes_match#uniform step: remainder equal to 2n not carried"
+  "16#ip/src/hdl/core.rs#s/if self.p_ready.q.val\(\) \{/if self.div.valid.val() {/#hdl_core_setup#setup_state_equals#fallback decided on the registered test a cycle early (the quotient before the last digits)"
 )
 
 only=("$@")
