@@ -337,8 +337,10 @@ fn bad_input_through_the_bus_is_refused_and_loses_nothing() {
     }
     // Axis 1: push past its capacity. An axis not yet started holds QDEPTH + 2
     // segments: its current and next slots (the scheduler takes those at once) and
-    // QDEPTH in the queue; later pushes are refused.
-    let small: Vec<Segment> = (0..QDEPTH as i32 + 4).map(|k| uniform(2_000, 5 + k)).collect();
+    // QDEPTH in the queue; later pushes are refused. Each segment has more steps than
+    // the period FIFO has entries, so the first is not computed whole into the FIFO
+    // before the start (which would free its slot for one more push).
+    let small: Vec<Segment> = (0..QDEPTH as i32 + 4).map(|k| uniform(2_000, DEPTH as i32 + 1 + k)).collect();
     for s in &small {
         b.push_segment(1, s);
         b.idle(100);
