@@ -351,23 +351,6 @@ fn random_segments_match_the_model_in_verilator() {
     verilator_run::<K>("core_random", &generate_verilog(&uut_q::<K, Q>()), &axes);
 }
 
-/// The uniform step's carry when the running remainder equals 2n exactly: nearly
-/// uniform segments (v0 = round(n·2^32/T), so the setup falls back to the uniform
-/// step) with n even and T ≡ n/2 (mod n), where the remainder n plus the per-step
-/// increment 2T mod 2n = n is 2n at the first step. Every edge against the model in
-/// Verilator (a carry missed there puts an edge one tick late).
-#[test]
-fn uniform_step_carries_a_remainder_equal_to_2n() {
-    let seg = |n: i32, t: u32| Segment::new((((n.unsigned_abs() as u64) << 32) as f64 / t as f64).round() as u32, t, n);
-    let axes = vec![vec![seg(100, 10_050), seg(100, 10_150)], vec![seg(50, 5_025), seg(-60, 6_030)]];
-    for s in axes.iter().flatten() {
-        assert_eq!(s.validate(&Limits::default()), Ok(()), "{s:?}");
-        let (n, t) = (s.steps.unsigned_abs() as u64, s.t_ticks as u64);
-        assert_eq!((n + (2 * t) % (2 * n)), 2 * n, "{s:?} does not reach 2n at its first step");
-    }
-    verilator_run::<2>("core_uniform_carry", &generate_verilog(&uut::<2>()), &axes);
-}
-
 /// t_calc measured: with no start, a one-axis core computes periods back to back
 /// until its FIFO is full; the square root is started once per period.
 fn measured_t_calc<const RR: usize>() -> u64 {
