@@ -13,7 +13,7 @@
 //! | pulse stage: the STEP high time of every period entry, from the output timing | `pulse_stage.rs` | 2 cycles |
 //! | step generator, and the FIFO plus generator (`StepAxis`) | `step_gen.rs` | edges at release + E_i |
 //! | per-axis scheduler context, in registers | `context.rs` | 1 cycle (write) |
-//! | synchronised start of masked axes | `sync_start.rs` | 1 cycle |
+//! | synchronised start of masked axes | `sync_start.rs` | `go` 2 cycles, `failed` 1 |
 //! | K-bit bus assembly and bit selection | `bit_insert.rs` | 0 |
 //! | the TDM core: queues, contexts, step axes, shared units, scheduler | `core.rs` | `t_calc_sqrt(R)`, `t_setup(R, _)` |
 //! | the non-TDM baseline: K one-axis cores | `baseline.rs` | as the core |
