@@ -6,7 +6,7 @@ mod common;
 use common::*;
 use num_bigint::BigUint;
 use rust_hdl::prelude::*;
-use tdm_stepper::hdl::mul_seq::{mul_seq_latency, MulSeq, MUL_A_BITS, MUL_B_BITS};
+use tdm_stepper::hdl::mul_seq::{mul_seq_latency, mul_seq_steps, MulSeq, MUL_A_BITS, MUL_B_BITS};
 use tdm_stepper::verify::{Port, TbSpec};
 
 /// (a, b): the setup's products at their widest, extremes, then random ones.
@@ -40,7 +40,7 @@ fn uut<const R: usize>() -> MulSeq<R> {
 
 fn three_ways_r<const R: usize>(ops: usize) {
     let rows = iterative_stimulus(mul_seq_latency(R), &operands(ops), |op| vec![!op[0] & A_MASK, op[1] ^ 0xff]);
-    let want = iterative_model(MUL_B_BITS / R, &rows, 1, |op| vec![op[0].wrapping_mul(op[1]) & A_MASK]);
+    let want = iterative_model(mul_seq_steps(R), &rows, 1, |op| vec![op[0].wrapping_mul(op[1]) & A_MASK]);
     let spec = TbSpec {
         clock: "clock".into(),
         inputs: vec![Port::new("start", 1), Port::new("a", MUL_A_BITS), Port::new("b", MUL_B_BITS)],
@@ -63,8 +63,8 @@ fn three_ways_r<const R: usize>(ops: usize) {
 }
 
 #[test]
-fn mul_seq_radix_2() {
-    three_ways_r::<1>(30);
+fn mul_seq_radix_4() {
+    three_ways_r::<2>(40);
 }
 
 #[test]

@@ -135,6 +135,7 @@ fn spec() -> TbSpec {
             Port::new("level", 8),
             Port::new("done_count", 8),
             Port::new("under_count", 8),
+            Port::new("full", 1),
         ],
     }
 }
@@ -162,15 +163,20 @@ fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
                 u.level.val().to_u64() as u128,
                 u.done_count.val().to_u64() as u128,
                 u.under_count.val().to_u64() as u128,
+                u.full.val() as u128,
             ]
         },
     );
+    // `full` is a register kept equal to level >= DEPTH (the scheduler reads it).
+    for (k, r) in reference.iter().enumerate().skip(RESET_ROWS) {
+        assert_eq!(r[8], (r[5] >= DEPTH as u128) as u128, "{name}: full at row {k}, level {}", r[5]);
+    }
     let verilog = generate_verilog(&uut());
     for sim in SIMULATORS {
         let got = run(sim, &sim_dir(name, sim), &verilog, &spec(), rows).unwrap();
         for (k, (g, r)) in got.iter().zip(&reference).enumerate().skip(RESET_ROWS) {
             let g: Vec<u128> = g.iter().map(|v| v.unwrap_or_else(|| panic!("{name} {sim:?}: x at row {k}"))).collect();
-            assert_eq!(&g, r, "{name}: {sim:?} differs from rust-hdl at row {k} (step, dir, position, underrun, active, level, done, underruns)");
+            assert_eq!(&g, r, "{name}: {sim:?} differs from rust-hdl at row {k} (step, dir, position, underrun, active, level, done, underruns, full)");
         }
     }
     reference
@@ -339,4 +345,27 @@ fn reset_mid_pulse_leaves_no_runt() {
     let last = trace.last().unwrap();
     assert_eq!(last[2], 0, "step_reset_pulse: position not cleared");
     assert_eq!(last[4], 0, "step_reset_pulse: still active");
+}
+
+/// The registered `full` against the level it stands for, with pushes at random rows
+/// (into a full FIFO too: it has room for 32) and short periods, so that a push and a
+/// pop meet at DEPTH − 1, DEPTH and above; an abort empties it midway. The check on
+/// every row is in `simulate_all`; this asserts that the cases were reached.
+#[test]
+fn full_flag_follows_the_level_under_random_pushes() {
+    let mut rng = Rng(0x5eed_f011);
+    let rows_n = 700;
+    let mut rows = Vec::with_capacity(rows_n);
+    for r in 0..rows_n {
+        let push = r >= RESET_ROWS && r < rows_n - 150 && rng.next() % 16 < 3;
+        let entry = if push { pack_entry(2 + (rng.next() % 6) as u32, true, rng.next() % 2 == 1, false, 1) as u128 } else { 0 };
+        rows.push(vec![(r < RESET_ROWS) as u128, push as u128, entry, (r == RESET_ROWS + 6) as u128, 1, (r == 400) as u128]);
+    }
+    let trace = simulate_all("step_full_flag", &rows);
+    let levels: Vec<u128> = trace.iter().map(|t| t[5]).collect();
+    let met = |lv: u128| (1..rows_n).any(|r| levels[r - 1] == lv && rows[r - 1][1] == 1 && trace[r][5] == lv);
+    assert!(levels.iter().any(|&l| l > DEPTH as u128 + 1), "the level never went above DEPTH + 1");
+    assert!(met(DEPTH as u128), "no push and pop together at DEPTH");
+    assert!((1..rows_n).any(|r| levels[r - 1] == DEPTH as u128 - 1 && levels[r] == DEPTH as u128), "never filled to DEPTH");
+    assert!((1..rows_n).any(|r| levels[r - 1] == DEPTH as u128 && levels[r] == DEPTH as u128 - 1), "never drained below DEPTH");
 }

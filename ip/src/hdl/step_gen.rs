@@ -228,6 +228,11 @@ pub struct StepAxis<const DEPTH: usize> {
     fifo: super::ram_fifo::PeriodFifo<32>,
     gen: StepGen,
     depth: Constant<Bits<8>>,
+    depth_less: Constant<Bits<8>>,
+    /// `full`, registered: set at the edge after which the FIFO holds DEPTH entries or
+    /// more, from the level and this cycle's push and pop, so it always equals
+    /// `level >= DEPTH` and the scheduler reads a flip-flop, not a compare.
+    full_q: DFF<Bit>,
 }
 
 impl<const DEPTH: usize> Default for StepAxis<DEPTH> {
@@ -254,6 +259,8 @@ impl<const DEPTH: usize> Default for StepAxis<DEPTH> {
             fifo: Default::default(),
             gen: Default::default(),
             depth: Constant::new((DEPTH as u64).into()),
+            depth_less: Constant::new(((DEPTH - 1) as u64).into()),
+            full_q: Default::default(),
         }
     }
 }
@@ -261,6 +268,7 @@ impl<const DEPTH: usize> Default for StepAxis<DEPTH> {
 impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
     #[hdl_gen]
     fn update(&mut self) {
+        dff_setup!(self, clock, full_q);
         self.fifo.clock.next = self.clock.val();
         self.gen.clock.next = self.clock.val();
         self.fifo.reset.next = self.reset.val() | self.abort.val();
@@ -281,7 +289,17 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
         self.active.next = self.gen.active.val();
         self.done_count.next = self.gen.done_count.val();
         self.under_count.next = self.gen.under_count.val();
-        self.full.next = !(self.fifo.level.val() < self.depth.val());
+        // The level after this edge is at least DEPTH: above DEPTH already (one pop
+        // leaves DEPTH), at DEPTH unless a pop without a push, or at DEPTH − 1 with a
+        // push and no pop. At these levels (DEPTH ≤ 30 of 32) neither a push nor a pop
+        // is ignored.
+        self.full_q.d.next = (self.fifo.level.val() > self.depth.val())
+            | ((self.fifo.level.val() == self.depth.val()) & (self.push.val() | !self.gen.pop.val()))
+            | ((self.fifo.level.val() == self.depth_less.val()) & self.push.val() & !self.gen.pop.val());
+        if self.reset.val() | self.abort.val() {
+            self.full_q.d.next = false;
+        }
+        self.full.next = self.full_q.q.val();
         self.level.next = self.fifo.level.val();
     }
 }
