@@ -26,11 +26,10 @@ export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
 # a boundary is shorter than the setups queued there is still to be written.
 #
 # Mutant 15 (the uniform step misses a carry when the running remainder is exactly
-# 2n) survives: no test segment reaches that equality. It needs a segment on the
-# uniform path (exactly uniform, or nearly uniform with P' past the root's width) with
-# n even and T ≡ n/2 (mod n); an exactly uniform one cannot have that (v0 would be
-# 2^33), and a first search among the nearly uniform ones (v0 odd below 2^25,
-# |D·2^32| ≤ 3, n ≤ 3,000) found none. A test that finds one is still to be written.
+# 2n) needs a segment on the uniform path with n even and T ≡ n/2 (mod n); an exactly
+# uniform one cannot have that (v0 would be 2^33 / odd), so hdl_core's
+# uniform_step_carries_a_remainder_equal_to_2n uses a nearly uniform one (v0 =
+# (2^33 − 1)/161, T = 161n/2, n = 3.4 M) whose P' passes the root's width.
 #
 # id # file # perl -0pe substitution # test binary # test name filter # what it breaks
 mutants=(
@@ -41,15 +40,17 @@ mutants=(
   "5#ip/src/hdl/step_gen.rs#s/self.under.d.next = true;/self.under.d.next = false;/#hdl_step_gen#starved_fifo_flags_underrun#underrun never flagged"
   "6#ip/src/hdl/step_gen.rs#s/if self.abort.val\(\) \{/if self.abort.val() & self.reset.val() {/#system#interrupts_random_traffic_and_abort#abort ignored by the step generators"
   "7#ip/src/hdl/exmc.rs#s/if !self.nwe2.q.val\(\) & !self.nwe3.q.val\(\) & !self.ne2.q.val\(\) & !self.ne3.q.val\(\) \{/if !self.nwe2.q.val() & !self.ne2.q.val() {/#system#bad_input_through_the_bus#bus write captured on a single sample"
-  "8#ip/src/hdl/root.rs#s/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>\(self.t_lo.val\(\) \+ self.three_q.val\(\)\);/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() + self.quarter.val());/#hdl_root#root_two_digits#root pair: wrong trial step after digits 01"
-  "9#ip/src/hdl/root.rs#s/self.d3.next = self.d2.val\(\) - self.t_hi.val\(\);/self.d3.next = self.d2.val() - self.t_lo.val();/#hdl_root#root_two_digits#root pair: wrong threshold for digits 11"
+  "8#ip/src/hdl/root.rs#s/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>\(self.t_w.val\(\) \+ \(self.m_w.val\(\) >> 2\)\);/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() >> 3));/#hdl_root#root_two_digits#root pair: wrong trial step after digits 01"
+  "9#ip/src/hdl/root.rs#s/self.d3.next = self.rem4.val\(\) - self.t3_w.val\(\);/self.d3.next = self.rem4.val() - bit_cast::<PAIR_BITS, TRIAL_BITS>(self.tlo_in.val());/#hdl_root#root_two_digits#root pair: wrong threshold for digits 11"
   "10#ip/src/hdl/push_check.rs#s/self.rcode.d.next = 5.into\(\);/self.rcode.d.next = 4.into();/#hdl_push_check#verdicts_equal_the_model#range check reports the wrong code (steps range as T range)"
   "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
   "12#ip/src/hdl/core.rs#s/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
   "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
   "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
-  "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#two_axes_match#uniform step: remainder equal to 2n not carried"
+  "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#uniform_step_carries#uniform step: remainder equal to 2n not carried"
   "16#ip/src/hdl/core.rs#s/if self.p_ready.q.val\(\) \{/if self.div.valid.val() {/#hdl_core_setup#setup_state_equals#fallback decided on the registered test a cycle early (the quotient before the last digits)"
+  "17#ip/src/hdl/root.rs#s/self.t3_w.val\(\) - \(\(self.m_w.val\(\) >> 2\) \| \(self.m_w.val\(\) >> 3\)\)/self.t3_w.val() - (self.m_w.val() >> 2)/#hdl_root#root_two_digits#root pair: next 3t + 3m/2 after digits 01 off by m/8"
+  "18#ip/src/hdl/step_gen.rs#s/\n\s*\| \(\(self.fifo.level.val\(\) == self.depth_less.val\(\)\) & self.push.val\(\) & !self.gen.pop.val\(\)\);/;/#hdl_step_gen#full_flag_follows#registered full flag misses a push that fills the FIFO"
 )
 
 only=("$@")

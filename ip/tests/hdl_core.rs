@@ -351,6 +351,43 @@ fn random_segments_match_the_model_in_verilator() {
     verilator_run::<K>("core_random", &generate_verilog(&uut_q::<K, Q>()), &axes);
 }
 
+/// The uniform step's carry when its running remainder is exactly 2n. That needs n
+/// even and T ≡ n/2 (mod n) (remainder n, plus 2T mod 2n = n, at the first step), which
+/// an exactly uniform segment cannot have (v0 would be 2^33 / odd), so the segment is
+/// nearly uniform: v0 = (2^33 − 1)/161 and T = 161n/2 give D·2^32 = n/2, so small that
+/// the setup falls back to the uniform step (P' + 2T' ≥ 2^64), and n ≥ 2^29/161 makes it
+/// so. The segment is 2^28 ticks long: the first 12 edges, in rust-hdl and Verilator,
+/// against the model's. A carry missed at the first step puts edge 1 a tick early and
+/// takes it at step 2 (so E_2 and the context are right again).
+#[test]
+fn uniform_step_carries_a_remainder_equal_to_2n() {
+    let n: u32 = 3_400_000;
+    let t = 161 * n / 2;
+    let seg = Segment::new((((1u64 << 33) - 1) / 161) as u32, t, n as i32);
+    assert_eq!(seg.validate(&Limits::default()), Ok(()));
+    let plan = tdm_stepper::model::SegmentPlan::new(seg);
+    assert_eq!(plan.kind, tdm_stepper::model::PlanKind::Uniform { nearly: true }, "{seg:?}");
+    let (n64, t64) = (n as u64, t as u64);
+    assert_eq!(n64 + (2 * t64) % (2 * n64), 2 * n64, "the remainder at the first step");
+    let axes = vec![vec![seg]];
+    let run = AxisRun::run(&axes[0], &Limits::default());
+    let edges = 12;
+    let cycles = 1_000 + run.edge_ticks[edges];
+    let ev = events::<1>(&axes, cycles);
+    let verilator =
+        run_sparse(Simulator::Verilator, &sim_dir("core_uniform_carry", Simulator::Verilator), &generate_verilog(&uut::<1>()), &spec::<1>(), &ev, cycles)
+            .unwrap();
+    let rust = rust_hdl_trace!(uut::<1>(), &ev, cycles);
+    same_traces(&verilator, &rust, "uniform carry");
+    let step = expand(&verilator, 0, cycles);
+    let rises: Vec<u64> = (1..cycles).filter(|&c| step[c as usize] & 1 == 1 && step[c as usize - 1] & 1 == 0).collect();
+    assert!(rises.len() > edges, "only {} edges in {cycles} cycles", rises.len());
+    let l0 = rises[0] as i64 - 1 - run.edge_ticks[0] as i64;
+    for i in 0..=edges {
+        assert_eq!(rises[i] as i64, l0 + 1 + run.edge_ticks[i] as i64, "edge {i}");
+    }
+}
+
 /// t_calc measured: with no start, a one-axis core computes periods back to back
 /// until its FIFO is full; the square root is started once per period.
 fn measured_t_calc<const RR: usize>() -> u64 {

@@ -32,6 +32,8 @@ pub const ROOT_X_BITS: usize = 36;
 const REM_BITS: usize = 67;
 /// The trial 2p + 2x + 2^b.
 const TRIAL_BITS: usize = 66;
+/// 3t + 3m/2, held beside the trial.
+const T3_BITS: usize = 68;
 /// A pair's working width: rem4 < 2^68 and 3t + 3m/2 < 2^68, with a borrow bit above.
 const PAIR_BITS: usize = 70;
 // The borrow is read by a literal index (bit 69).
@@ -57,16 +59,24 @@ pub const fn root_latency(r: usize) -> usize {
 /// * d ≥ 2: `rem4 ≥ 2t` (first kept: the single digit's own test, doubled),
 /// * d = 3: `rem4 ≥ 3t + 3m/2` (both kept),
 ///
-/// and the remainder is rem4 minus that threshold (rem4 when d = 0). The trial steps
-/// by `−3m/4, +m/4, +5m/4, +9m/4` for d = 0..3: exactly two single digits' updates
-/// (`− m/2` or `+ 3m/2`, then `∓` a quarter), formed from `t − m/2` and `t + 3m/2`,
-/// which the comparisons need anyway. The thresholds grow with d (t > m), so the
-/// three tests are nested. m ≥ 2 in every pair (36 digits from 2^35), so m/2 is exact;
-/// the quarter m/4 is exact except after the last pair, whose trial is not read.
+/// and the remainder is rem4 minus that threshold (rem4 when d = 0). The thresholds
+/// grow with d (t > m), so the three tests are nested. The two thresholds that are not
+/// a shift of t, `t − m/2` and `3t + 3m/2`, come in registered beside t (`tlo_in`,
+/// `t3_in`), so each test is one subtraction straight from registers. The trial steps
+/// by `−3m/4, +m/4, +5m/4, +9m/4` for d = 0..3 (two single digits' updates: `− m/2`
+/// or `+ 3m/2`, then `∓` a quarter), and the next pair's thresholds (with m' = m/4:
+/// `t' − m'/2` and `3t' + 3m'/2`) are formed for all four outcomes beside the tests,
+/// each one adder from t or from 3t + 3m/2 and a constant that is an OR of shifts of
+/// the one-hot m; the tests' borrows only select. m = 2^35, 2^33, …, 2 (36 digits
+/// from 2^35), so m/2 is exact in every pair and m/4 and m/8 in every pair but the
+/// last, whose outputs are not read.
 #[derive(LogicBlock, Default)]
 pub struct RootPair {
     pub rem_in: Signal<In, Bits<REM_BITS>>,
     pub trial_in: Signal<In, Bits<TRIAL_BITS>>,
+    /// t − m/2 and 3t + 3m/2 for this pair's t and m.
+    pub tlo_in: Signal<In, Bits<TRIAL_BITS>>,
+    pub t3_in: Signal<In, Bits<T3_BITS>>,
     /// 2^b, one-hot.
     pub mask_in: Signal<In, Bits<ROOT_X_BITS>>,
     pub x_in: Signal<In, Bits<ROOT_X_BITS>>,
@@ -74,22 +84,19 @@ pub struct RootPair {
     pub c_in: Signal<In, Bits<ROOT_X_BITS>>,
     pub rem_out: Signal<Out, Bits<REM_BITS>>,
     pub trial_out: Signal<Out, Bits<TRIAL_BITS>>,
+    pub tlo_out: Signal<Out, Bits<TRIAL_BITS>>,
+    pub t3_out: Signal<Out, Bits<T3_BITS>>,
     pub mask_out: Signal<Out, Bits<ROOT_X_BITS>>,
     pub x_out: Signal<Out, Bits<ROOT_X_BITS>>,
     pub c_out: Signal<Out, Bits<ROOT_X_BITS>>,
     rem4: Signal<Local, Bits<PAIR_BITS>>,
     t_w: Signal<Local, Bits<PAIR_BITS>>,
+    t3_w: Signal<Local, Bits<PAIR_BITS>>,
     m_w: Signal<Local, Bits<PAIR_BITS>>,
-    /// t − m/2 and t + 3m/2.
-    t_lo: Signal<Local, Bits<PAIR_BITS>>,
-    t_hi: Signal<Local, Bits<PAIR_BITS>>,
-    /// rem4 − (t − m/2), rem4 − 2t, rem4 − 2t − (t + 3m/2); the top bit is the borrow.
+    /// rem4 − (t − m/2), rem4 − 2t, rem4 − (3t + 3m/2); the top bit is the borrow.
     d1: Signal<Local, Bits<PAIR_BITS>>,
     d2: Signal<Local, Bits<PAIR_BITS>>,
     d3: Signal<Local, Bits<PAIR_BITS>>,
-    /// m/4 and 3m/4.
-    quarter: Signal<Local, Bits<PAIR_BITS>>,
-    three_q: Signal<Local, Bits<PAIR_BITS>>,
 }
 
 impl Logic for RootPair {
@@ -98,33 +105,61 @@ impl Logic for RootPair {
         self.rem4.next = (bit_cast::<PAIR_BITS, REM_BITS>(self.rem_in.val()) << 2)
             | bit_cast::<PAIR_BITS, 2>(self.c_in.val().get_bits::<2>(34));
         self.t_w.next = bit_cast::<PAIR_BITS, TRIAL_BITS>(self.trial_in.val());
+        self.t3_w.next = bit_cast::<PAIR_BITS, T3_BITS>(self.t3_in.val());
         self.m_w.next = bit_cast::<PAIR_BITS, ROOT_X_BITS>(self.mask_in.val());
-        self.quarter.next = self.m_w.val() >> 2;
-        self.three_q.next = (self.m_w.val() >> 1) | (self.m_w.val() >> 2);
-        // Beside the comparisons: they do not wait for each other's borrow.
-        self.t_lo.next = self.t_w.val() - (self.m_w.val() >> 1);
-        self.t_hi.next = self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 1));
-        self.d1.next = self.rem4.val() - self.t_lo.val();
+        self.d1.next = self.rem4.val() - bit_cast::<PAIR_BITS, TRIAL_BITS>(self.tlo_in.val());
         self.d2.next = self.rem4.val() - (self.t_w.val() << 1);
-        self.d3.next = self.d2.val() - self.t_hi.val();
+        self.d3.next = self.rem4.val() - self.t3_w.val();
         self.mask_out.next = self.mask_in.val() >> 2;
         self.c_out.next = self.c_in.val() << 2;
         if !self.d3.val().get_bit(69) {
             self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d3.val());
             self.x_out.next = self.x_in.val() | self.mask_in.val() | (self.mask_in.val() >> 1);
-            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_hi.val() + self.three_q.val());
+            // t + 9m/4; t + 17m/8; 3t + 3m/2 + 45m/8.
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
+                self.t_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 2)),
+            );
+            self.tlo_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
+                self.t_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 3)),
+            );
+            self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
+                self.t3_w.val()
+                    + ((self.m_w.val() << 2) | self.m_w.val() | (self.m_w.val() >> 1) | (self.m_w.val() >> 3)),
+            );
         } else if !self.d2.val().get_bit(69) {
             self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d2.val());
             self.x_out.next = self.x_in.val() | self.mask_in.val();
-            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_hi.val() - self.quarter.val());
+            // t + 5m/4; t + 9m/8; 3t + 3m/2 + 21m/8.
+            self.trial_out.next =
+                bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 2)));
+            self.tlo_out.next =
+                bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 3)));
+            self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
+                self.t3_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 1) | (self.m_w.val() >> 3)),
+            );
         } else if !self.d1.val().get_bit(69) {
             self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d1.val());
             self.x_out.next = self.x_in.val() | (self.mask_in.val() >> 1);
-            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() + self.three_q.val());
+            // t + m/4; t + m/8; 3t + 3m/2 − 3m/8.
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() >> 2));
+            self.tlo_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() >> 3));
+            self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
+                self.t3_w.val() - ((self.m_w.val() >> 2) | (self.m_w.val() >> 3)),
+            );
         } else {
             self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.rem4.val());
             self.x_out.next = self.x_in.val();
-            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_lo.val() - self.quarter.val());
+            // t − 3m/4; t − 7m/8; 3t + 3m/2 − 27m/8.
+            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
+                self.t_w.val() - ((self.m_w.val() >> 1) | (self.m_w.val() >> 2)),
+            );
+            self.tlo_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
+                self.t_w.val() - ((self.m_w.val() >> 1) | (self.m_w.val() >> 2) | (self.m_w.val() >> 3)),
+            );
+            self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
+                self.t3_w.val()
+                    - ((self.m_w.val() << 1) | self.m_w.val() | (self.m_w.val() >> 2) | (self.m_w.val() >> 3)),
+            );
         }
     }
 }
@@ -142,6 +177,16 @@ pub struct OffsetRoot<const R: usize> {
     pairs: Vec<RootPair>,
     rem: DFF<Bits<REM_BITS>>,
     trial: DFF<Bits<TRIAL_BITS>>,
+    tlo: DFF<Bits<TRIAL_BITS>>,
+    t3: DFF<Bits<T3_BITS>>,
+    /// 4p, 2p and 9·2^34 for the load's 3t + 3m/2 = 6p + 9·2^34, summed carry-save
+    /// (one LUT level and one carry chain after `p`).
+    ld_a: Signal<Local, Bits<T3_BITS>>,
+    ld_b: Signal<Local, Bits<T3_BITS>>,
+    ld_s: Signal<Local, Bits<T3_BITS>>,
+    ld_c: Signal<Local, Bits<T3_BITS>>,
+    c_t3_first: Constant<Bits<T3_BITS>>,
+    c_tlo_first: Constant<Bits<TRIAL_BITS>>,
     mask: DFF<Bits<ROOT_X_BITS>>,
     acc: DFF<Bits<ROOT_X_BITS>>,
     clow: DFF<Bits<ROOT_X_BITS>>,
@@ -163,6 +208,14 @@ impl<const R: usize> Default for OffsetRoot<R> {
             pairs: (0..R / 2).map(|_| Default::default()).collect(),
             rem: Default::default(),
             trial: Default::default(),
+            tlo: Default::default(),
+            t3: Default::default(),
+            ld_a: Default::default(),
+            ld_b: Default::default(),
+            ld_s: Default::default(),
+            ld_c: Default::default(),
+            c_t3_first: Constant::new((9u64 << 34).into()),
+            c_tlo_first: Constant::new((1u64 << 34).into()),
             mask: Default::default(),
             acc: Default::default(),
             clow: Default::default(),
@@ -175,18 +228,22 @@ impl<const R: usize> Default for OffsetRoot<R> {
 impl<const R: usize> Logic for OffsetRoot<R> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, rem, trial, mask, acc, clow);
+        dff_setup!(self, clock, rem, trial, tlo, t3, mask, acc, clow);
         self.ctl.clock.next = self.clock.val();
         self.ctl.start.next = self.start.val();
         // The pair chain: pair 0 reads the registers, pair i reads pair i - 1.
         self.pairs[0].rem_in.next = self.rem.q.val();
         self.pairs[0].trial_in.next = self.trial.q.val();
+        self.pairs[0].tlo_in.next = self.tlo.q.val();
+        self.pairs[0].t3_in.next = self.t3.q.val();
         self.pairs[0].mask_in.next = self.mask.q.val();
         self.pairs[0].x_in.next = self.acc.q.val();
         self.pairs[0].c_in.next = self.clow.q.val();
         for i in 1..self.pairs.len() {
             self.pairs[i].rem_in.next = self.pairs[i - 1].rem_out.val();
             self.pairs[i].trial_in.next = self.pairs[i - 1].trial_out.val();
+            self.pairs[i].tlo_in.next = self.pairs[i - 1].tlo_out.val();
+            self.pairs[i].t3_in.next = self.pairs[i - 1].t3_out.val();
             self.pairs[i].mask_in.next = self.pairs[i - 1].mask_out.val();
             self.pairs[i].x_in.next = self.pairs[i - 1].x_out.val();
             self.pairs[i].c_in.next = self.pairs[i - 1].c_out.val();
@@ -194,21 +251,34 @@ impl<const R: usize> Logic for OffsetRoot<R> {
         self.x.next = self.acc.q.val();
         self.valid.next = self.ctl.valid.val();
         self.busy.next = self.ctl.busy.val();
+        // The load's 3t + 3m/2 = 6p + 9·2^34 (t = 2p + 2^35, m = 2^35), carry-save.
+        self.ld_a.next = bit_cast::<T3_BITS, ROOT_P_BITS>(self.p.val()) << 2;
+        self.ld_b.next = bit_cast::<T3_BITS, ROOT_P_BITS>(self.p.val()) << 1;
+        self.ld_s.next = self.ld_a.val() ^ self.ld_b.val() ^ self.c_t3_first.val();
+        self.ld_c.next = ((self.ld_a.val() & self.ld_b.val())
+            | (self.ld_a.val() & self.c_t3_first.val())
+            | (self.ld_b.val() & self.c_t3_first.val()))
+            << 1;
         if self.ctl.step.val() {
             // The last pair's outputs win: later assignments override earlier ones.
             for i in 0..self.pairs.len() {
                 self.rem.d.next = self.pairs[i].rem_out.val();
                 self.trial.d.next = self.pairs[i].trial_out.val();
+                self.tlo.d.next = self.pairs[i].tlo_out.val();
+                self.t3.d.next = self.pairs[i].t3_out.val();
                 self.mask.d.next = self.pairs[i].mask_out.val();
                 self.acc.d.next = self.pairs[i].x_out.val();
                 self.clow.d.next = self.pairs[i].c_out.val();
             }
         } else if self.ctl.load.val() {
-            // rem = c >> 36 (the first digit shifts in bit 35); trial = 2p + 2^35.
+            // rem = c >> 36 (the first digit shifts in bit 35); trial = 2p + 2^35, with
+            // t − m/2 = 2p + 2^34 and 3t + 3m/2 below.
             self.rem.d.next = bit_cast::<REM_BITS, 64>(self.c.val().get_bits::<64>(36));
             self.clow.d.next = self.c.val().get_bits::<ROOT_X_BITS>(0);
             self.trial.d.next =
                 (bit_cast::<TRIAL_BITS, ROOT_P_BITS>(self.p.val()) << 1) + bit_cast::<TRIAL_BITS, ROOT_X_BITS>(self.c_first_mask.val());
+            self.tlo.d.next = (bit_cast::<TRIAL_BITS, ROOT_P_BITS>(self.p.val()) << 1) + self.c_tlo_first.val();
+            self.t3.d.next = self.ld_s.val() + self.ld_c.val();
             self.mask.d.next = self.c_first_mask.val();
             self.acc.d.next = 0.into();
         }
