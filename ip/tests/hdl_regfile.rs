@@ -74,12 +74,8 @@ impl Stim {
         self.rows.push(vec![0, 1, addr as u128, data as u128, 0, 0, 0, 0, 0, 0, 0]);
         self.rows.len() - 1
     }
-    /// A read as the slave makes it: the address one row ahead of `rd` (the register
-    /// file registers its answer), so the answer shows the registers as they were in
-    /// the address row and is on `rd_data` in the `rd` row, whose index this returns.
     fn read(&mut self, addr: u16) -> usize {
-        self.rows.push(vec![0, 0, 0, 0, 0, addr as u128, 0, 0, 0, 0, 0]);
-        self.rows.push(vec![0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0]);
+        self.rows.push(vec![0, 0, 0, 0, 1, addr as u128, 0, 0, 0, 0, 0]);
         self.rows.len() - 1
     }
     /// Idles until row `r` is next.

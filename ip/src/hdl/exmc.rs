@@ -11,13 +11,9 @@
 //!   short to be sampled low twice captures nothing and commits nothing, so a cut-off
 //!   write never changes a register. The captured sample was taken while NWE was low
 //!   and one sample before any sample near its rising edge, so it needs no data hold.
-//! * **Read.** `rd_addr` is the address from stage 1, one stage ahead of the strobes'
-//!   stage 2: the owner registers its answer for it every cycle, so `rd_data` holds the
-//!   value for the stage-2 address (the same sample, one clock later), read from its
-//!   registers one clock before. When NOE is first sampled low (stage 2 low, stage 3
-//!   high) with NE low, `rd` pulses and `rd_data` is registered onto `data_out` at that
-//!   edge, where it stays until the next read. The owner's read path thus ends in its
-//!   own register, not in this one.
+//! * **Read.** When NOE is first sampled low (stage 2 low, stage 3 high) with NE low,
+//!   `rd` pulses with `rd_addr`; the owner returns `rd_data` combinationally, and it
+//!   is registered onto `data_out` at that edge, where it stays until the next read.
 //!   `data_oe = !ne & !noe`, straight from the pins, so the pads drive only while the
 //!   MCU reads. Data is valid at most 4 bus clocks after NOE falls.
 //!
@@ -42,10 +38,8 @@ pub struct ExmcSlave {
     pub wr: Signal<Out, Bit>,
     pub wr_addr: Signal<Out, Bits<ADDR_BITS>>,
     pub wr_data: Signal<Out, Bits<16>>,
-    /// One cycle: a read begins; `rd_data` (the answer for the previous cycle's
-    /// `rd_addr`) is latched at this edge.
+    /// One cycle: a read of `rd_addr` begins; `rd_data` is latched at this edge.
     pub rd: Signal<Out, Bit>,
-    /// The address sample one stage ahead of the read (see the module docs).
     pub rd_addr: Signal<Out, Bits<ADDR_BITS>>,
     pub rd_data: Signal<In, Bits<16>>,
     ne1: DFF<Bit>,
@@ -113,7 +107,7 @@ impl Logic for ExmcSlave {
         // Read: latch the register's value as NOE is first seen low.
         self.read_start.next = !self.noe2.q.val() & self.noe3.q.val() & !self.ne2.q.val();
         self.rd.next = self.read_start.val();
-        self.rd_addr.next = self.a1.q.val();
+        self.rd_addr.next = self.a2.q.val();
         if self.read_start.val() {
             self.rdata.d.next = self.rd_data.val();
         }

@@ -21,7 +21,7 @@
 //! | EXMC/FSMC async SRAM slave, 16-bit | `exmc.rs` | write commits ≤ 4 bus clocks after NWE rises; read data ≤ 4 after NOE falls |
 //! | status handshake, core clock to bus clock, one axis per copy | `status_sync.rs` | ~3 + 3 cycles per axis |
 //! | push check: every command to the core, a push validated with the model's rules (bus clock) | `push_check.rs` | 4 cycles |
-//! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 1 (read, registered), 1 (write) |
+//! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
 //! | the whole IP core, `tdm_stepper` (and its baseline form) | `top.rs` | — |
 //!
 //! Timing conventions, latencies, sizes and what each test proves: docs/architecture.md.

@@ -6,11 +6,8 @@
 //! **Writes** (`wr` from [`super::exmc::ExmcSlave`]) act at once: staging and control
 //! registers load, W1C bits clear, and START, ABORT and STEPS_HI put a command on
 //! `cmd_data` with `cmd_write` for the command FIFO (layout: [`CMD_BITS`]).
-//! **Reads** are registered: `rd_data` is the value at the previous cycle's `rd_addr`
-//! (the slave gives its address sample one stage ahead, so the read's own address), and
-//! the slave latches it at `rd`. So the K-way multiplexers of a read end in this
-//! register, not in the slave's. A read of POS_LO latches the position's high half for
-//! POS_HI, from the same registered cycle.
+//! **Reads** are combinational on `rd_addr` (`rd_data`); the slave latches them. A
+//! read of POS_LO latches the position's high half for POS_HI.
 //!
 //! **Memories.** The staging registers and the mirror live in LUT RAM addressed by
 //! axis ([`LutRam`], 16 words: one more axis costs memory words, not flip-flops and
@@ -152,11 +149,6 @@ pub struct RegFile<const K: usize> {
     c_axmask: Constant<Bits<16>>,
     t_write: Signal<Local, Bit>,
     pos_latch: DFF<Bits<16>>,
-    /// The read's answer, registered ([`Self::rd_data`]); the position's high half and
-    /// whether the address was a valid POS_LO, registered with it for the latch at `rd`.
-    rd_q: DFF<Bits<16>>,
-    rd_pos_hi: DFF<Bits<16>>,
-    rd_is_pos_lo: DFF<Bit>,
     irq_q: DFF<Bit>,
 
     accepting: Signal<Local, Bit>,
@@ -178,7 +170,6 @@ pub struct RegFile<const K: usize> {
     h5: Signal<Local, Bits<16>>,
     r_ax: Signal<Local, Bit>,
     r_axis: Signal<Local, Bits<4>>,
-    rd_next: Signal<Local, Bits<16>>,
     r_off: Signal<Local, Bits<4>>,
     s_pos: Signal<Local, Bits<32>>,
     s_taken: Signal<Local, Bits<8>>,
@@ -332,9 +323,6 @@ impl<const K: usize> RegFile<K> {
             c_axmask: Constant::new((((1u64 << K) - 1) as u64).into()),
             t_write: Default::default(),
             pos_latch: Default::default(),
-            rd_q: Default::default(),
-            rd_pos_hi: Default::default(),
-            rd_is_pos_lo: Default::default(),
             irq_q: Default::default(),
             accepting: Default::default(),
             w_glob: Default::default(),
@@ -355,7 +343,6 @@ impl<const K: usize> RegFile<K> {
             h5: Default::default(),
             r_ax: Default::default(),
             r_axis: Default::default(),
-            rd_next: Default::default(),
             r_off: Default::default(),
             s_pos: Default::default(),
             s_taken: Default::default(),
@@ -451,7 +438,7 @@ impl<const K: usize> Logic for RegFile<K> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, ctrl_en, core_en, refused, irq_done, irq_qlow, irq_err, mask_done, mask_qlow, mask_err, qlow,
-            pos_latch, rd_q, rd_pos_hi, rd_is_pos_lo, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last
+            pos_latch, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last
         );
         // Output timing: the two minima the core applies, and whether they fit in the
         // minimum period (CTRL.ENABLE = 1 is refused otherwise). Registered: they
@@ -548,9 +535,8 @@ impl<const K: usize> Logic for RegFile<K> {
         // ---- memories --------------------------------------------------------
         // Staging: written at the writing axis, read at the same axis while a write
         // commits (the push reads the other five half-words) and at the read axis
-        // otherwise (a read's answer is registered in the cycle before `rd`, which the
-        // documented bus timing keeps at least one cycle after a write's commit: NOE
-        // falls 2 bus clocks or more after NWE rises).
+        // otherwise (the slave latches a read at `rd`, which never coincides with
+        // `wr` when the bus keeps its documented timing).
         if self.wr.val() {
             self.st_addr.next = self.w_axis.val();
         } else {
@@ -843,86 +829,86 @@ impl<const K: usize> Logic for RegFile<K> {
             .any();
 
         // ---- reads ---------------------------------------------------------------
-        self.rd_next.next = 0.into();
+        self.rd_data.next = 0.into();
         if !self.r_ax.val() {
             if self.rd_addr.val() == self.a_magic.val() {
-                self.rd_next.next = self.v_magic.val();
+                self.rd_data.next = self.v_magic.val();
             }
             if self.rd_addr.val() == self.a_version.val() {
-                self.rd_next.next = self.v_version.val();
+                self.rd_data.next = self.v_version.val();
             }
             if self.rd_addr.val() == self.a_axes.val() {
-                self.rd_next.next = self.v_axes.val();
+                self.rd_data.next = self.v_axes.val();
             }
             if self.rd_addr.val() == self.a_qdepth.val() {
-                self.rd_next.next = self.v_qdepth.val();
+                self.rd_data.next = self.v_qdepth.val();
             }
             if self.rd_addr.val() == self.a_fdepth.val() {
-                self.rd_next.next = self.v_fdepth.val();
+                self.rd_data.next = self.v_fdepth.val();
             }
             if self.rd_addr.val() == self.a_tcalc.val() {
-                self.rd_next.next = self.v_tcalc.val();
+                self.rd_data.next = self.v_tcalc.val();
             }
             if self.rd_addr.val() == self.a_clk_lo.val() {
-                self.rd_next.next = self.v_clk_lo.val();
+                self.rd_data.next = self.v_clk_lo.val();
             }
             if self.rd_addr.val() == self.a_clk_hi.val() {
-                self.rd_next.next = self.v_clk_hi.val();
+                self.rd_data.next = self.v_clk_hi.val();
             }
             if self.rd_addr.val() == self.a_minp.val() {
-                self.rd_next.next = self.v_minp.val();
+                self.rd_data.next = self.v_minp.val();
             }
             if self.rd_addr.val() == self.a_t_high.val() {
-                self.rd_next.next = self.t_high.q.val();
+                self.rd_data.next = self.t_high.q.val();
             }
             if self.rd_addr.val() == self.a_t_low.val() {
-                self.rd_next.next = self.t_low.q.val();
+                self.rd_data.next = self.t_low.q.val();
             }
             if self.rd_addr.val() == self.a_t_setup.val() {
-                self.rd_next.next = self.t_setup.q.val();
+                self.rd_data.next = self.t_setup.q.val();
             }
             if self.rd_addr.val() == self.a_t_hold.val() {
-                self.rd_next.next = self.t_hold.q.val();
+                self.rd_data.next = self.t_hold.q.val();
             }
             if self.rd_addr.val() == self.a_rmax_lo.val() {
-                self.rd_next.next = self.v_rmax_lo.val();
+                self.rd_data.next = self.v_rmax_lo.val();
             }
             if self.rd_addr.val() == self.a_rmax_hi.val() {
-                self.rd_next.next = self.v_rmax_hi.val();
+                self.rd_data.next = self.v_rmax_hi.val();
             }
             if self.rd_addr.val() == self.a_ctrl.val() {
-                self.rd_next.next = bit_cast::<16, 1>(self.ctrl_en.q.val().into());
+                self.rd_data.next = bit_cast::<16, 1>(self.ctrl_en.q.val().into());
             }
             if self.rd_addr.val() == self.a_irq_done.val() {
-                self.rd_next.next = self.irq_done.q.val();
+                self.rd_data.next = self.irq_done.q.val();
             }
             if self.rd_addr.val() == self.a_irq_qlow.val() {
-                self.rd_next.next = self.irq_qlow.q.val();
+                self.rd_data.next = self.irq_qlow.q.val();
             }
             if self.rd_addr.val() == self.a_irq_err.val() {
-                self.rd_next.next = self.irq_err.q.val();
+                self.rd_data.next = self.irq_err.q.val();
             }
             if self.rd_addr.val() == self.a_mask_done.val() {
-                self.rd_next.next = self.mask_done.q.val();
+                self.rd_data.next = self.mask_done.q.val();
             }
             if self.rd_addr.val() == self.a_mask_qlow.val() {
-                self.rd_next.next = self.mask_qlow.q.val();
+                self.rd_data.next = self.mask_qlow.q.val();
             }
             if self.rd_addr.val() == self.a_mask_err.val() {
-                self.rd_next.next = self.mask_err.q.val();
+                self.rd_data.next = self.mask_err.q.val();
             }
             if self.rd_addr.val() == self.a_qlow.val() {
-                self.rd_next.next = bit_cast::<16, 5>(self.qlow.q.val());
+                self.rd_data.next = bit_cast::<16, 5>(self.qlow.q.val());
             }
             if self.rd_addr.val() == self.a_gstatus.val() {
-                self.rd_next.next = bit_cast::<16, 1>(self.core_en.q.val().into())
+                self.rd_data.next = bit_cast::<16, 1>(self.core_en.q.val().into())
                     | (bit_cast::<16, 1>(self.refused.q.val().into()) << 1)
                     | (bit_cast::<16, 1>(self.irq_q.q.val().into()) << 2)
                     | (bit_cast::<16, 1>(self.start_failed.q.val().into()) << 3);
             }
             if self.rd_addr.val() == self.a_busy.val() {
                 for i in 0..K {
-                    self.rd_next.next = self.busy_bus[i].bus_out.val();
+                    self.rd_data.next = self.busy_bus[i].bus_out.val();
                 }
             }
         }
@@ -956,32 +942,30 @@ impl<const K: usize> Logic for RegFile<K> {
             self.r_pos.next = self.mb_ram.rdata.val().get_bits::<32>(0);
             self.r_done.next = self.mb_ram.rdata.val().get_bits::<8>(32);
         }
-        self.rd_is_pos_lo.d.next = self.r_ax.val() & self.r_sel.val() & (self.r_off.val() == self.o_pos_lo.val());
-        self.rd_pos_hi.d.next = self.r_pos.val().get_bits::<16>(16);
-        if self.rd.val() & self.rd_is_pos_lo.q.val() {
-            self.pos_latch.d.next = self.rd_pos_hi.q.val();
+        if self.rd.val() & self.r_ax.val() & self.r_sel.val() & (self.r_off.val() == self.o_pos_lo.val()) {
+            self.pos_latch.d.next = self.r_pos.val().get_bits::<16>(16);
         }
         if self.r_ax.val() & self.r_sel.val() {
             if self.r_off.val() == self.o_v0_lo.val() {
-                self.rd_next.next = self.h0.val();
+                self.rd_data.next = self.h0.val();
             }
             if self.r_off.val() == self.o_v0_hi.val() {
-                self.rd_next.next = self.h1.val();
+                self.rd_data.next = self.h1.val();
             }
             if self.r_off.val() == self.o_t_lo.val() {
-                self.rd_next.next = self.h2.val();
+                self.rd_data.next = self.h2.val();
             }
             if self.r_off.val() == self.o_t_hi.val() {
-                self.rd_next.next = self.h3.val();
+                self.rd_data.next = self.h3.val();
             }
             if self.r_off.val() == self.o_steps_lo.val() {
-                self.rd_next.next = self.h4.val();
+                self.rd_data.next = self.h4.val();
             }
             if self.r_off.val() == self.o_steps_hi.val() {
-                self.rd_next.next = self.h5.val();
+                self.rd_data.next = self.h5.val();
             }
             if self.r_off.val() == self.o_status.val() {
-                self.rd_next.next = bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))
+                self.rd_data.next = bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))
                     | (bit_cast::<16, 1>(self.r_busy.val().into()) << 5)
                     | (bit_cast::<16, 1>(self.r_fu.val().into()) << 6)
                     | (bit_cast::<16, 1>(self.r_fo.val().into()) << 7)
@@ -989,17 +973,15 @@ impl<const K: usize> Logic for RegFile<K> {
                     | (bit_cast::<16, 4>(self.r_code.val()) << 12);
             }
             if self.r_off.val() == self.o_pos_lo.val() {
-                self.rd_next.next = self.r_pos.val().get_bits::<16>(0);
+                self.rd_data.next = self.r_pos.val().get_bits::<16>(0);
             }
             if self.r_off.val() == self.o_pos_hi.val() {
-                self.rd_next.next = self.pos_latch.q.val();
+                self.rd_data.next = self.pos_latch.q.val();
             }
             if self.r_off.val() == self.o_done_count.val() {
-                self.rd_next.next = bit_cast::<16, 8>(self.r_done.val());
+                self.rd_data.next = bit_cast::<16, 8>(self.r_done.val());
             }
         }
-        self.rd_q.d.next = self.rd_next.val();
-        self.rd_data.next = self.rd_q.q.val();
 
         if !self.ctrl_en.q.val() {
             self.start_failed.d.next = false;
