@@ -194,6 +194,21 @@ fn expand(trace: &[Change], port: usize, cycles: u64) -> Vec<u128> {
     out
 }
 
+/// The cycles in which axis `a`'s STEP rises, from the expanded STEP bus.
+fn rises_of(step: &[u128], a: usize) -> Vec<u64> {
+    (1..step.len()).filter(|&c| (step[c] >> a) & 1 == 1 && (step[c - 1] >> a) & 1 == 0).map(|c| c as u64).collect()
+}
+
+/// Every rise seen is the model's edge at the same offset, release + 1 + E_i (as many
+/// edges as were seen); returns that release cycle, or None without an edge.
+fn release_of(rises: &[u64], edge_ticks: &[u64], what: &str) -> Option<i64> {
+    let l0 = *rises.first()? as i64 - 1 - *edge_ticks.first()? as i64;
+    for (i, (&r, &e)) in rises.iter().zip(edge_ticks).enumerate() {
+        assert_eq!(r as i64, l0 + 1 + e as i64, "{what} edge {i}");
+    }
+    Some(l0)
+}
+
 fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], cycles: u64, what: &str) {
     let limits = Limits::default();
     let step = expand(trace, 0, cycles);
@@ -204,14 +219,10 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
     let mut release: Option<i64> = None;
     for (a, segs) in axes.iter().enumerate() {
         let run = AxisRun::run(segs, &limits);
-        let rises: Vec<u64> = (1..cycles).filter(|&c| (step[c as usize] >> a) & 1 == 1 && (step[c as usize - 1] >> a) & 1 == 0).collect();
+        let rises = rises_of(&step, a);
         assert_eq!(rises.len(), run.edge_ticks.len(), "{what}: axis {a} step count");
-        if let (Some(&first), Some(&e1)) = (rises.first(), run.edge_ticks.first()) {
-            let l0 = first as i64 - 1 - e1 as i64;
+        if let Some(l0) = release_of(&rises, &run.edge_ticks, &format!("{what}: axis {a}")) {
             assert_eq!(*release.get_or_insert(l0), l0, "{what}: axis {a} released on another tick (skew)");
-            for (i, (&r, &e)) in rises.iter().zip(&run.edge_ticks).enumerate() {
-                assert_eq!(r as i64, l0 + 1 + e as i64, "{what}: axis {a} edge {i}");
-            }
         }
         // Status reads at the end: position and the segment counts.
         let sel_cycle = (cycles - 2 * (K - a) as u64 + 1) as usize;
@@ -356,8 +367,8 @@ fn random_segments_match_the_model_in_verilator() {
 /// an exactly uniform segment cannot have (v0 would be 2^33 / odd), so the segment is
 /// nearly uniform: v0 = (2^33 − 1)/161 and T = 161n/2 give D·2^32 = n/2, so small that
 /// the setup falls back to the uniform step (P' + 2T' ≥ 2^64), and n ≥ 2^29/161 makes it
-/// so. The segment is 2^28 ticks long: the first 12 edges, in rust-hdl and Verilator,
-/// against the model's. A carry missed at the first step puts edge 1 a tick early and
+/// so. The segment is 2^28 ticks long: every edge in the time of its first 13, in
+/// rust-hdl and Verilator, against the model's. A carry missed at the first step puts edge 1 a tick early and
 /// takes it at step 2 (so E_2 and the context are right again).
 #[test]
 fn uniform_step_carries_a_remainder_equal_to_2n() {
@@ -379,13 +390,9 @@ fn uniform_step_carries_a_remainder_equal_to_2n() {
             .unwrap();
     let rust = rust_hdl_trace!(uut::<1>(), &ev, cycles);
     same_traces(&verilator, &rust, "uniform carry");
-    let step = expand(&verilator, 0, cycles);
-    let rises: Vec<u64> = (1..cycles).filter(|&c| step[c as usize] & 1 == 1 && step[c as usize - 1] & 1 == 0).collect();
+    let rises = rises_of(&expand(&verilator, 0, cycles), 0);
     assert!(rises.len() > edges, "only {} edges in {cycles} cycles", rises.len());
-    let l0 = rises[0] as i64 - 1 - run.edge_ticks[0] as i64;
-    for i in 0..=edges {
-        assert_eq!(rises[i] as i64, l0 + 1 + run.edge_ticks[i] as i64, "edge {i}");
-    }
+    release_of(&rises, &run.edge_ticks, "uniform carry");
 }
 
 /// t_calc measured: with no start, a one-axis core computes periods back to back
@@ -493,8 +500,7 @@ fn underruns<const K: usize, const RR: usize>(delta: u32) -> bool {
     let step = expand(&got, 0, cycles);
     // No step is lost either way.
     for a in 0..K {
-        let rises = (1..cycles as usize).filter(|&c| (step[c] >> a) & 1 == 1 && (step[c - 1] >> a) & 1 == 0).count();
-        assert_eq!(rises, 400, "axis {a}, delta {delta}: steps");
+        assert_eq!(rises_of(&step, a).len(), 400, "axis {a}, delta {delta}: steps");
     }
     under.iter().any(|&u| u != 0)
 }
