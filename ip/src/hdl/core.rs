@@ -218,6 +218,16 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_vend: DFF<Bits<64>>,
     s_t2: DFF<Bits<64>>,
     s_anew: DFF<Bits<100>>,
+    /// S_TR's two tests, registered a state earlier so that S_TR decides from flip-flops:
+    /// the step count is 0 (from |steps| in S_ISSUE_TR) and D = 0, i.e. v0·T = n·2^32
+    /// (from the product in S_VT, an equality, no subtraction).
+    s_nz: DFF<Bit>,
+    s_dz: DFF<Bit>,
+    /// Axis m's current slot, registered: the context RAM's write address takes it from
+    /// here, not through the K:1 slot multiplexer. Writes happen in S_COMMIT_STEP and
+    /// S_COMMIT_SETUP, whose previous state ran on the same axis and slot (the slot
+    /// flips only in S_PROMOTE, which returns to PICK or S_PUSH_DWELL).
+    w_slot: DFF<Bit>,
     /// A step's E computed in P_WAIT or U_STEP: its entry is formed from registers and
     /// pushed into axis m's FIFO one cycle later (in S_COMMIT_STEP, m unchanged), so
     /// that no path runs from the arithmetic into the FIFO RAMs in one cycle.
@@ -398,6 +408,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_vend: Default::default(),
             s_t2: Default::default(),
             s_anew: Default::default(),
+            s_nz: Default::default(),
+            s_dz: Default::default(),
+            w_slot: Default::default(),
             pe_valid: Default::default(),
             op_a: Default::default(),
             op_b: Default::default(),
@@ -491,7 +504,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -688,11 +701,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_n.d.next = self.h_n.val();
             self.st.d.next = self.k_issue_tr.val();
         } else if self.st.q.val() == self.k_issue_tr.val() {
-            // T² goes in.
+            // T² goes in; w_n holds |steps|.
+            self.s_nz.d.next = self.w_n.q.val() == 0;
             self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
             // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it).
             self.s_dq.d.next = self.dq.val();
+            self.s_dz.d.next = (self.narrow.val().get_bits::<32>(0) == 0)
+                & (self.narrow.val().get_bits::<32>(32) == self.w_n.q.val());
             self.s_vend.d.next = self.vend.val();
             self.st.d.next = self.k_tr.val();
         } else if self.st.q.val() == self.k_tr.val() {
@@ -705,9 +721,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.s_dmag.d.next = self.s_dq.q.val();
             }
             self.s_t2.d.next = self.narrow.val();
-            if self.w_n.q.val() == 0 {
+            if self.s_nz.q.val() {
                 self.st.d.next = self.k_dwell.val();
-            } else if self.s_dq.q.val() == 0 {
+            } else if self.s_dz.q.val() {
                 self.div.numerator.next = self.t_num.val() << 1;
                 self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
                 self.div.start.next = true;
@@ -882,8 +898,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
 
         // ---- context memory writes (after the scheduler decided them) ---------
         self.ctx_ram.we.next = self.commit.val() | self.nwe_now.val();
+        self.w_slot.d.next = self.cur_slot.val();
         self.ctx_ram.waddr.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
-            | bit_cast::<CTX_ADDR_BITS, 1>((self.cur_slot.val() ^ self.nwe_now.val()).into());
+            | bit_cast::<CTX_ADDR_BITS, 1>((self.w_slot.q.val() ^ self.nwe_now.val()).into());
         self.ctx_ram.w_rev.next = self.w_rev.q.val();
         self.ctx_ram.w_n.next = self.w_n.q.val();
         self.ctx_ram.w_i.next = self.w_i.q.val();

@@ -121,6 +121,12 @@ pub struct RegFile<const K: usize> {
     q_full: [DFF<Bit>; K],
     m_taken: [DFF<Bits<8>>; K],
     m_busy: [DFF<Bit>; K],
+    /// LEVEL (`pushed − m_taken`) and BUSY of each axis in flip-flops of their own,
+    /// loaded from the next values of the counters, so they always equal the
+    /// subtraction on the current ones: reads, BUSY and the queue-full flag select
+    /// a register, with no subtraction in front of the read multiplexers.
+    lv: [DFF<Bits<8>>; K],
+    bz: [DFF<Bit>; K],
     f_under: [DFF<Bit>; K],
     f_over: [DFF<Bit>; K],
     f_err: [DFF<Bit>; K],
@@ -295,6 +301,8 @@ impl<const K: usize> RegFile<K> {
             q_full: std::array::from_fn(|_| Default::default()),
             m_taken: std::array::from_fn(|_| Default::default()),
             m_busy: std::array::from_fn(|_| Default::default()),
+            lv: std::array::from_fn(|_| Default::default()),
+            bz: std::array::from_fn(|_| Default::default()),
             f_under: std::array::from_fn(|_| Default::default()),
             f_over: std::array::from_fn(|_| Default::default()),
             f_err: std::array::from_fn(|_| Default::default()),
@@ -460,7 +468,9 @@ impl<const K: usize> Logic for RegFile<K> {
             self.m_vld[i].clock.next = self.clock.val();
             self.pushed[i].clock.next = self.clock.val();
             self.q_full[i].clock.next = self.clock.val();
-            self.q_full[i].d.next = (self.pushed[i].q.val() - self.m_taken[i].q.val()) >= self.c_qdepth.val();
+            self.q_full[i].d.next = self.lv[i].q.val() >= self.c_qdepth.val();
+            self.lv[i].clock.next = self.clock.val();
+            self.bz[i].clock.next = self.clock.val();
             self.m_taken[i].clock.next = self.clock.val();
             self.m_busy[i].clock.next = self.clock.val();
             self.f_under[i].clock.next = self.clock.val();
@@ -712,8 +722,7 @@ impl<const K: usize> Logic for RegFile<K> {
                     self.pushed[i].d.next = self.pushed[i].q.val() - 1;
                 }
             }
-            self.busy_bus[i].value.next =
-                ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
+            self.busy_bus[i].value.next = self.bz[i].q.val();
             if !self.ctrl_en.q.val() {
                 self.pushed[i].d.next = 0.into();
                 self.f_under[i].d.next = false;
@@ -732,6 +741,9 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.f_err[i].d.next = false;
                 self.f_code[i].d.next = 0.into();
             }
+            // After every assignment of the counters' next values above.
+            self.lv[i].d.next = self.pushed[i].d.val() - self.m_taken[i].d.val();
+            self.bz[i].d.next = ((self.pushed[i].d.val() - self.m_taken[i].d.val()) != 0) | self.m_busy[i].d.val();
         }
         self.busy_bus[0].bus_in.next = 0.into();
         for i in 1..K {
@@ -926,8 +938,8 @@ impl<const K: usize> Logic for RegFile<K> {
             if self.r_axis.val().index() == i {
                 self.r_sel.next = true;
                 self.r_mvld.next = self.m_vld[i].q.val();
-                self.r_level.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
-                self.r_busy.next = ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
+                self.r_level.next = self.lv[i].q.val();
+                self.r_busy.next = self.bz[i].q.val();
                 self.r_fu.next = self.f_under[i].q.val();
                 self.r_fo.next = self.f_over[i].q.val();
                 self.r_fe.next = self.f_err[i].q.val();
