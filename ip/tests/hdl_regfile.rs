@@ -74,7 +74,13 @@ impl Stim {
         self.rows.push(vec![0, 1, addr as u128, data as u128, 0, 0, 0, 0, 0, 0, 0]);
         self.rows.len() - 1
     }
+    /// A read, at least 2 rows after the last write, as the EXMC slave's timing
+    /// allows (strobes high ≥ 2 bus clocks between accesses): the register file shows
+    /// a push in LEVEL from then on.
     fn read(&mut self, addr: u16) -> usize {
+        while self.rows.iter().rev().take(2).any(|r| r[1] == 1) {
+            self.idle();
+        }
         self.rows.push(vec![0, 0, 0, 0, 1, addr as u128, 0, 0, 0, 0, 0]);
         self.rows.len() - 1
     }

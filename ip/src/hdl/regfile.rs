@@ -24,8 +24,9 @@
 //! [`STATUS_BITS`](super::status_sync::STATUS_BITS), see the `W_*` constants) and is
 //! kept in the mirror. Comparing a new word with the mirror makes the events: a change
 //! of the done or underrun counters sets IRQ_DONE and STATUS.UNDERRUN; a change of the taken counter with LEVEL now ≤
-//! QLOW_LEVEL sets IRQ_QLOW. LEVEL is `pushed − taken` (8-bit counters), so a push
-//! counts at once and a push is refused (OVERFLOW) when LEVEL has reached the queue
+//! QLOW_LEVEL sets IRQ_QLOW. LEVEL is `pushed − taken` (8-bit counters, kept per axis
+//! in a register a cycle behind them, before any read can follow the write), so a
+//! push counts at once and a push is refused (OVERFLOW) when LEVEL has reached the queue
 //! depth: the core's queue can never overflow and nothing queued is lost.
 //!
 //! **Commands** (a push, START, ABORT) reach `cmd_write`/`cmd_data` through the
@@ -121,10 +122,10 @@ pub struct RegFile<const K: usize> {
     q_full: [DFF<Bit>; K],
     m_taken: [DFF<Bits<8>>; K],
     m_busy: [DFF<Bit>; K],
-    /// LEVEL (`pushed − m_taken`) and BUSY of each axis in flip-flops of their own,
-    /// loaded from the next values of the counters, so they always equal the
-    /// subtraction on the current ones: reads, BUSY and the queue-full flag select
-    /// a register, with no subtraction in front of the read multiplexers.
+    /// LEVEL and BUSY of each axis in flip-flops of their own, so the read
+    /// multiplexers and BUSY select registers with no subtraction in front:
+    /// `pushed − m_taken` of the cycle before, less a push the check rejects in that
+    /// cycle (see "Per axis" below).
     lv: [DFF<Bits<8>>; K],
     bz: [DFF<Bit>; K],
     f_under: [DFF<Bit>; K],
@@ -468,7 +469,6 @@ impl<const K: usize> Logic for RegFile<K> {
             self.m_vld[i].clock.next = self.clock.val();
             self.pushed[i].clock.next = self.clock.val();
             self.q_full[i].clock.next = self.clock.val();
-            self.q_full[i].d.next = self.lv[i].q.val() >= self.c_qdepth.val();
             self.lv[i].clock.next = self.clock.val();
             self.bz[i].clock.next = self.clock.val();
             self.m_taken[i].clock.next = self.clock.val();
@@ -741,9 +741,26 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.f_err[i].d.next = false;
                 self.f_code[i].d.next = 0.into();
             }
-            // After every assignment of the counters' next values above.
-            self.lv[i].d.next = self.pushed[i].d.val() - self.m_taken[i].d.val();
-            self.bz[i].d.next = ((self.pushed[i].d.val() - self.m_taken[i].d.val()) != 0) | self.m_busy[i].d.val();
+            // LEVEL and BUSY from the counters' current values, so a push or a status
+            // word shows a cycle after the counters take it. That is never seen: a
+            // read starts at least 2 cycles after a write commits (strobes high ≥ 2
+            // bus clocks between accesses), and status words arrive unsynchronised
+            // with the bus anyway. A rejection takes its push back at once, as
+            // `pushed` does, so the verdict is readable when it was before. The
+            // queue-full flag is the same value registered: a cycle behind `pushed`
+            // and the mirror, as the pushes above need.
+            if self.chk.rej_valid.val() & (self.chk.rej_axis.val().index() == i) {
+                self.lv[i].d.next = self.pushed[i].q.val() - self.m_taken[i].q.val() - 1;
+            } else {
+                self.lv[i].d.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
+            }
+            self.bz[i].d.next = (self.lv[i].d.val() != 0) | self.m_busy[i].q.val();
+            self.q_full[i].d.next = self.lv[i].d.val() >= self.c_qdepth.val();
+            if self.reset.val() {
+                self.lv[i].d.next = 0.into();
+                self.bz[i].d.next = false;
+                self.q_full[i].d.next = false;
+            }
         }
         self.busy_bus[0].bus_in.next = 0.into();
         for i in 1..K {
