@@ -65,6 +65,7 @@ fn sweep_rejects_bad_arguments() {
         (vec!["--axes", "0"], "axis counts are 1 to 16"),
         (vec!["--family", "ice40"], "expected xc7 or ecp5"),
         (vec!["--jobs", "0"], "--jobs must be at least 1"),
+        (vec!["--fmax", "2", "--seeds", "0"], "--seeds must be at least 1"),
     ] {
         let run = Command::new(env!("CARGO_BIN_EXE_tdm-stepper")).arg("sweep").args(&args).args(["--out", "/tmp/tdm-sweep-never"]).output().unwrap();
         let err = String::from_utf8_lossy(&run.stderr);
@@ -92,6 +93,48 @@ fn stat_and_fmax_reports_are_read_right() {
     let f = rep["fmax"].as_object().unwrap();
     assert_eq!(fmax_of(f, "clk"), Some(14.7));
     assert_eq!(fmax_of(f, "bus_clk"), Some(79.5));
+}
+
+/// Several placement seeds make one Fmax point: each clock's median (the seeds' bus
+/// medians taken on their own), the path of the run nearest the clk median, the
+/// runs' figures in seed order, and a failed run fails the point.
+#[test]
+fn fmax_seeds_combine_into_medians() {
+    use tdm_stepper::sweep::{combine_seeds, median, FmaxPoint};
+    assert_eq!(median(&[]), None);
+    assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+    assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), Some(2.5));
+    let run = |seed: u32, clk: f64, bus: f64| FmaxPoint {
+        axes: 8,
+        status: "ok".into(),
+        fmax_clk_mhz: Some(clk),
+        fmax_bus_clk_mhz: Some(bus),
+        seeds: vec![seed],
+        seed_clk_mhz: vec![clk],
+        seed_bus_clk_mhz: vec![bus],
+        path_seed: seed,
+        max_step_rate_hz_at_fmax: None,
+        tool: "nextpnr".into(),
+        critical_path: None,
+        seconds: 10.0,
+        tool_seconds: Some(9.0),
+        log: format!("fmax_k8_s{seed}/pnr.log").into(),
+        message: None,
+    };
+    let p = combine_seeds(vec![run(3, 90.0, 70.0), run(1, 80.0, 75.0), run(2, 85.0, 60.0)]);
+    assert_eq!((p.fmax_clk_mhz, p.fmax_bus_clk_mhz), (Some(85.0), Some(70.0)));
+    assert_eq!(p.seeds, vec![1, 2, 3]);
+    assert_eq!(p.seed_clk_mhz, vec![80.0, 85.0, 90.0]);
+    assert_eq!(p.seed_bus_clk_mhz, vec![75.0, 60.0, 70.0]);
+    assert_eq!(p.path_seed, 2, "the median run's path and log");
+    assert_eq!(p.log, std::path::PathBuf::from("fmax_k8_s2/pnr.log"));
+    assert_eq!((p.seconds, p.tool_seconds), (30.0, Some(27.0)));
+    assert!(p.max_step_rate_hz_at_fmax.unwrap() > 0.0);
+    let mut bad = run(2, 0.0, 0.0);
+    bad.status = "failed".into();
+    bad.fmax_clk_mhz = None;
+    let p = combine_seeds(vec![run(1, 80.0, 75.0), bad]);
+    assert_eq!((p.status.as_str(), p.fmax_clk_mhz), ("failed", None), "one failed run fails the point");
 }
 
 /// The nextpnr critical-path report is summarised right: delays, ends, blocks. The
