@@ -33,7 +33,7 @@ export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
 #
 # id # file # perl -0pe substitution # test binary # test name filter # what it breaks
 mutants=(
-  "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_dmag.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
+  "1#ip/src/hdl/core.rs#s/self.num_sum.next = self.num_x.val\(\) \+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_dmag.q.val\(\)\);/self.num_sum.next = self.num_x.val();/#hdl_core_setup#setup_state_equals#P' and B' floored instead of rounded (the shared adder's |D| dropped)"
   "2#ip/src/hdl/core.rs#s/self.p_wide.d.next = \(self.div.quotient.val\(\).get_bits::<40>\(64\) != 0\) \| /self.p_wide.d.next = /#hdl_core_setup#setup_state_equals#fallback test ignores the quotient's high half (P' ≥ 2^64 takes the root)"
   "3#ip/src/hdl/pulse_stage.rs#s/self.half1.d.next = self.d17.val\(\).get_bits::<16>\(1\);/self.half1.d.next = self.d17.val().get_bits::<16>(2);/#hdl_pulse_stage#high_time_equals_the_model#STEP pulse a quarter period"
   "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 1\)/(self.count.q.val() == 2)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
@@ -51,6 +51,9 @@ mutants=(
   "16#ip/src/hdl/core.rs#s/if self.p_ready.q.val\(\) \{/if self.div.valid.val() {/#hdl_core_setup#setup_state_equals#fallback decided on the registered test a cycle early (the quotient before the last digits)"
   "17#ip/src/hdl/root.rs#s/self.t3_w.val\(\) - \(\(self.m_w.val\(\) >> 2\) \| \(self.m_w.val\(\) >> 3\)\)/self.t3_w.val() - (self.m_w.val() >> 2)/#hdl_root#root_two_digits#root pair: next 3t + 3m/2 after digits 01 off by m/8"
   "18#ip/src/hdl/step_gen.rs#s/\n\s*\| \(\(self.fifo.level.val\(\) == self.depth_less.val\(\)\) & self.push.val\(\) & !self.gen.pop.val\(\)\);/;/#hdl_step_gen#full_flag_follows#registered full flag misses a push that fills the FIFO"
+  "19#ip/src/hdl/core.rs#s/self.s_nz.d.next = self.w_n.q.val\(\) == 0;/self.s_nz.d.next = false;/#hdl_core#two_axes_match#registered steps = 0 flag never set (a dwell set up as a move)"
+  "20#ip/src/hdl/core.rs#s/self.w_slot.d.next = self.cur_slot.val\(\);/self.w_slot.d.next = self.slot_nm.val();/#hdl_core#two_axes_match#context written into the slot of axis m + 1's parity"
+  "21#ip/src/hdl/regfile.rs#s/self.pushed\[i\].q.val\(\) - self.m_taken\[i\].q.val\(\) - 1;/self.pushed[i].q.val() - self.m_taken[i].q.val();/#hdl_regfile#commands_pass#LEVEL counts a rejected push a cycle longer"
 )
 
 only=("$@")
