@@ -273,10 +273,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     narrow: Signal<Local, Bits<64>>,
     t_num: Signal<Local, Bits<DIV_NUM_BITS>>,
     p_test: Signal<Local, Bits<65>>,
-    /// The setup's two rounded numerators share one adder: X + |D·2^32| with X the
-    /// product·2^4 (S_X, P') or T²·2^41 (S_P, B').
-    num_x: Signal<Local, Bits<DIV_NUM_BITS>>,
-    num_sum: Signal<Local, Bits<DIV_NUM_BITS>>,
     p_wide: DFF<Bit>,
     p_ready: DFF<Bit>,
     last: DFF<Bit>,
@@ -448,8 +444,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             narrow: Default::default(),
             t_num: Default::default(),
             p_test: Default::default(),
-            num_x: Default::default(),
-            num_sum: Default::default(),
             p_wide: Default::default(),
             p_ready: Default::default(),
             last: Default::default(),
@@ -617,12 +611,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // is not in front of the next state, the divider's operands and P's enable.
         self.p_test.next = bit_cast::<65, 64>(self.div.quotient.val().get_bits::<64>(0))
             + (bit_cast::<65, 32>(self.w_t.q.val()) << 5);
-        if self.st.q.val() == self.k_x.val() {
-            self.num_x.next = bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4;
-        } else {
-            self.num_x.next = bit_cast::<DIV_NUM_BITS, 64>(self.s_t2.q.val()) << 41;
-        }
-        self.num_sum.next = self.num_x.val() + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
         self.p_wide.d.next = (self.div.quotient.val().get_bits::<40>(64) != 0) | self.p_test.val().get_bit(64);
         self.p_ready.d.next = self.div.valid.val() & (self.st.q.val() == self.k_p.val());
         if self.w_kind.q.val() == 2 {
@@ -773,7 +761,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_x.val() {
             if self.mul.valid.val() {
                 // P' = round(v·T²·2^4 / (2|D·2^32|))
-                self.div.numerator.next = self.num_sum.val();
+                self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4)
+                    + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
                 self.div.denominator.next = self.s_dmag.q.val() << 1;
                 self.div.start.next = true;
                 self.st.d.next = self.k_p.val();
@@ -789,7 +778,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 } else {
                     self.w_p.d.next = self.div.quotient.val().get_bits::<64>(0);
                     // B' = round(T²·2^40 / |D·2^32|) = (T²·2^41 + |D|) / (2|D|)
-                    self.div.numerator.next = self.num_sum.val();
+                    self.div.numerator.next =
+                        (bit_cast::<DIV_NUM_BITS, 64>(self.s_t2.q.val()) << 41)
+                            + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
                     self.div.denominator.next = self.s_dmag.q.val() << 1;
                     self.div.start.next = true;
                     self.st.d.next = self.k_b.val();
