@@ -809,7 +809,9 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     let yosys = String::from_utf8_lossy(&yosys.stdout).trim().to_string();
     // Biggest first, so the long runs start early.
     let mut tasks: Vec<Task> = Vec::new();
-    for &k in &opts.fmax_axes {
+    let mut fmax_axes = opts.fmax_axes.clone();
+    fmax_axes.sort_by_key(|&k| std::cmp::Reverse(k));
+    for &k in &fmax_axes {
         for seed in 1..=opts.seeds.max(1) {
             tasks.push(Task::Fmax(k, seed));
         }
