@@ -789,8 +789,28 @@ enum Task {
     Breakdown(usize),
 }
 
-/// Runs the sweep and writes its outputs into `opts.out`.
+/// The values of `v` without repeats, in the order they first appear.
+pub fn unique<T: PartialEq + Copy>(v: &[T]) -> Vec<T> {
+    let mut u: Vec<T> = Vec::new();
+    for &x in v {
+        if !u.contains(&x) {
+            u.push(x);
+        }
+    }
+    u
+}
+
+/// Runs the sweep and writes its outputs into `opts.out`. A value listed twice (say
+/// `--fmax 2,2`) is one point: two tasks would share one work folder.
 pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), String> {
+    let opts = &SweepOptions {
+        axes: unique(&opts.axes),
+        archs: unique(&opts.archs),
+        families: unique(&opts.families),
+        fmax_axes: unique(&opts.fmax_axes),
+        breakdown_axes: unique(&opts.breakdown_axes),
+        ..opts.clone()
+    };
     for &k in &opts.axes {
         for &a in &opts.archs {
             ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, ..Default::default() }.check()?;

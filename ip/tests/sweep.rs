@@ -40,9 +40,10 @@ fn small_sweep_synthesises_tdm_and_baseline_for_one_and_two_axes() {
     let md = std::fs::read_to_string(out.join("sweep.md")).unwrap();
     assert!(md.contains("| 2 | ") && md.contains("6,262"), "the table and the paper's Table 1");
 
-    // --cached-only collects the same results and says they were reused.
+    // --cached-only collects the same results and says they were reused; a value
+    // listed twice is one point, not two runs in one folder.
     let again = Command::new(env!("CARGO_BIN_EXE_tdm-stepper"))
-        .args(["sweep", "--axes", "1,2", "--arch", "tdm,baseline", "--family", "xc7", "--cached-only", "--out"])
+        .args(["sweep", "--axes", "1,2,2,1", "--arch", "tdm,baseline,tdm", "--family", "xc7,xc7", "--cached-only", "--out"])
         .arg(&out)
         .arg("--work")
         .arg(&work)
@@ -50,6 +51,7 @@ fn small_sweep_synthesises_tdm_and_baseline_for_one_and_two_axes() {
         .unwrap();
     assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
     let s2: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("sweep.json")).unwrap()).unwrap();
+    assert_eq!(s2["points"].as_array().unwrap().len(), 4, "duplicates in the lists make no extra points");
     for p in s2["points"].as_array().unwrap() {
         let first = points.iter().find(|q| q["arch"] == p["arch"] && q["axes"] == p["axes"]).unwrap();
         assert_eq!(p["resources"], first["resources"]);

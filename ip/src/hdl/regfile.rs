@@ -139,6 +139,14 @@ pub struct RegFile<const K: usize> {
     irq_done: DFF<Bits<16>>,
     irq_qlow: DFF<Bits<16>>,
     irq_err: DFF<Bits<16>>,
+    /// The QLOW test's first stage, registered from a status word: whether its taken
+    /// count moved (and events are accepted), the axis's `pushed` and the new taken
+    /// count, and the axis. The level test and IRQ_QLOW follow a cycle later, so the
+    /// K-way selection of `pushed` and the subtraction are not in one path.
+    ql_valid: DFF<Bit>,
+    ql_pushed: DFF<Bits<8>>,
+    ql_taken: DFF<Bits<8>>,
+    ql_axis: DFF<Bits<8>>,
     mask_done: DFF<Bits<16>>,
     mask_qlow: DFF<Bits<16>>,
     mask_err: DFF<Bits<16>>,
@@ -189,6 +197,7 @@ pub struct RegFile<const K: usize> {
     o_under: Signal<Local, Bits<8>>,
     o_pushed: Signal<Local, Bits<8>>,
     s_onehot: Signal<Local, Bits<16>>,
+    ql_onehot: Signal<Local, Bits<16>>,
     w_onehot: Signal<Local, Bits<16>>,
     ev_done: Signal<Local, Bits<16>>,
     ev_qlow: Signal<Local, Bits<16>>,
@@ -315,6 +324,10 @@ impl<const K: usize> RegFile<K> {
             irq_done: Default::default(),
             irq_qlow: Default::default(),
             irq_err: Default::default(),
+            ql_valid: Default::default(),
+            ql_pushed: Default::default(),
+            ql_taken: Default::default(),
+            ql_axis: Default::default(),
             mask_done: Default::default(),
             mask_qlow: Default::default(),
             mask_err: Default::default(),
@@ -364,6 +377,7 @@ impl<const K: usize> RegFile<K> {
             o_under: Default::default(),
             o_pushed: Default::default(),
             s_onehot: Default::default(),
+            ql_onehot: Default::default(),
             w_onehot: Default::default(),
             ev_done: Default::default(),
             ev_qlow: Default::default(),
@@ -447,7 +461,8 @@ impl<const K: usize> Logic for RegFile<K> {
     fn update(&mut self) {
         dff_setup!(
             self, clock, ctrl_en, core_en, refused, irq_done, irq_qlow, irq_err, mask_done, mask_qlow, mask_err, qlow,
-            pos_latch, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last
+            pos_latch, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last,
+            ql_valid, ql_pushed, ql_taken, ql_axis
         );
         // Output timing: the two minima the core applies, and whether they fit in the
         // minimum period (CTRL.ENABLE = 1 is refused otherwise). Registered: they
@@ -627,14 +642,26 @@ impl<const K: usize> Logic for RegFile<K> {
             if self.s_done.val() != self.o_done.val() {
                 self.ev_done.next = self.s_onehot.val();
             }
-            if (self.s_taken.val() != self.o_taken.val())
-                & ((self.o_pushed.val() - self.s_taken.val()) <= bit_cast::<8, 5>(self.qlow.q.val()))
-            {
-                self.ev_qlow.next = self.s_onehot.val();
-            }
             if self.s_under.val() != self.o_under.val() {
                 self.ev_err.next = self.s_onehot.val();
             }
+        }
+        // QLOW, in two stages: a status word whose taken count moved registers the
+        // axis's `pushed` (the value at the word, as a one-stage test would read it)
+        // and the new count; the next cycle compares the level with the threshold.
+        self.ql_valid.d.next = self.st_valid.val() & self.accepting.val() & (self.s_taken.val() != self.o_taken.val());
+        self.ql_pushed.d.next = self.o_pushed.val();
+        self.ql_taken.d.next = self.s_taken.val();
+        self.ql_axis.d.next = self.st_axis.val();
+        self.ql_onehot.next = self.c_one.val() << bit_cast::<16, 8>(self.ql_axis.q.val());
+        if self.ql_valid.q.val()
+            & self.accepting.val()
+            & ((self.ql_pushed.q.val() - self.ql_taken.q.val()) <= bit_cast::<8, 5>(self.qlow.q.val()))
+        {
+            self.ev_qlow.next = self.ql_onehot.val();
+        }
+        if self.reset.val() {
+            self.ql_valid.d.next = false;
         }
         if self.st_valid.val() & (self.st_axis.val() == self.c_last_axis.val()) {
             self.core_en.d.next = self.s_en.val();

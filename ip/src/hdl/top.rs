@@ -14,7 +14,8 @@
 //! and `dir`, plus `irq` (active high, bus clock). `fsm_state` shows the scheduler's
 //! Gray-coded state for waveforms.
 //!
-//! In the core clock, commands leave the FIFO one per cycle: a push goes to the core's
+//! In the core clock, commands leave the FIFO one per cycle into a registered command
+//! stage (one clk of latency, the same for every kind): a push goes to the core's
 //! command port (the register file's LEVEL accounting guarantees room), START and ABORT
 //! pulse the core's `start` (with the mask) and `abort`. While CTRL.ENABLE is 0 (seen
 //! through a synchroniser), the core is held in reset and commands are drained and
@@ -63,6 +64,12 @@ macro_rules! stepper_top {
             pub core: $core<K, R, DEPTH, QDEPTH>,
             cmd_kind: Signal<Local, Bits<2>>,
             core_reset: Signal<Local, Bit>,
+            /// The command stage: the FIFO's head, decoded and registered on its way
+            /// to the core (push, START, ABORT and the entry's 104 data bits).
+            c_push: DFF<Bit>,
+            c_start: DFF<Bit>,
+            c_abort: DFF<Bit>,
+            c_word: DFF<Bits<104>>,
         }
 
         impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> $name<K, R, DEPTH, QDEPTH> {
@@ -97,6 +104,10 @@ macro_rules! stepper_top {
                     core: $core::new(),
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
+                    c_push: Default::default(),
+                    c_start: Default::default(),
+                    c_abort: Default::default(),
+                    c_word: Default::default(),
                 }
             }
 
@@ -118,6 +129,7 @@ macro_rules! stepper_top {
         impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for $name<K, R, DEPTH, QDEPTH> {
             #[hdl_gen]
             fn update(&mut self) {
+                dff_setup!(self, clk, c_push, c_start, c_abort, c_word);
                 // Resets and the enable, into each domain.
                 self.rst_bus.clock.next = self.bus_clk.val();
                 self.rst_bus.sig_in.next = self.reset.val();
@@ -169,26 +181,34 @@ macro_rules! stepper_top {
                 // held in reset (CTRL.ENABLE and GSTATUS.ENABLED both 0).
                 self.core.high_min.next = self.regs.high_min.val();
                 self.core.low_min.next = self.regs.low_min.val();
-                self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);
-                self.core.cmd_t.next = self.cmd_fifo.data_out.val().get_bits::<32>(32);
-                self.core.cmd_steps.next = self.cmd_fifo.data_out.val().get_bits::<32>(64);
-                self.core.cmd_axis.next = self.cmd_fifo.data_out.val().get_bits::<8>(96);
-                self.core.start_mask.next = self.cmd_fifo.data_out.val().get_bits::<K>(0);
-                self.core.ext_go.next = 0.into();
-                self.core.cmd_valid.next = false;
-                self.core.start.next = false;
-                self.core.abort.next = false;
+                // The command stage: what leaves the FIFO is decoded into registers and
+                // reaches the core one cycle later, every kind alike (so order and the
+                // spacing of commands are kept); nothing from the FIFO's pointers or
+                // memory drives the core's flush or queues combinationally.
+                self.c_word.d.next = self.cmd_fifo.data_out.val().get_bits::<104>(0);
+                self.c_push.d.next = false;
+                self.c_start.d.next = false;
+                self.c_abort.d.next = false;
                 if !self.cmd_fifo.empty.val() & !self.core_reset.val() {
                     if self.cmd_kind.val() == 0 {
-                        self.core.cmd_valid.next = true;
+                        self.c_push.d.next = true;
                     }
                     if self.cmd_kind.val() == 1 {
-                        self.core.start.next = true;
+                        self.c_start.d.next = true;
                     }
                     if self.cmd_kind.val() == 2 {
-                        self.core.abort.next = true;
+                        self.c_abort.d.next = true;
                     }
                 }
+                self.core.cmd_v0.next = self.c_word.q.val().get_bits::<32>(0);
+                self.core.cmd_t.next = self.c_word.q.val().get_bits::<32>(32);
+                self.core.cmd_steps.next = self.c_word.q.val().get_bits::<32>(64);
+                self.core.cmd_axis.next = self.c_word.q.val().get_bits::<8>(96);
+                self.core.start_mask.next = self.c_word.q.val().get_bits::<K>(0);
+                self.core.ext_go.next = 0.into();
+                self.core.cmd_valid.next = self.c_push.q.val();
+                self.core.start.next = self.c_start.q.val();
+                self.core.abort.next = self.c_abort.q.val();
                 self.step.next = self.core.step.val();
                 self.dir.next = self.core.dir.val();
                 self.fsm_state.next = self.core.fsm_state.val();
