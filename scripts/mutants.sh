@@ -54,6 +54,8 @@ mutants=(
   "19#ip/src/hdl/core.rs#s/self.s_nz.d.next = self.w_n.q.val\(\) == 0;/self.s_nz.d.next = false;/#hdl_core#two_axes_match#registered steps = 0 flag never set (a dwell set up as a move)"
   "20#ip/src/hdl/core.rs#s/self.w_slot.d.next = self.cur_slot.val\(\);/self.w_slot.d.next = self.slot_nm.val();/#hdl_core#two_axes_match#context written into the slot of axis m + 1's parity"
   "21#ip/src/hdl/regfile.rs#s/self.pushed\[i\].q.val\(\) - self.m_taken\[i\].q.val\(\) - 1;/self.pushed[i].q.val() - self.m_taken[i].q.val();/#hdl_regfile#commands_pass#LEVEL counts a rejected push a cycle longer"
+  "22#ip/src/hdl/regfile.rs#s/self.ql_valid.d.next = self.st_valid.val\(\) & self.accepting.val\(\) & \(self.s_taken.val\(\) != self.o_taken.val\(\)\);/self.ql_valid.d.next = self.st_valid.val() & self.accepting.val();/#system#interrupts_random_traffic#QLOW raised by every status word of a low queue, not only when a segment was taken"
+  "23#ip/src/hdl/top.rs#s/self.core.cmd_v0.next = self.c_word.q.val\(\).get_bits::<32>\(0\);/self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);/#system#paper_experiment#a push's v0 taken from the FIFO a cycle after it left (the command stage skipped for one field)"
 )
 
 only=("$@")
