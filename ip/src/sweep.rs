@@ -630,7 +630,7 @@ pub fn block_of(module: &str) -> &'static str {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
     };
-    const BLOCKS: [(&str, &str); 16] = [
+    const BLOCKS: [(&str, &str); 17] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
         ("core$ctx_ram", "per-axis contexts (current and next segment)"),
         ("core$seg_ram", "segment queues (one RAM for every axis)"),
@@ -645,7 +645,8 @@ pub fn block_of(module: &str) -> &'static str {
         ),
         ("regs", "register file: staging, status mirror, IRQ"),
         ("status", "status crossing (core to bus clock)"),
-        ("cmd_fifo", "command FIFO (bus to core clock)"),
+        ("cmd_fifo", "command FIFO and stage (bus to core clock)"),
+        ("c_", "command FIFO and stage (bus to core clock)"),
         ("exmc", "EXMC slave"),
         ("rst_", "single-bit synchronisers (reset, enable, start failure)"),
         ("en_core", "single-bit synchronisers (reset, enable, start failure)"),
