@@ -45,17 +45,18 @@ mutants=(
   "10#ip/src/hdl/push_check.rs#s/self.rcode.d.next = 5.into\(\);/self.rcode.d.next = 4.into();/#hdl_push_check#verdicts_equal_the_model#range check reports the wrong code (steps range as T range)"
   "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
   "12#ip/src/hdl/core.rs#s/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
-  "13#ip/src/hdl/core.rs#s/& \(\(self.cur_kind.val\(\) == 0\) \| self.all_sat.val\(\)\)/\& (self.cur_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
+  "13#ip/src/hdl/core.rs#s/& \(\(self.pk_kind.val\(\) == 0\) \| self.pk_sat.val\(\)\)/\& (self.pk_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
   "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
   "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#uniform_step_carries#uniform step: remainder equal to 2n not carried"
   "16#ip/src/hdl/core.rs#s/if self.p_ready.q.val\(\) \{/if self.div.valid.val() {/#hdl_core_setup#setup_state_equals#fallback decided on the registered test a cycle early (the quotient before the last digits)"
   "17#ip/src/hdl/root.rs#s/self.t3_w.val\(\) - \(\(self.m_w.val\(\) >> 2\) \| \(self.m_w.val\(\) >> 3\)\)/self.t3_w.val() - (self.m_w.val() >> 2)/#hdl_root#root_two_digits#root pair: next 3t + 3m/2 after digits 01 off by m/8"
   "18#ip/src/hdl/step_gen.rs#s/\n\s*\| \(\(self.fifo.level.val\(\) == self.depth_less.val\(\)\) & self.push.val\(\) & !self.gen.pop.val\(\)\);/;/#hdl_step_gen#full_flag_follows#registered full flag misses a push that fills the FIFO"
   "19#ip/src/hdl/core.rs#s/self.s_nz.d.next = self.w_n.q.val\(\) == 0;/self.s_nz.d.next = false;/#hdl_core#two_axes_match#registered steps = 0 flag never set (a dwell set up as a move)"
-  "20#ip/src/hdl/core.rs#s/self.w_slot.d.next = self.cur_slot.val\(\);/self.w_slot.d.next = self.slot_nm.val();/#hdl_core#two_axes_match#context written into the slot of axis m + 1's parity"
+  "20#ip/src/hdl/core.rs#s/self.w_slot.d.next = self.pk_slot.val\(\);/self.w_slot.d.next = self.slot_nm.val();/#hdl_core#two_axes_match#context written into the slot of axis m + 1's parity"
   "21#ip/src/hdl/regfile.rs#s/self.pushed\[i\].q.val\(\) - self.m_taken\[i\].q.val\(\) - 1;/self.pushed[i].q.val() - self.m_taken[i].q.val();/#hdl_regfile#commands_pass#LEVEL counts a rejected push a cycle longer"
   "22#ip/src/hdl/regfile.rs#s/self.ql_valid.d.next = self.st_valid.val\(\) & self.accepting.val\(\) & \(self.s_taken.val\(\) != self.o_taken.val\(\)\);/self.ql_valid.d.next = self.st_valid.val() & self.accepting.val();/#system#interrupts_random_traffic#QLOW raised by every status word of a low queue, not only when a segment was taken"
   "23#ip/src/hdl/top.rs#s/self.core.cmd_v0.next = self.c_word.q.val\(\).get_bits::<32>\(0\);/self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);/#system#paper_experiment#a push's v0 taken from the FIFO a cycle after it left (the command stage skipped for one field)"
+  "24#ip/src/hdl/core.rs#s/self.pk_kind.next = self.nx_kind.val\(\);/self.pk_kind.next = self.pf_kind.q.val();/#hdl_core#one_four_and_eight#K = 1 decides on the registered kind, a cycle old after its own commit"
 )
 
 only=("$@")

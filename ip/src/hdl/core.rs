@@ -9,7 +9,12 @@
 //! in its period FIFO, it computes m's next period; else if m's segment is done and the
 //! next is set up, it promotes it; else if m has a queued segment and no next one, it
 //! sets it up into m's next slot (at once if m is idle, else ahead of time while every
-//! axis's FIFO is full); else it moves to m + 1. After each piece of work it moves on. The setup and the
+//! axis's FIFO is full); else it moves to m + 1. After each piece of work it moves on.
+//! PICK decides from axis m's flags registered in the cycle before (K ≥ 2: the
+//! scheduler registers axis m + 1's flags every cycle, and every way into PICK moves
+//! to m + 1), so no K:1 multiplexer sits between m and the next state; the queue count
+//! and the FIFO's `full` may be a cycle old, which at worst skips an axis for a turn
+//! or lets its FIFO reach DEPTH + 1 entries ([`StepAxis`]). The setup and the
 //! per-step work are exactly the reference model's (docs/model.md), which the tests
 //! hold it to period by period. The FSM lives here rather than in its own block
 //! because rust-hdl cannot pass arrays of wide ports between blocks.
@@ -243,20 +248,42 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pd_entry: DFF<Bits<ENTRY_BITS>>,
     step_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
-    // Axis m, through the multiplexers.
-    cur_kind: Signal<Local, Bits<2>>,
-    cur_queued: Signal<Local, Bit>,
-    cur_full: Signal<Local, Bit>,
-    cur_next_valid: Signal<Local, Bit>,
-    cur_next_dwell: Signal<Local, Bit>,
-    cur_slot: Signal<Local, Bit>,
+    // Axis m + 1's flags, through the K:1 multiplexers (indexed by `next_m`).
+    nx_kind: Signal<Local, Bits<2>>,
+    nx_queued: Signal<Local, Bit>,
+    nx_full: Signal<Local, Bit>,
+    nx_next_valid: Signal<Local, Bit>,
+    nx_next_dwell: Signal<Local, Bit>,
     all_sat: Signal<Local, Bit>,
+    /// PICK's inputs, registered a cycle ahead: every cycle they load axis m + 1's
+    /// flags (and whether every axis is satisfied), and every state that enters PICK
+    /// moves m to m + 1, so in PICK they hold axis m's flags from one cycle earlier. Only
+    /// the scheduler changes an axis's kind, next slot and slot, and in the cycle
+    /// before a PICK it acts on a different axis (K ≥ 2), so those are exact; the
+    /// queue count and the FIFO's `full` can be one cycle old (see the module docs).
+    /// K = 1 reads the flags directly (no multiplexer, and axis m + 1 is axis m).
+    pf_kind: DFF<Bits<2>>,
+    pf_queued: DFF<Bit>,
+    pf_full: DFF<Bit>,
+    pf_next_valid: DFF<Bit>,
+    pf_next_dwell: DFF<Bit>,
+    pf_slot: DFF<Bit>,
+    pf_sat: DFF<Bit>,
+    // What PICK decides from: the registers above, or (K = 1) the flags directly.
+    pk_kind: Signal<Local, Bits<2>>,
+    pk_queued: Signal<Local, Bit>,
+    pk_full: Signal<Local, Bit>,
+    pk_next_valid: Signal<Local, Bit>,
+    pk_next_dwell: Signal<Local, Bit>,
+    pk_slot: Signal<Local, Bit>,
+    pk_sat: Signal<Local, Bit>,
+    /// Axis m's next slot holds a dwell, loaded in PICK for S_PROMOTE.
+    w_nd: DFF<Bit>,
     promote_now: Signal<Local, Bit>,
     nwe_now: Signal<Local, Bit>,
     next_m: Signal<Local, Bits<8>>,
-    // Read addresses for `ra`: axis m's current slot, its next slot, and axis m + 1's
-    // current slot as it will be after this clock edge.
-    addr_stay: Signal<Local, Bits<CTX_ADDR_BITS>>,
+    // Read addresses for `ra`: axis m's next slot, and axis m + 1's current slot as it
+    // will be after this clock edge.
     addr_promote: Signal<Local, Bits<CTX_ADDR_BITS>>,
     addr_next: Signal<Local, Bits<CTX_ADDR_BITS>>,
     slot_nm: Signal<Local, Bit>,
@@ -289,7 +316,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cmd_ok_axis: Signal<Local, Bit>,
 
     c_last_axis: Constant<Bits<8>>,
-    /// K = 1: axis m + 1 is axis m, so a promote flips the slot the next PICK reads.
+    /// K = 1: axis m + 1 is axis m, so a promote flips the slot the next PICK reads, and
+    /// PICK reads the flags directly (the previous state may just have changed them).
     c_single: Constant<Bit>,
     c_step_bit: Constant<Bits<ENTRY_BITS>>,
     c_last_bit: Constant<Bits<ENTRY_BITS>>,
@@ -419,17 +447,30 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             pd_valid: Default::default(),
             pd_entry: Default::default(),
             step_entry: Default::default(),
-            cur_kind: Default::default(),
-            cur_queued: Default::default(),
-            cur_full: Default::default(),
-            cur_next_valid: Default::default(),
-            cur_next_dwell: Default::default(),
-            cur_slot: Default::default(),
+            nx_kind: Default::default(),
+            nx_queued: Default::default(),
+            nx_full: Default::default(),
+            nx_next_valid: Default::default(),
+            nx_next_dwell: Default::default(),
             all_sat: Default::default(),
+            pf_kind: Default::default(),
+            pf_queued: Default::default(),
+            pf_full: Default::default(),
+            pf_next_valid: Default::default(),
+            pf_next_dwell: Default::default(),
+            pf_slot: Default::default(),
+            pf_sat: Default::default(),
+            pk_kind: Default::default(),
+            pk_queued: Default::default(),
+            pk_full: Default::default(),
+            pk_next_valid: Default::default(),
+            pk_next_dwell: Default::default(),
+            pk_slot: Default::default(),
+            pk_sat: Default::default(),
+            w_nd: Default::default(),
             promote_now: Default::default(),
             nwe_now: Default::default(),
             next_m: Default::default(),
-            addr_stay: Default::default(),
             addr_promote: Default::default(),
             addr_next: Default::default(),
             slot_nm: Default::default(),
@@ -504,7 +545,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -534,23 +575,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
 
-        // ---- axis m through the multiplexers --------------------------------
-        self.cur_kind.next = 0.into();
-        self.cur_queued.next = false;
+        // ---- axis m + 1 through the multiplexers, registered for PICK ---------
         self.seg_ram.raddr.next = 0.into();
-        self.cur_full.next = true;
-        self.cur_next_valid.next = false;
-        self.cur_next_dwell.next = false;
-        self.cur_slot.next = false;
         for i in 0..K {
             if self.m.q.val().index() == i {
-                self.cur_kind.next = self.ctx[i].kind.val();
-                self.cur_queued.next = self.q_count[i].q.val() != 0;
                 self.seg_ram.raddr.next = self.q_base[i].val() | self.q_rd[i].q.val();
-                self.cur_full.next = self.axes[i].full.val();
-                self.cur_next_valid.next = self.ctx[i].next_valid.val();
-                self.cur_next_dwell.next = self.ctx[i].next_dwell.val();
-                self.cur_slot.next = self.ctx[i].slot.val();
             }
         }
         if self.m.q.val() == self.c_last_axis.val() {
@@ -558,21 +587,57 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else {
             self.next_m.next = self.m.q.val() + 1;
         }
-        // Axis m + 1's slot (no multiplexer on m's path into the RAM: `ra` registers it).
+        self.nx_kind.next = 0.into();
+        self.nx_queued.next = false;
+        self.nx_full.next = true;
+        self.nx_next_valid.next = false;
+        self.nx_next_dwell.next = false;
         self.slot_nm.next = false;
         for i in 0..K {
             if self.next_m.val().index() == i {
+                self.nx_kind.next = self.ctx[i].kind.val();
+                self.nx_queued.next = self.q_count[i].q.val() != 0;
+                self.nx_full.next = self.axes[i].full.val();
+                self.nx_next_valid.next = self.ctx[i].next_valid.val();
+                self.nx_next_dwell.next = self.ctx[i].next_dwell.val();
                 self.slot_nm.next = self.ctx[i].slot.val();
             }
         }
-        // Axis m's context word is read at `ra`, set one cycle ahead: in PICK the current
-        // slot, in S_PROMOTE the next one (a dwell's FIFO entry needs its T). Writes: a
-        // step's commit into the current slot, a setup's commit into the next one.
-        self.addr_stay.next =
-            (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1) | bit_cast::<CTX_ADDR_BITS, 1>(self.cur_slot.val().into());
+        // Every axis satisfied (the last element of the chain holds the whole bus).
+        for i in 0..K {
+            self.all_sat.next = self.sat_bus[i].bus_out.val().all();
+        }
+        self.pf_kind.d.next = self.nx_kind.val();
+        self.pf_queued.d.next = self.nx_queued.val();
+        self.pf_full.d.next = self.nx_full.val();
+        self.pf_next_valid.d.next = self.nx_next_valid.val();
+        self.pf_next_dwell.d.next = self.nx_next_dwell.val();
+        self.pf_slot.d.next = self.slot_nm.val();
+        self.pf_sat.d.next = self.all_sat.val();
+        if self.c_single.val() {
+            self.pk_kind.next = self.nx_kind.val();
+            self.pk_queued.next = self.nx_queued.val();
+            self.pk_full.next = self.nx_full.val();
+            self.pk_next_valid.next = self.nx_next_valid.val();
+            self.pk_next_dwell.next = self.nx_next_dwell.val();
+            self.pk_slot.next = self.slot_nm.val();
+            self.pk_sat.next = self.all_sat.val();
+        } else {
+            self.pk_kind.next = self.pf_kind.q.val();
+            self.pk_queued.next = self.pf_queued.q.val();
+            self.pk_full.next = self.pf_full.q.val();
+            self.pk_next_valid.next = self.pf_next_valid.q.val();
+            self.pk_next_dwell.next = self.pf_next_dwell.q.val();
+            self.pk_slot.next = self.pf_slot.q.val();
+            self.pk_sat.next = self.pf_sat.q.val();
+        }
+        // Axis m's context word is read at `ra`, set one cycle ahead: in PICK axis m's
+        // next slot for S_PROMOTE (a dwell's FIFO entry needs its T), and on every move
+        // to axis m + 1 its current slot. Writes: a step's commit into the current slot,
+        // a setup's commit into the next one.
         // (The other slot as a one-bit signal of its own: `~` inside a wider expression
         // inverts the zero-extended bits in the Verilog.)
-        self.other_slot.next = !self.cur_slot.val();
+        self.other_slot.next = !self.pk_slot.val();
         self.addr_promote.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
             | bit_cast::<CTX_ADDR_BITS, 1>(self.other_slot.val().into());
         self.addr_next.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.next_m.val()) << 1)
@@ -581,10 +646,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             );
         self.ctx_ram.clock.next = self.clock.val();
         self.ctx_ram.raddr.next = self.ra.q.val();
-        // By default the next state reads axis m's current slot (S_DRAIN and the setup
-        // states return to PICK on the same axis); every move to axis m + 1 and the
-        // step into S_PROMOTE set `ra` below.
-        self.ra.d.next = self.addr_stay.val();
+        // `ra` holds unless set below (only PICK and S_PROMOTE read the context memory).
+        self.ra.d.next = self.ra.q.val();
 
         // ---- datapath -------------------------------------------------------
         // Axis m's queue head: read at the edge that ends PICK, so valid in S_CHECK.
@@ -637,16 +700,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.u_q1.d.next = self.w_uq.q.val() + self.w_uqs.q.val();
         self.u_r1.d.next = self.w_ur.q.val() + self.w_urs.q.val();
 
-        // Every axis satisfied (the last element of the chain holds the whole bus). Read
-        // by PICK below, so written here first: a local read before it is written is a
-        // combinational loop in the Verilog.
-        for i in 0..K {
-            self.all_sat.next = self.sat_bus[i].bus_out.val().all();
-        }
-
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
-            self.w_kind.d.next = self.cur_kind.val();
+            self.w_kind.d.next = self.pk_kind.val();
+            self.w_nd.d.next = self.pk_next_dwell.val();
+            self.w_slot.d.next = self.pk_slot.val();
             self.w_rev.d.next = self.ctx_ram.r_rev.val();
             self.w_n.d.next = self.ctx_ram.r_n.val();
             self.w_i.d.next = self.ctx_ram.r_i.val();
@@ -659,20 +717,20 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_ur.d.next = self.ctx_ram.r_ur.val();
             self.w_uqs.d.next = self.ctx_ram.r_uqs.val();
             self.w_urs.d.next = self.ctx_ram.r_urs.val();
-            if (self.cur_kind.val() != 0) & !self.cur_full.val() {
+            if (self.pk_kind.val() != 0) & !self.pk_full.val() {
                 // Axis m's next period.
-                if self.cur_kind.val() == 1 {
+                if self.pk_kind.val() == 1 {
                     self.st.d.next = self.k_uadd.val();
                 } else {
                     self.st.d.next = self.k_pstart.val();
                 }
-            } else if (self.cur_kind.val() == 0) & self.cur_next_valid.val() & !self.cur_full.val() {
+            } else if (self.pk_kind.val() == 0) & self.pk_next_valid.val() & !self.pk_full.val() {
                 // Its current segment is done and the next one is set up.
                 self.ra.d.next = self.addr_promote.val();
                 self.st.d.next = self.k_promote.val();
-            } else if !self.cur_next_valid.val()
-                & self.cur_queued.val()
-                & ((self.cur_kind.val() == 0) | self.all_sat.val())
+            } else if !self.pk_next_valid.val()
+                & self.pk_queued.val()
+                & ((self.pk_kind.val() == 0) | self.pk_sat.val())
             {
                 // Set up its next segment: at once if it is idle, else ahead of time while
                 // every axis has a full FIFO (or nothing to do), so the setup takes only
@@ -819,7 +877,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
-            if self.cur_next_dwell.val() {
+            if self.w_nd.q.val() {
                 // The dwell's one entry, registered: pushed from S_PUSH_DWELL, so the
                 // context RAM's read is not on a path into the period FIFOs.
                 self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
@@ -879,11 +937,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_drain.val() {
-            // After an abort: wait until no unit still runs an abandoned operation.
+            // After an abort: wait until no unit still runs an abandoned operation. Like
+            // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
             if !(self.mul.busy.val() | self.div.busy.val() | self.root.busy.val()) {
+                self.m.d.next = self.next_m.val();
+                self.ra.d.next = self.addr_next.val();
                 self.st.d.next = self.k_pick.val();
             }
         } else {
+            self.m.d.next = self.next_m.val();
+            self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         }
 
@@ -898,7 +961,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
 
         // ---- context memory writes (after the scheduler decided them) ---------
         self.ctx_ram.we.next = self.commit.val() | self.nwe_now.val();
-        self.w_slot.d.next = self.cur_slot.val();
         self.ctx_ram.waddr.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
             | bit_cast::<CTX_ADDR_BITS, 1>((self.w_slot.q.val() ^ self.nwe_now.val()).into());
         self.ctx_ram.w_rev.next = self.w_rev.q.val();
@@ -1081,6 +1143,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
             self.ra.d.next = 0.into();
+            // Axis 0 after reset: idle, nothing queued (PICK moves on).
+            self.pf_kind.d.next = 0.into();
+            self.pf_queued.d.next = false;
+            self.pf_full.d.next = true;
+            self.pf_next_valid.d.next = false;
+            self.pf_next_dwell.d.next = false;
+            self.pf_slot.d.next = false;
+            self.pf_sat.d.next = false;
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
             self.pd_valid.d.next = false;

@@ -203,8 +203,10 @@ impl Logic for StepGen {
 }
 
 /// The per-axis back end: a period FIFO feeding a [`StepGen`]. `full` says the FIFO
-/// holds `DEPTH` entries, the most the scheduler computes ahead; the FIFO itself has
-/// room for 32, so the entries still in the pulse stage (two at most) always fit.
+/// holds `DEPTH` entries, the most the scheduler computes ahead. The scheduler reads
+/// `full` from a register of its own, a cycle later, while an entry may still be in the
+/// pulse stage, so a FIFO can reach DEPTH + 1 entries (docs/architecture.md, "PICK
+/// decides from flip-flops"); the FIFO itself has room for 32, so they always fit.
 #[derive(LogicBlock)]
 pub struct StepAxis<const DEPTH: usize> {
     pub clock: Signal<In, Clock>,
