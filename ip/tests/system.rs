@@ -67,6 +67,17 @@ fn verilator_exported_with(name: &str, b: &BusModel, cycles: u64, opts: tdm_step
     run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
 }
 
+/// [`verilator_exported`] that also records each axis's period FIFO level (probes in
+/// `trace.probes`, one value per axis).
+fn verilator_exported_levels<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
+    let verilog = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: K, ..Default::default() }).unwrap();
+    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(K));
+    let probes = (0..K).map(|a| (format!("fifo_level_{a}"), 8, format!("dut.core.axes${a}$level"))).collect();
+    let vcd = tdm_stepper::verify::system::VcdOptions { path: Default::default(), window_cycles: (0, cycles), probes };
+    let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), vcd: Some(vcd), ..Default::default() };
+    run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
+}
+
 /// Bus rests longer than this pause bus_clk in the exported-core runs (for speed).
 const PAUSE_GAP_PS: u64 = 1_000_000_000;
 
@@ -242,7 +253,7 @@ fn paper_experiment_through_the_bus_in_verilator() {
     let done: Vec<_> = (0..2).map(|a| b.read_reg("DONE_COUNT", a)).collect();
     let cycles = cycles_after(&b, 200);
     let t0 = std::time::Instant::now();
-    let trace = verilator_exported::<2>("system_paper", &b, cycles);
+    let trace = verilator_exported_levels::<2>("system_paper", &b, cycles);
     eprintln!("paper experiment through the bus: {cycles} clk cycles, Verilator build + run {:.1} s", t0.elapsed().as_secs_f64());
     assert_eq!(read16(&b, &trace, magic), regs::MAGIC);
     assert_eq!(read16(&b, &trace, k), 2);
@@ -255,6 +266,13 @@ fn paper_experiment_through_the_bus_in_verilator() {
         assert_eq!(s & 0xFFC0, 0, "axis {a}: flags after pushes");
     }
     let l0 = check_edges(&trace, &axes, "paper via bus");
+    // PICK reads each FIFO's `full` a cycle late, so a FIFO may take one period past
+    // DEPTH, never more (docs/architecture.md, "PICK decides from flip-flops").
+    for a in 0..2 {
+        let top = trace.probes.iter().filter_map(|(_, v)| v[a]).max().expect("FIFO level probed");
+        eprintln!("axis {a}: FIFO level up to {top} (DEPTH {DEPTH})");
+        assert!((DEPTH as u128..=DEPTH as u128 + 1).contains(&top), "axis {a}: FIFO level up to {top}, DEPTH {DEPTH}");
+    }
     // Every falling edge and DIR change too, at the default output timing (the half period).
     check_pins(&trace, &axes, l0, &PulseTiming::default(), "paper via bus");
     assert_eq!(position(&b, &trace, pos[0]), Some(2400));
