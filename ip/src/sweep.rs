@@ -482,13 +482,40 @@ pub fn combine_seeds(mut runs: Vec<FmaxPoint>) -> FmaxPoint {
     p
 }
 
-fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path) -> FmaxPoint {
+/// The ECP5 netlist of an Fmax point (`synth.json` in `fmax_k{K}_synth/`), shared by
+/// its seeds: the first seed to need it runs yosys while `lock` keeps the others
+/// waiting, and a netlist from the same Verilog and wrapper is reused. Returns its path
+/// and yosys's time (None when reused).
+fn fmax_netlist(axes: usize, v: &str, opts: &SweepOptions, lock: &Mutex<()>) -> Result<(PathBuf, Option<f64>), String> {
+    let _only_one = lock.lock().map_err(|_| "a synthesis thread panicked".to_string())?;
+    let dir = opts.work.join(format!("fmax_k{axes}_synth"));
+    let json = dir.join("synth.json");
+    if same_input(&dir, "tdm_stepper.v", v) && same_input(&dir, "fmax_top.v", &io_wrapper(axes)) && json.is_file() {
+        return Ok((json, None));
+    }
+    if opts.cached_only {
+        return Err(NOT_RUN.into());
+    }
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let _ = std::fs::remove_file(&json);
+    std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
+    std::fs::write(dir.join("fmax_top.v"), io_wrapper(axes)).map_err(|e| e.to_string())?;
+    let mut y = Command::new("yosys");
+    y.args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; synth_ecp5 -top fmax_top -json synth.json"]);
+    run_logged(y, &dir, &dir.join("yosys.log"), opts.timeout)?;
+    Ok((json, run_seconds(&dir, "fmax_top.v", "synth.json")))
+}
+
+/// One seed's place and route of an Fmax point. Its `tool_seconds` is nextpnr's time,
+/// plus yosys's for the seed that synthesised the shared netlist.
+fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path, synth_lock: &Mutex<()>) -> FmaxPoint {
     // Seed 1 keeps the folder name of single-seed sweeps (its cached run stays valid).
     let dir = opts.work.join(if seed == 1 { format!("fmax_k{axes}") } else { format!("fmax_k{axes}_s{seed}") });
     let log = dir.join("pnr.log");
     let t0 = Instant::now();
     let mut tool = String::new();
     let mut reused = false;
+    let mut synth_seconds = None;
     let result = (|| -> Result<(f64, Option<f64>), String> {
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, ..Default::default() })?;
@@ -501,13 +528,21 @@ fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path) -> Fm
         reused = cached;
         if !cached {
         let _ = std::fs::remove_file(dir.join("report.json"));
+        let (json, secs) = fmax_netlist(axes, &v, opts, synth_lock)?;
+        synth_seconds = secs;
+        // The inputs this run stands for (the cache test above reads them).
         std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
         std::fs::write(dir.join("fmax_top.v"), io_wrapper(axes)).map_err(|e| e.to_string())?;
-        let mut y = Command::new("yosys");
-        y.args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; synth_ecp5 -top fmax_top -json synth.json"]);
-        run_logged(y, &dir, &dir.join("yosys.log"), opts.timeout)?;
+        // YoWASP's nextpnr sees only its working folder: the shared netlist is linked
+        // (or copied) into the seed's folder.
+        let local = dir.join("synth.json");
+        let _ = std::fs::remove_file(&local);
+        if std::fs::hard_link(&json, &local).is_err() {
+            std::fs::copy(&json, &local).map_err(|e| format!("{}: {e}", local.display()))?;
+        }
         let mut p = Command::new(nextpnr);
-        p.args(["--85k", "--package", "CABGA381", "--json", "synth.json", "--timing-allow-fail", "--report", "report.json"]);
+        p.args(["--85k", "--package", "CABGA381", "--json", "synth.json"]);
+        p.args(["--timing-allow-fail", "--report", "report.json"]);
         p.args(["--freq", "100", "--seed", &seed.to_string()]);
         run_logged(p, &dir, &log, opts.timeout)?;
         }
@@ -533,7 +568,7 @@ fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path) -> Fm
             tool,
             critical_path,
             seconds,
-            tool_seconds: run_seconds(&dir, "fmax_top.v", "report.json"),
+            tool_seconds: run_seconds(&dir, "fmax_top.v", "report.json").map(|t| t + synth_seconds.unwrap_or(0.0)),
             log,
             message: reused_note(reused),
         },
@@ -856,6 +891,9 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     let fmaxes = Arc::new(Mutex::new(Vec::new()));
     let breakdowns = Arc::new(Mutex::new(Vec::new()));
     let done = Arc::new(Mutex::new(0usize));
+    // One ECP5 synthesis per Fmax K, shared by its seeds.
+    let synth_locks: std::collections::HashMap<usize, Mutex<()>> = opts.fmax_axes.iter().map(|&k| (k, Mutex::new(()))).collect();
+    let synth_locks = &synth_locks;
     std::thread::scope(|s| {
         for _ in 0..opts.jobs.max(1) {
             let (queue, points, fmaxes, breakdowns, done) = (queue.clone(), points.clone(), fmaxes.clone(), breakdowns.clone(), done.clone());
@@ -873,7 +911,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
                         line
                     }
                     Task::Fmax(k, seed) => {
-                        let p = fmax_point(k, seed, opts, &nextpnr);
+                        let p = fmax_point(k, seed, opts, &nextpnr, &synth_locks[&k]);
                         let line = match p.fmax_clk_mhz {
                             Some(m) => format!(
                                 "fmax ecp5 tdm K={k} seed {seed}: clk {m:.1} MHz, bus_clk {} MHz ({:.0} s)",
