@@ -490,7 +490,7 @@ fn fmax_netlist(axes: usize, v: &str, opts: &SweepOptions, lock: &Mutex<()>) -> 
     let _only_one = lock.lock().map_err(|_| "a synthesis thread panicked".to_string())?;
     let dir = opts.work.join(format!("fmax_k{axes}_synth"));
     let json = dir.join("synth.json");
-    if same_input(&dir, "tdm_stepper.v", v) && same_input(&dir, "fmax_top.v", &io_wrapper(axes)) && json.is_file() {
+    if fmax_inputs_match(&dir, v, axes) && json.is_file() {
         return Ok((json, None));
     }
     if opts.cached_only {
@@ -498,8 +498,7 @@ fn fmax_netlist(axes: usize, v: &str, opts: &SweepOptions, lock: &Mutex<()>) -> 
     }
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let _ = std::fs::remove_file(&json);
-    std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
-    std::fs::write(dir.join("fmax_top.v"), io_wrapper(axes)).map_err(|e| e.to_string())?;
+    write_fmax_inputs(&dir, v, axes)?;
     let mut y = Command::new("yosys");
     y.args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; synth_ecp5 -top fmax_top -json synth.json"]);
     run_logged(y, &dir, &dir.join("yosys.log"), opts.timeout)?;
@@ -519,7 +518,7 @@ fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path, synth
     let result = (|| -> Result<(f64, Option<f64>), String> {
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, ..Default::default() })?;
-        let cached = same_input(&dir, "tdm_stepper.v", &v) && same_input(&dir, "fmax_top.v", &io_wrapper(axes)) && dir.join("report.json").is_file();
+        let cached = fmax_inputs_match(&dir, &v, axes) && dir.join("report.json").is_file();
         let ver = Command::new(nextpnr).arg("--version").output().map_err(|e| format!("{}: {e}", nextpnr.display()))?;
         tool = format!("{}{}", String::from_utf8_lossy(&ver.stdout).trim(), String::from_utf8_lossy(&ver.stderr).trim());
         if !cached && opts.cached_only {
@@ -527,24 +526,23 @@ fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path, synth
         }
         reused = cached;
         if !cached {
-        let _ = std::fs::remove_file(dir.join("report.json"));
-        let (json, secs) = fmax_netlist(axes, &v, opts, synth_lock)?;
-        synth_seconds = secs;
-        // The inputs this run stands for (the cache test above reads them).
-        std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| e.to_string())?;
-        std::fs::write(dir.join("fmax_top.v"), io_wrapper(axes)).map_err(|e| e.to_string())?;
-        // YoWASP's nextpnr sees only its working folder: the shared netlist is linked
-        // (or copied) into the seed's folder.
-        let local = dir.join("synth.json");
-        let _ = std::fs::remove_file(&local);
-        if std::fs::hard_link(&json, &local).is_err() {
-            std::fs::copy(&json, &local).map_err(|e| format!("{}: {e}", local.display()))?;
-        }
-        let mut p = Command::new(nextpnr);
-        p.args(["--85k", "--package", "CABGA381", "--json", "synth.json"]);
-        p.args(["--timing-allow-fail", "--report", "report.json"]);
-        p.args(["--freq", "100", "--seed", &seed.to_string()]);
-        run_logged(p, &dir, &log, opts.timeout)?;
+            let _ = std::fs::remove_file(dir.join("report.json"));
+            let (json, secs) = fmax_netlist(axes, &v, opts, synth_lock)?;
+            synth_seconds = secs;
+            // The inputs this run stands for (the cache test above reads them).
+            write_fmax_inputs(&dir, &v, axes)?;
+            // YoWASP's nextpnr sees only its working folder: the shared netlist is linked
+            // (or copied) into the seed's folder.
+            let local = dir.join("synth.json");
+            let _ = std::fs::remove_file(&local);
+            if std::fs::hard_link(&json, &local).is_err() {
+                std::fs::copy(&json, &local).map_err(|e| format!("{}: {e}", local.display()))?;
+            }
+            let mut p = Command::new(nextpnr);
+            p.args(["--85k", "--package", "CABGA381", "--json", "synth.json"]);
+            p.args(["--timing-allow-fail", "--report", "report.json"]);
+            p.args(["--freq", "100", "--seed", &seed.to_string()]);
+            run_logged(p, &dir, &log, opts.timeout)?;
         }
         let rep: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).map_err(|e| e.to_string())?)
             .map_err(|e| format!("report.json: {e}"))?;
@@ -812,6 +810,18 @@ fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
 pub fn fmax_of(fmax: &serde_json::Map<String, serde_json::Value>, name: &str) -> Option<f64> {
     let tag = format!("${name}$");
     fmax.iter().find(|(k, _)| k.as_str() == name || k.contains(&tag)).and_then(|(_, v)| v["achieved"].as_f64())
+}
+
+/// True when `dir` holds the Verilog `v` and the I/O wrapper of an Fmax point of `axes`
+/// axes (the inputs of a previous synthesis or place and route).
+fn fmax_inputs_match(dir: &Path, v: &str, axes: usize) -> bool {
+    same_input(dir, "tdm_stepper.v", v) && same_input(dir, "fmax_top.v", &io_wrapper(axes))
+}
+
+/// Writes the inputs `fmax_inputs_match` compares into `dir`.
+fn write_fmax_inputs(dir: &Path, v: &str, axes: usize) -> Result<(), String> {
+    std::fs::write(dir.join("tdm_stepper.v"), v).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::write(dir.join("fmax_top.v"), io_wrapper(axes)).map_err(|e| format!("{}: {e}", dir.display()))
 }
 
 /// True when `dir` holds `file` with exactly `text` (a previous run's input).

@@ -61,20 +61,28 @@ fn verilator_exported<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> 
 
 /// [`verilator_exported`] with other export options.
 fn verilator_exported_with(name: &str, b: &BusModel, cycles: u64, opts: tdm_stepper::export::ExportOptions) -> SystemTrace {
-    let verilog = tdm_stepper::export::verilog(&opts).unwrap();
-    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(opts.axes));
-    let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
-    run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
+    verilator_exported_probed(name, b, cycles, opts, None)
 }
 
 /// [`verilator_exported`] that also records each axis's period FIFO level (probes in
 /// `trace.probes`, one value per axis).
 fn verilator_exported_levels<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
-    let verilog = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: K, ..Default::default() }).unwrap();
-    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(K));
     let probes = (0..K).map(|a| (format!("fifo_level_{a}"), 8, format!("dut.core.axes${a}$level"))).collect();
     let vcd = tdm_stepper::verify::system::VcdOptions { path: Default::default(), window_cycles: (0, cycles), probes };
-    let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), vcd: Some(vcd), ..Default::default() };
+    verilator_exported_probed(name, b, cycles, tdm_stepper::export::ExportOptions { axes: K, ..Default::default() }, Some(vcd))
+}
+
+/// The exported core in Verilator, with `vcd`'s probes when given.
+fn verilator_exported_probed(
+    name: &str,
+    b: &BusModel,
+    cycles: u64,
+    opts: tdm_stepper::export::ExportOptions,
+    vcd: Option<tdm_stepper::verify::system::VcdOptions>,
+) -> SystemTrace {
+    let verilog = tdm_stepper::export::verilog(&opts).unwrap();
+    let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(opts.axes));
+    let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), vcd, ..Default::default() };
     run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
 }
 

@@ -228,10 +228,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// (from the product in S_VT, an equality, no subtraction).
     s_nz: DFF<Bit>,
     s_dz: DFF<Bit>,
-    /// Axis m's current slot, registered: the context RAM's write address takes it from
-    /// here, not through the K:1 slot multiplexer. Writes happen in S_COMMIT_STEP and
-    /// S_COMMIT_SETUP, whose previous state ran on the same axis and slot (the slot
-    /// flips only in S_PROMOTE, which returns to PICK or S_PUSH_DWELL).
+    /// Axis m's current slot, loaded in PICK from the registered flags (`pk_slot`): the
+    /// context RAM's write address takes it from here, not through the K:1 slot
+    /// multiplexer. Writes happen in S_COMMIT_STEP and S_COMMIT_SETUP, on the axis and
+    /// slot PICK chose (the slot flips only in S_PROMOTE, which moves on to axis m + 1
+    /// through PICK or S_PUSH_DWELL and never reaches a commit).
     w_slot: DFF<Bit>,
     /// A step's E computed in P_WAIT or U_STEP: its entry is formed from registers and
     /// pushed into axis m's FIFO one cycle later (in S_COMMIT_STEP, m unchanged), so
