@@ -282,27 +282,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_nd: DFF<Bit>,
     promote_now: Signal<Local, Bit>,
     nwe_now: Signal<Local, Bit>,
-    /// Axis m + 1, registered: it moves with m (every state that moves m to m + 1
-    /// loads it with m + 2), so no carry chain sits between m and the next axis.
-    m1: DFF<Bits<8>>,
     next_m: Signal<Local, Bits<8>>,
-    /// Axis m + 2 (m1 + 1, wrapping), from registers.
-    m1_inc: Signal<Local, Bits<8>>,
-    /// Axis m + 2's slot as it will be after this clock edge, registered: in PICK, m has
-    /// just moved, so this holds axis m + 1's slot (exact: only a promote flips a slot,
-    /// and the one promote that can land in between is on axis m + 2 = m itself at K = 2,
-    /// which the XOR accounts for). Outside PICK, m has held for a cycle and `pf_slot`
-    /// holds axis m + 1's slot. So `ra`'s next value comes from flip-flops (K ≥ 2).
-    pf2_slot: DFF<Bit>,
-    slot_nm2: Signal<Local, Bit>,
-    // Read addresses for `ra`: axis m's next slot, axis m + 1's current slot as it
-    // will be after this clock edge, and axis m + 1's slot 0 after an abort (S_DRAIN:
-    // the contexts were reset, so every slot is 0).
+    // Read addresses for `ra`: axis m's next slot, and axis m + 1's current slot as it
+    // will be after this clock edge.
     addr_promote: Signal<Local, Bits<CTX_ADDR_BITS>>,
     addr_next: Signal<Local, Bits<CTX_ADDR_BITS>>,
-    addr_drain: Signal<Local, Bits<CTX_ADDR_BITS>>,
     slot_nm: Signal<Local, Bit>,
-    slot_next: Signal<Local, Bit>,
     other_slot: Signal<Local, Bit>,
     // Decoded queue head.
     h_v0: Signal<Local, Bits<32>>,
@@ -332,8 +317,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cmd_ok_axis: Signal<Local, Bit>,
 
     c_last_axis: Constant<Bits<8>>,
-    /// Axis m + 1 after reset (m = 0): axis 1, or axis 0 when K = 1.
-    c_axis_after_0: Constant<Bits<8>>,
     /// K = 1: axis m + 1 is axis m, so a promote flips the slot the next PICK reads, and
     /// PICK reads the flags directly (the previous state may just have changed them).
     c_single: Constant<Bit>,
@@ -488,13 +471,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             w_nd: Default::default(),
             promote_now: Default::default(),
             nwe_now: Default::default(),
-            m1: Default::default(),
             next_m: Default::default(),
-            m1_inc: Default::default(),
-            pf2_slot: Default::default(),
-            slot_nm2: Default::default(),
-            addr_drain: Default::default(),
-            slot_next: Default::default(),
             addr_promote: Default::default(),
             addr_next: Default::default(),
             slot_nm: Default::default(),
@@ -523,7 +500,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             commit: Default::default(),
             cmd_ok_axis: Default::default(),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
-            c_axis_after_0: Constant::new((if K == 1 { 0u64 } else { 1 }).into()),
             c_single: Constant::new(K == 1),
             c_step_bit: Constant::new((1u64 << 32).into()),
             c_last_bit: Constant::new((1u64 << 34).into()),
@@ -570,7 +546,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, pf2_slot, m1, w_nd, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -607,11 +583,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.seg_ram.raddr.next = self.q_base[i].val() | self.q_rd[i].q.val();
             }
         }
-        self.next_m.next = self.m1.q.val();
-        if self.m1.q.val() == self.c_last_axis.val() {
-            self.m1_inc.next = 0.into();
+        if self.m.q.val() == self.c_last_axis.val() {
+            self.next_m.next = 0.into();
         } else {
-            self.m1_inc.next = self.m1.q.val() + 1;
+            self.next_m.next = self.m.q.val() + 1;
         }
         self.nx_kind.next = 0.into();
         self.nx_queued.next = false;
@@ -619,11 +594,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.nx_next_valid.next = false;
         self.nx_next_dwell.next = false;
         self.slot_nm.next = false;
-        self.slot_nm2.next = false;
         for i in 0..K {
-            if self.m1_inc.val().index() == i {
-                self.slot_nm2.next = self.ctx[i].slot.val();
-            }
             if self.next_m.val().index() == i {
                 self.nx_kind.next = self.ctx[i].kind.val();
                 self.nx_queued.next = self.q_count[i].q.val() != 0;
@@ -670,16 +641,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.other_slot.next = !self.pk_slot.val();
         self.addr_promote.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
             | bit_cast::<CTX_ADDR_BITS, 1>(self.other_slot.val().into());
-        if self.c_single.val() {
-            self.slot_next.next = self.slot_nm.val() ^ (self.st.q.val() == self.k_promote.val());
-        } else if self.st.q.val() == self.k_pick.val() {
-            self.slot_next.next = self.pf2_slot.q.val();
-        } else {
-            self.slot_next.next = self.pf_slot.q.val();
-        }
         self.addr_next.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.next_m.val()) << 1)
-            | bit_cast::<CTX_ADDR_BITS, 1>(self.slot_next.val().into());
-        self.addr_drain.next = bit_cast::<CTX_ADDR_BITS, 8>(self.next_m.val()) << 1;
+            | bit_cast::<CTX_ADDR_BITS, 1>(
+                (self.slot_nm.val() ^ (self.c_single.val() & (self.st.q.val() == self.k_promote.val()))).into(),
+            );
         self.ctx_ram.clock.next = self.clock.val();
         self.ctx_ram.raddr.next = self.ra.q.val();
         // `ra` holds unless set below (only PICK and S_PROMOTE read the context memory).
@@ -774,7 +739,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_check.val();
             } else {
                 self.m.d.next = self.next_m.val();
-                self.m1.d.next = self.m1_inc.val();
                 self.ra.d.next = self.addr_next.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
@@ -910,7 +874,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.nwe_now.next = true;
             self.pop_now.next = true;
             self.m.d.next = self.next_m.val();
-            self.m1.d.next = self.m1_inc.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_promote.val() {
@@ -923,13 +886,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_push_dwell.val();
             } else {
                 self.m.d.next = self.next_m.val();
-                self.m1.d.next = self.m1_inc.val();
                 self.ra.d.next = self.addr_next.val();
                 self.st.d.next = self.k_pick.val();
             }
         } else if self.st.q.val() == self.k_push_dwell.val() {
             self.m.d.next = self.next_m.val();
-            self.m1.d.next = self.m1_inc.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
@@ -974,7 +935,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_commit_step.val() {
             self.commit.next = true;
             self.m.d.next = self.next_m.val();
-            self.m1.d.next = self.m1_inc.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_drain.val() {
@@ -982,13 +942,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
             if !(self.mul.busy.val() | self.div.busy.val() | self.root.busy.val()) {
                 self.m.d.next = self.next_m.val();
-                self.m1.d.next = self.m1_inc.val();
-                self.ra.d.next = self.addr_drain.val();
+                self.ra.d.next = self.addr_next.val();
                 self.st.d.next = self.k_pick.val();
             }
         } else {
             self.m.d.next = self.next_m.val();
-            self.m1.d.next = self.m1_inc.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         }
@@ -1177,8 +1135,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.fail_tog.d.next = false;
         }
         self.start_failed.next = self.fail_tog.q.val();
-        // (After the state machine, which sets promote_now.)
-        self.pf2_slot.d.next = self.slot_nm2.val() ^ (self.promote_now.val() & (self.m.q.val() == self.m1_inc.val()));
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
             self.pe_valid.d.next = false;
@@ -1187,7 +1143,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
-            self.m1.d.next = self.c_axis_after_0.val();
             self.ra.d.next = 0.into();
             // Axis 0 after reset: idle, nothing queued (PICK moves on).
             self.pf_kind.d.next = 0.into();
@@ -1197,7 +1152,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pf_next_dwell.d.next = false;
             self.pf_slot.d.next = false;
             self.pf_sat.d.next = false;
-            self.pf2_slot.d.next = false;
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
             self.pd_valid.d.next = false;
