@@ -11,7 +11,7 @@
 //! and the numerator's low bits as remainder (the scheduler never does it: D = 0
 //! takes the uniform path).
 //!
-//! Ports and timing as [`crate::hdl::sqrt::Sqrt`]: pulse `start` while idle;
+//! Ports and timing as [`crate::hdl::root::OffsetRoot`]: pulse `start` while idle;
 //! `quotient`, `remainder` and `valid` follow [`div_latency`]`(R)` cycles later.
 
 use super::iterate::Iterate;

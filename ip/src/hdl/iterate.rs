@@ -4,8 +4,10 @@
 //! `load` is high in the cycle whose edge accepts a start (the unit loads its
 //! operands), `step` in each cycle whose edge performs an iteration. `busy` is high
 //! while iterating; `valid` from the edge after the last iteration until the next
-//! accepted start. A `start` while busy is ignored. Used by [`super::sqrt`] and
-//! [`super::divider`]; latency from the start edge to `valid` is `1 + cycles`.
+//! accepted start. A `start` while busy is ignored. Used by [`super::root`],
+//! [`super::mul_seq`] and [`super::divider`]; latency from the start edge to `valid`
+//! is `1 + cycles`. While idle the count is held at `cycles`, so `start` drives only
+//! the `running` and `done` flags.
 
 use rust_hdl::prelude::*;
 
@@ -56,10 +58,14 @@ impl Logic for Iterate {
                 self.running.d.next = false;
                 self.done.d.next = true;
             }
-        } else if self.start.val() {
+        } else {
+            // Idle, the count waits loaded, so `start` reaches only the two flags (not
+            // the count's load: the caller's state decode drives a short net).
             self.count.d.next = self.cycles.val();
-            self.running.d.next = true;
-            self.done.d.next = false;
+            if self.start.val() {
+                self.running.d.next = true;
+                self.done.d.next = false;
+            }
         }
     }
 }
