@@ -661,7 +661,7 @@ pub fn block_of(module: &str) -> &'static str {
     let path = module.trim_start_matches('\\').replace("__", "$");
     let rest = match path.split_once('$') {
         Some((_, r)) => r,
-        None => return "top level (IO, glue, the command stage's registers)",
+        None => return "top level (IO, glue)",
     };
     const BLOCKS: [(&str, &str); 17] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),

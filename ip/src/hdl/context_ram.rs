@@ -18,14 +18,11 @@
 //! | t | 32 | T, ticks |
 //! | e | 32 | edge tick of the last computed step (E_i), from the segment start |
 //! | p | 64 | P' |
-//! | b, a | 100 each | B' and the accumulator C = A − P'² (square-root paths) |
+//! | b, a | 100 each | B' and the accumulator C = A − P'² |
+//! | uq, ur, uqs, urs | 32 each | uniform path: quotient, remainder and their steps |
 //!
-//! The uniform path's quotient, remainder and their per-step increments (32 bits
-//! each) share the fields of B' and C, which it does not use: uq in a 31..0, ur in
-//! a 63..32, uqs in b 31..0, urs in b 63..32.
-//!
-//! Four RAMs of at most 128 bits share the addresses (rust-hdl simulates values up
-//! to 128 bits fast): 393 bits per word.
+//! Five RAMs of at most 128 bits share the addresses (rust-hdl simulates values up
+//! to 128 bits fast): 521 bits per word.
 
 use super::bits_to_u128;
 use super::lut_ram::LutRam;
@@ -47,14 +44,10 @@ pub struct ContextWord {
     pub p: u64,
     pub b: u128,
     pub a: u128,
-}
-
-impl ContextWord {
-    /// The uniform path's quotient and remainder and their increments (uq, ur, uqs,
-    /// urs), which share the low bits of `a` and `b`.
-    pub fn uniform(&self) -> (u32, u32, u32, u32) {
-        (self.a as u32, (self.a >> 32) as u32, self.b as u32, (self.b >> 32) as u32)
-    }
+    pub uq: u32,
+    pub ur: u32,
+    pub uqs: u32,
+    pub urs: u32,
 }
 
 #[derive(LogicBlock, Default)]
@@ -71,6 +64,10 @@ pub struct ContextRam {
     pub w_p: Signal<In, Bits<64>>,
     pub w_b: Signal<In, Bits<100>>,
     pub w_a: Signal<In, Bits<100>>,
+    pub w_uq: Signal<In, Bits<32>>,
+    pub w_ur: Signal<In, Bits<32>>,
+    pub w_uqs: Signal<In, Bits<32>>,
+    pub w_urs: Signal<In, Bits<32>>,
     pub r_rev: Signal<Out, Bit>,
     pub r_n: Signal<Out, Bits<32>>,
     pub r_i: Signal<Out, Bits<32>>,
@@ -79,12 +76,18 @@ pub struct ContextRam {
     pub r_p: Signal<Out, Bits<64>>,
     pub r_b: Signal<Out, Bits<100>>,
     pub r_a: Signal<Out, Bits<100>>,
+    pub r_uq: Signal<Out, Bits<32>>,
+    pub r_ur: Signal<Out, Bits<32>>,
+    pub r_uqs: Signal<Out, Bits<32>>,
+    pub r_urs: Signal<Out, Bits<32>>,
     ram_b: LutRam<100, CTX_ADDR_BITS>,
     ram_a: LutRam<100, CTX_ADDR_BITS>,
     /// p (63..0), n (95..64), t (127..96).
     ram_pnt: LutRam<128, CTX_ADDR_BITS>,
-    /// i (31..0), e (63..32), rev (64).
-    ram_ie: LutRam<65, CTX_ADDR_BITS>,
+    /// i (31..0), e (63..32), uq (95..64), ur (127..96).
+    ram_ie: LutRam<128, CTX_ADDR_BITS>,
+    /// uqs (31..0), urs (63..32), rev (64).
+    ram_u: LutRam<65, CTX_ADDR_BITS>,
 }
 
 impl ContextRam {
@@ -94,8 +97,9 @@ impl ContextRam {
         let lo = |x: u128, at: u32, bits: u32| ((x >> at) & ((1u128 << bits) - 1)) as u64;
         let pnt = bits_to_u128(self.ram_pnt.word(addr));
         let ie = bits_to_u128(self.ram_ie.word(addr));
+        let u = bits_to_u128(self.ram_u.word(addr));
         ContextWord {
-            rev: lo(ie, 64, 1) == 1,
+            rev: lo(u, 64, 1) == 1,
             n: lo(pnt, 64, 32) as u32,
             i: lo(ie, 0, 32) as u32,
             t: lo(pnt, 96, 32) as u32,
@@ -103,6 +107,10 @@ impl ContextRam {
             p: lo(pnt, 0, 64),
             b: bits_to_u128(self.ram_b.word(addr)),
             a: bits_to_u128(self.ram_a.word(addr)),
+            uq: lo(ie, 64, 32) as u32,
+            ur: lo(ie, 96, 32) as u32,
+            uqs: lo(u, 0, 32) as u32,
+            urs: lo(u, 32, 32) as u32,
         }
     }
 }
@@ -114,25 +122,33 @@ impl Logic for ContextRam {
         self.ram_a.clock.next = self.clock.val();
         self.ram_pnt.clock.next = self.clock.val();
         self.ram_ie.clock.next = self.clock.val();
+        self.ram_u.clock.next = self.clock.val();
         self.ram_b.we.next = self.we.val();
         self.ram_a.we.next = self.we.val();
         self.ram_pnt.we.next = self.we.val();
         self.ram_ie.we.next = self.we.val();
+        self.ram_u.we.next = self.we.val();
         self.ram_b.waddr.next = self.waddr.val();
         self.ram_a.waddr.next = self.waddr.val();
         self.ram_pnt.waddr.next = self.waddr.val();
         self.ram_ie.waddr.next = self.waddr.val();
+        self.ram_u.waddr.next = self.waddr.val();
         self.ram_b.raddr.next = self.raddr.val();
         self.ram_a.raddr.next = self.raddr.val();
         self.ram_pnt.raddr.next = self.raddr.val();
         self.ram_ie.raddr.next = self.raddr.val();
+        self.ram_u.raddr.next = self.raddr.val();
         self.ram_b.wdata.next = self.w_b.val();
         self.ram_a.wdata.next = self.w_a.val();
         self.ram_pnt.wdata.next = bit_cast::<128, 64>(self.w_p.val())
             | (bit_cast::<128, 32>(self.w_n.val()) << 64)
             | (bit_cast::<128, 32>(self.w_t.val()) << 96);
-        self.ram_ie.wdata.next = bit_cast::<65, 32>(self.w_i.val())
-            | (bit_cast::<65, 32>(self.w_e.val()) << 32)
+        self.ram_ie.wdata.next = bit_cast::<128, 32>(self.w_i.val())
+            | (bit_cast::<128, 32>(self.w_e.val()) << 32)
+            | (bit_cast::<128, 32>(self.w_uq.val()) << 64)
+            | (bit_cast::<128, 32>(self.w_ur.val()) << 96);
+        self.ram_u.wdata.next = bit_cast::<65, 32>(self.w_uqs.val())
+            | (bit_cast::<65, 32>(self.w_urs.val()) << 32)
             | (bit_cast::<65, 1>(self.w_rev.val().into()) << 64);
         self.r_b.next = self.ram_b.rdata.val();
         self.r_a.next = self.ram_a.rdata.val();
@@ -141,6 +157,10 @@ impl Logic for ContextRam {
         self.r_t.next = self.ram_pnt.rdata.val().get_bits::<32>(96);
         self.r_i.next = self.ram_ie.rdata.val().get_bits::<32>(0);
         self.r_e.next = self.ram_ie.rdata.val().get_bits::<32>(32);
-        self.r_rev.next = self.ram_ie.rdata.val().get_bit(64);
+        self.r_uq.next = self.ram_ie.rdata.val().get_bits::<32>(64);
+        self.r_ur.next = self.ram_ie.rdata.val().get_bits::<32>(96);
+        self.r_uqs.next = self.ram_u.rdata.val().get_bits::<32>(0);
+        self.r_urs.next = self.ram_u.rdata.val().get_bits::<32>(32);
+        self.r_rev.next = self.ram_u.rdata.val().get_bit(64);
     }
 }

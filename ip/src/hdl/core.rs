@@ -208,11 +208,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_t: DFF<Bits<32>>,
     w_e: DFF<Bits<32>>,
     w_p: DFF<Bits<64>>,
-    /// B' and C on the square-root paths; on the uniform path (kind 1) their low
-    /// 64 bits hold its quotient and remainder (w_a: uq 31..0, ur 63..32) and their
-    /// per-step increments (w_b: uqs 31..0, urs 63..32), the kinds never needing both.
     w_b: DFF<Bits<100>>,
     w_a: DFF<Bits<100>>,
+    w_uq: DFF<Bits<32>>,
+    w_ur: DFF<Bits<32>>,
+    w_uqs: DFF<Bits<32>>,
+    w_urs: DFF<Bits<32>>,
     // Setup temporaries.
     s_v0: DFF<Bits<32>>,
     // D·2^32, its magnitude, v_end·T·2^32 and T²: |values| < 2^61 (docs/model.md,
@@ -221,6 +222,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_dmag: DFF<Bits<64>>,
     s_vend: DFF<Bits<64>>,
     s_t2: DFF<Bits<64>>,
+    s_anew: DFF<Bits<100>>,
     /// S_TR's two tests, registered a state earlier so that S_TR decides from flip-flops:
     /// the step count is 0 (from |steps| in S_ISSUE_TR) and D = 0, i.e. v0·T = n·2^32
     /// (from the product in S_VT, an equality, no subtraction).
@@ -425,11 +427,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             w_p: Default::default(),
             w_b: Default::default(),
             w_a: Default::default(),
+            w_uq: Default::default(),
+            w_ur: Default::default(),
+            w_uqs: Default::default(),
+            w_urs: Default::default(),
             s_v0: Default::default(),
             s_dq: Default::default(),
             s_dmag: Default::default(),
             s_vend: Default::default(),
             s_t2: Default::default(),
+            s_anew: Default::default(),
             s_nz: Default::default(),
             s_dz: Default::default(),
             w_slot: Default::default(),
@@ -538,8 +545,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a,
-            u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
+            self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -558,6 +565,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.mul.b.next = 0.into();
         self.div.numerator.next = 0.into();
         self.div.denominator.next = 0.into();
+        self.root.c.next = self.s_anew.q.val();
         self.root.p.next = self.w_p.q.val();
         self.pe_valid.d.next = false;
         self.pd_valid.d.next = false;
@@ -674,8 +682,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else {
             self.a_step.next = self.w_a.q.val() - self.w_b.q.val();
         }
-        // The root loads c at its start (P_START) and holds it.
-        self.root.c.next = self.a_step.val();
         // E = (τ' + 8) >> 4, τ' = x < 2^35.
         self.rounded.next = bit_cast::<32, 36>((self.root.x.val() + 8) >> 4);
         self.i_next.next = self.w_i.q.val() + 1;
@@ -692,8 +698,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         }
         self.two_n.next = self.w_n.q.val() << 1;
         // Registered every cycle, read in U_STEP (one carry chain per cycle).
-        self.u_q1.d.next = self.w_a.q.val().get_bits::<32>(0) + self.w_b.q.val().get_bits::<32>(0);
-        self.u_r1.d.next = self.w_a.q.val().get_bits::<32>(32) + self.w_b.q.val().get_bits::<32>(32);
+        self.u_q1.d.next = self.w_uq.q.val() + self.w_uqs.q.val();
+        self.u_r1.d.next = self.w_ur.q.val() + self.w_urs.q.val();
 
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
@@ -708,6 +714,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_p.d.next = self.ctx_ram.r_p.val();
             self.w_b.d.next = self.ctx_ram.r_b.val();
             self.w_a.d.next = self.ctx_ram.r_a.val();
+            self.w_uq.d.next = self.ctx_ram.r_uq.val();
+            self.w_ur.d.next = self.ctx_ram.r_ur.val();
+            self.w_uqs.d.next = self.ctx_ram.r_uqs.val();
+            self.w_urs.d.next = self.ctx_ram.r_urs.val();
             if (self.pk_kind.val() != 0) & !self.pk_full.val() {
                 // Axis m's next period.
                 if self.pk_kind.val() == 1 {
@@ -798,10 +808,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_commit_setup.val();
         } else if self.st.q.val() == self.k_udiv.val() {
             if self.div.valid.val() {
-                // Steps: uqs = ⌊2T/2n⌋, urs = 2T mod 2n; start: uq = 0, ur = n.
-                self.w_b.d.next = bit_cast::<100, 32>(bit_cast::<32, DIV_NUM_BITS>(self.div.quotient.val()))
-                    | (bit_cast::<100, 32>(bit_cast::<32, 64>(self.div.remainder.val())) << 32);
-                self.w_a.d.next = bit_cast::<100, 32>(self.w_n.q.val()) << 32;
+                self.w_uqs.d.next = bit_cast::<32, DIV_NUM_BITS>(self.div.quotient.val());
+                self.w_urs.d.next = bit_cast::<32, 64>(self.div.remainder.val());
+                self.w_uq.d.next = 0.into();
+                self.w_ur.d.next = self.w_n.q.val();
                 self.w_kind.d.next = 1.into();
                 self.w_i.d.next = 0.into();
                 self.w_e.d.next = 0.into();
@@ -884,15 +894,15 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
-            // C moves on now: the root has taken it, and nothing reads w_a before the
-            // commit writes it back.
-            self.w_a.d.next = self.a_step.val();
+            self.s_anew.d.next = self.a_step.val();
+            self.root.c.next = self.a_step.val();
             self.root.start.next = true;
             self.st.d.next = self.k_pwait.val();
         } else if self.st.q.val() == self.k_pwait.val() {
             if self.root.valid.val() {
                 self.pe_valid.d.next = true;
                 self.s_eprev.d.next = self.w_e.q.val();
+                self.w_a.d.next = self.s_anew.q.val();
                 self.w_e.d.next = self.e_next.val();
                 self.w_i.d.next = self.i_next.val();
                 if self.last.q.val() {
@@ -905,12 +915,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_ustep.val() {
             // E_i = ⌊(2iT + n)/(2n)⌋ as a quotient and a remainder.
             if self.u_r1.q.val() >= self.two_n.val() {
-                self.w_a.d.next = bit_cast::<100, 32>(self.u_q1.q.val() + 1)
-                    | (bit_cast::<100, 32>(self.u_r1.q.val() - self.two_n.val()) << 32);
+                self.w_uq.d.next = self.u_q1.q.val() + 1;
+                self.w_ur.d.next = self.u_r1.q.val() - self.two_n.val();
                 self.e_next.next = self.u_q1.q.val() + 1;
             } else {
-                self.w_a.d.next =
-                    bit_cast::<100, 32>(self.u_q1.q.val()) | (bit_cast::<100, 32>(self.u_r1.q.val()) << 32);
+                self.w_uq.d.next = self.u_q1.q.val();
+                self.w_ur.d.next = self.u_r1.q.val();
                 self.e_next.next = self.u_q1.q.val();
             }
             if self.last.q.val() {
@@ -962,6 +972,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.ctx_ram.w_p.next = self.w_p.q.val();
         self.ctx_ram.w_b.next = self.w_b.q.val();
         self.ctx_ram.w_a.next = self.w_a.q.val();
+        self.ctx_ram.w_uq.next = self.w_uq.q.val();
+        self.ctx_ram.w_ur.next = self.w_ur.q.val();
+        self.ctx_ram.w_uqs.next = self.w_uqs.q.val();
+        self.ctx_ram.w_urs.next = self.w_urs.q.val();
 
         // ---- per-axis wiring ------------------------------------------------
         // The last element of each chain holds the whole bus (last assignment wins).

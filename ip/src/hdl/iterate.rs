@@ -6,8 +6,7 @@
 //! while iterating; `valid` from the edge after the last iteration until the next
 //! accepted start. A `start` while busy is ignored. Used by [`super::root`],
 //! [`super::mul_seq`] and [`super::divider`]; latency from the start edge to `valid`
-//! is `1 + cycles`. While idle the count is held at `cycles`, so `start` drives only
-//! the `running` and `done` flags.
+//! is `1 + cycles`.
 
 use rust_hdl::prelude::*;
 
@@ -58,14 +57,10 @@ impl Logic for Iterate {
                 self.running.d.next = false;
                 self.done.d.next = true;
             }
-        } else {
-            // Idle, the count waits loaded, so `start` reaches only the two flags (not
-            // the count's load: the caller's state decode drives a short net).
+        } else if self.start.val() {
             self.count.d.next = self.cycles.val();
-            if self.start.val() {
-                self.running.d.next = true;
-                self.done.d.next = false;
-            }
+            self.running.d.next = true;
+            self.done.d.next = false;
         }
     }
 }
