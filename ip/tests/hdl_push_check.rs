@@ -48,6 +48,7 @@ fn segments(limits: &Limits, rng: &mut Rng) -> Vec<Segment> {
         Segment::new(0, MAX_T_TICKS, MAX_STEPS as i32),
         Segment::new(0, MAX_T_TICKS, -(MAX_STEPS as i32)),
         Segment::new(0, MAX_T_TICKS, MAX_STEPS as i32 + 1),
+        Segment::new(0, MAX_T_TICKS, -(MAX_STEPS as i32) - 1),
         Segment::new(0, 1000, i32::MIN),
         Segment::new(MAX_V0_RATE, 1000, 10),
         Segment::new(MAX_V0_RATE + 1, 1000, 10),
