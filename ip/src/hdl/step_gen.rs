@@ -31,11 +31,15 @@
 //!
 //! Latency: a `go` or a loaded entry acts at the clock edge it is seen; STEP and DIR are
 //! registers (no combinational path from any input to them).
+//!
+//! Structure (area, since there is one per axis): the three loads of the head entry
+//! (an entry's end, an underrun's end, the release) are one `load`, and the position
+//! moves by one adder (+1 or −1 selected ahead of the carry chain), not two.
 
 use super::ram_fifo::ENTRY_BITS;
 use rust_hdl::prelude::*;
 
-#[derive(LogicBlock, Default)]
+#[derive(LogicBlock)]
 pub struct StepGen {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
@@ -71,7 +75,56 @@ pub struct StepGen {
     head_ticks: Signal<Local, Bits<32>>,
     head_high: Signal<Local, Bits<16>>,
     ends: Signal<Local, Bit>,
+    load: Signal<Local, Bit>,
+    stepping: Signal<Local, Bit>,
+    pos_delta: Signal<Local, Bits<32>>,
     pulse_alive: Signal<Local, Bit>,
+    /// −1 in 32 bits: the position's step backwards.
+    c_minus_one: Constant<Bits<32>>,
+}
+
+impl Default for StepGen {
+    fn default() -> Self {
+        StepGen {
+            clock: Default::default(),
+            reset: Default::default(),
+            go: Default::default(),
+            abort: Default::default(),
+            more: Default::default(),
+            head: Default::default(),
+            head_valid: Default::default(),
+            pop: Default::default(),
+            step: Default::default(),
+            dir: Default::default(),
+            position: Default::default(),
+            underrun: Default::default(),
+            active: Default::default(),
+            done_count: Default::default(),
+            under_count: Default::default(),
+            running: Default::default(),
+            waiting: Default::default(),
+            count: Default::default(),
+            cur_high: Default::default(),
+            cur_step: Default::default(),
+            cur_rev: Default::default(),
+            high: Default::default(),
+            step_q: Default::default(),
+            dir_q: Default::default(),
+            pos: Default::default(),
+            under: Default::default(),
+            cur_last: Default::default(),
+            done_cnt: Default::default(),
+            under_cnt: Default::default(),
+            head_ticks: Default::default(),
+            head_high: Default::default(),
+            ends: Default::default(),
+            load: Default::default(),
+            stepping: Default::default(),
+            pos_delta: Default::default(),
+            pulse_alive: Default::default(),
+            c_minus_one: Constant::new((u32::MAX as u64).into()),
+        }
+    }
 }
 
 impl Logic for StepGen {
@@ -84,6 +137,20 @@ impl Logic for StepGen {
         self.head_ticks.next = self.head.val().get_bits::<32>(0);
         self.head_high.next = self.head.val().get_bits::<16>(35);
         self.ends.next = self.running.q.val() & !self.waiting.q.val() & (self.count.q.val() == 1);
+        // The head entry becomes the current one: at the end of an entry, at the end of
+        // an underrun's wait, or at the release. One load for every case, so each
+        // register has one data path from the head.
+        self.load.next = self.head_valid.val()
+            & (self.ends.val()
+                | (self.running.q.val() & self.waiting.q.val())
+                | (!self.running.q.val() & self.go.val()));
+        // A step at the end of this entry: the position moves by ±1, as one adder.
+        self.stepping.next = self.ends.val() & self.cur_step.q.val();
+        if self.cur_rev.q.val() {
+            self.pos_delta.next = self.c_minus_one.val();
+        } else {
+            self.pos_delta.next = 1.into();
+        }
         self.step.next = self.step_q.q.val();
         self.dir.next = self.dir_q.q.val();
         self.position.next = self.pos.q.val();
@@ -91,7 +158,7 @@ impl Logic for StepGen {
         self.active.next = self.running.q.val();
         self.done_count.next = self.done_cnt.q.val();
         self.under_count.next = self.under_cnt.q.val();
-        self.pop.next = false;
+        self.pop.next = self.load.val();
 
         // DIR follows the current step's direction while STEP is low.
         if !self.step_q.q.val() {
@@ -105,73 +172,52 @@ impl Logic for StepGen {
                 self.dir_q.d.next = self.cur_rev.q.val();
             }
         }
-        if self.running.q.val() & !self.waiting.q.val() {
+        // The entry's ticks: loaded from the head, else counted down while running.
+        if self.load.val() {
+            self.count.d.next = self.head_ticks.val();
+        } else if self.running.q.val() & !self.waiting.q.val() {
             self.count.d.next = self.count.q.val() - 1;
         }
-        if self.ends.val() {
-            if self.cur_last.q.val() {
-                self.done_cnt.d.next = self.done_cnt.q.val() + 1;
-            }
-            if self.cur_step.q.val() {
-                self.step_q.d.next = true;
-                if self.cur_rev.q.val() {
-                    self.pos.d.next = self.pos.q.val() - 1;
-                } else {
-                    self.pos.d.next = self.pos.q.val() + 1;
-                }
-            }
-            if self.head_valid.val() {
-                self.pop.next = true;
-                self.count.d.next = self.head_ticks.val();
-                self.cur_high.d.next = self.head_high.val();
-                self.cur_step.d.next = self.head.val().get_bit(32);
-                if self.head.val().get_bit(32) {
-                    self.cur_rev.d.next = self.head.val().get_bit(33);
-                }
+        if self.load.val() {
+            self.cur_high.d.next = self.head_high.val();
+            self.cur_step.d.next = self.head.val().get_bit(32);
             self.cur_last.d.next = self.head.val().get_bit(34);
-                if self.cur_step.q.val() {
-                    self.high.d.next = self.head_high.val();
-                }
-            } else if self.more.val() {
+            if self.head.val().get_bit(32) {
+                self.cur_rev.d.next = self.head.val().get_bit(33);
+            }
+        }
+        if self.stepping.val() {
+            self.step_q.d.next = true;
+            self.pos.d.next = self.pos.q.val() + self.pos_delta.val();
+        }
+        // A pulse that rises at this entry's end takes the high time of the entry that
+        // follows, or, at an underrun or the end of the move, the current entry's.
+        if self.stepping.val() {
+            if self.head_valid.val() {
+                self.high.d.next = self.head_high.val();
+            } else {
+                self.high.d.next = self.cur_high.q.val();
+            }
+        }
+        // Underrun over: a stretched pulse restarts its high time from the late entry.
+        if self.running.q.val() & self.waiting.q.val() & self.head_valid.val() & self.step_q.q.val() {
+            self.high.d.next = self.head_high.val();
+        }
+        if self.ends.val() & self.cur_last.q.val() {
+            self.done_cnt.d.next = self.done_cnt.q.val() + 1;
+        }
+        if self.ends.val() & !self.head_valid.val() {
+            if self.more.val() {
                 self.waiting.d.next = true;
                 self.under.d.next = true;
                 self.under_cnt.d.next = self.under_cnt.q.val() + 1;
-                if self.cur_step.q.val() {
-                    self.high.d.next = self.cur_high.q.val();
-                }
             } else {
                 self.running.d.next = false;
-                if self.cur_step.q.val() {
-                    self.high.d.next = self.cur_high.q.val();
-                }
             }
         }
-        // Underrun over: load the late entry; a stretched pulse restarts its half period.
-        if self.running.q.val() & self.waiting.q.val() & self.head_valid.val() {
-            self.pop.next = true;
-            self.waiting.d.next = false;
-            self.count.d.next = self.head_ticks.val();
-            self.cur_high.d.next = self.head_high.val();
-            self.cur_step.d.next = self.head.val().get_bit(32);
-            if self.head.val().get_bit(32) {
-                    self.cur_rev.d.next = self.head.val().get_bit(33);
-                }
-            self.cur_last.d.next = self.head.val().get_bit(34);
-            if self.step_q.q.val() {
-                self.high.d.next = self.head_high.val();
-            }
-        }
-        if !self.running.q.val() & self.go.val() & self.head_valid.val() {
-            self.pop.next = true;
+        if self.load.val() {
             self.running.d.next = true;
             self.waiting.d.next = false;
-            self.count.d.next = self.head_ticks.val();
-            self.cur_high.d.next = self.head_high.val();
-            self.cur_step.d.next = self.head.val().get_bit(32);
-            if self.head.val().get_bit(32) {
-                    self.cur_rev.d.next = self.head.val().get_bit(33);
-                }
-            self.cur_last.d.next = self.head.val().get_bit(34);
         }
         if self.abort.val() {
             self.running.d.next = false;
