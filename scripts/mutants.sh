@@ -60,6 +60,7 @@ mutants=(
   "22#ip/src/hdl/regfile.rs#s/self.ql_valid.d.next = self.st_valid.val\(\) & self.accepting.val\(\) & \(self.s_taken.val\(\) != self.o_taken.val\(\)\);/self.ql_valid.d.next = self.st_valid.val() & self.accepting.val();/#system#interrupts_random_traffic#QLOW raised by every status word of a low queue, not only when a segment was taken"
   "23#ip/src/hdl/top.rs#s/self.core.cmd_v0.next = self.c_word.q.val\(\).get_bits::<32>\(0\);/self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);/#system#paper_experiment#a push's v0 taken from the FIFO a cycle after it left (the command stage skipped for one field)"
   "24#ip/src/hdl/core.rs#s/self.pk_kind.next = self.nx_kind.val\(\);/self.pk_kind.next = self.pf_kind.q.val();/#hdl_core_setup#setup_state_equals#K = 1 decides on the registered kind, a cycle old after its own commit"
+  "25#ip/src/hdl/step_gen.rs#s/self.pos_delta.next = self.c_minus_one.val\(\);/self.pos_delta.next = 1.into();/#hdl_step_gen#short_segments_both_axes#the position counts a step backwards as one forwards"
 )
 
 only=("$@")
