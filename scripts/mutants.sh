@@ -36,7 +36,7 @@ export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
 #
 # id # file # perl -0pe substitution # test binary # test name filter # what it breaks
 mutants=(
-  "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_dmag.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
+  "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_d.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
   "2#ip/src/hdl/core.rs#s/self.p_wide.d.next = \(self.div.quotient.val\(\).get_bits::<40>\(64\) != 0\) \| /self.p_wide.d.next = /#hdl_core_setup#setup_state_equals#fallback test ignores the quotient's high half (P' ≥ 2^64 takes the root)"
   "3#ip/src/hdl/pulse_stage.rs#s/self.half1.d.next = self.d17.val\(\).get_bits::<16>\(1\);/self.half1.d.next = self.d17.val().get_bits::<16>(2);/#hdl_pulse_stage#high_time_equals_the_model#STEP pulse a quarter period"
   "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 1\)/(self.count.q.val() == 2)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
@@ -46,8 +46,8 @@ mutants=(
   "8#ip/src/hdl/root.rs#s/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>\(self.t_w.val\(\) \+ \(self.m_w.val\(\) >> 2\)\);/self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() >> 3));/#hdl_root#root_two_digits#root pair: wrong trial step after digits 01"
   "9#ip/src/hdl/root.rs#s/self.d3.next = self.rem4.val\(\) - self.t3_w.val\(\);/self.d3.next = self.rem4.val() - bit_cast::<PAIR_BITS, TRIAL_BITS>(self.tlo_in.val());/#hdl_root#root_two_digits#root pair: wrong threshold for digits 11"
   "10#ip/src/hdl/push_check.rs#s/self.rcode.d.next = 5.into\(\);/self.rcode.d.next = 4.into();/#hdl_push_check#verdicts_equal_the_model#range check reports the wrong code (steps range as T range)"
-  "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_a.d.next/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_a.d.next/#hdl_core#two_axes_match#square-root period entry one tick short"
-  "12#ip/src/hdl/core.rs#s/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>\(self.ctx_ram.r_t.val\(\)\) \| self.c_last_bit.val\(\);/self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val());/#hdl_core#two_axes_match#dwell entry without its last flag"
+  "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_e.d.next = self.e_next.val\(\);\n(\s*)self.w_i.d.next = self.i_next.val\(\);\n(\s*)if self.last/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_e.d.next = self.e_next.val();\n\2self.w_i.d.next = self.i_next.val();\n\3if self.last/#hdl_core#two_axes_match#square-root period entry one tick short"
+  "12#ip/src/hdl/core.rs#s/self.pe_last.d.next = true;/self.pe_last.d.next = false;/#hdl_core#two_axes_match#dwell entry without its last flag"
   "13#ip/src/hdl/core.rs#s/& \(\(self.pk_kind.val\(\) == 0\) \| self.pk_sat.val\(\)\)/\& (self.pk_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
   "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
   "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#uniform_step_carries#uniform step: remainder equal to 2n not carried"

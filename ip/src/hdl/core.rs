@@ -216,13 +216,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_urs: DFF<Bits<32>>,
     // Setup temporaries.
     s_v0: DFF<Bits<32>>,
-    // D·2^32, its magnitude, v_end·T·2^32 and T²: |values| < 2^61 (docs/model.md,
-    // "Widths"), so 64 bits two's complement.
-    s_dq: DFF<Bits<64>>,
-    s_dmag: DFF<Bits<64>>,
-    s_vend: DFF<Bits<64>>,
-    s_t2: DFF<Bits<64>>,
-    s_anew: DFF<Bits<100>>,
+    // |values| < 2^61 (docs/model.md, "Widths"), so 64 bits two's complement.
+    /// D·2^32 from S_VT, its magnitude from S_TR on; `s_neg` is D < 0 (decelerating).
+    s_d: DFF<Bits<64>>,
+    s_neg: DFF<Bit>,
+    /// v_end·T·2^32 from S_VT (read in S_TR, as the multiplier starts), T² from S_TR on.
+    s_vt2: DFF<Bits<64>>,
     /// S_TR's two tests, registered a state earlier so that S_TR decides from flip-flops:
     /// the step count is 0 (from |steps| in S_ISSUE_TR) and D = 0, i.e. v0·T = n·2^32
     /// (from the product in S_VT, an equality, no subtraction).
@@ -234,19 +233,19 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// slot PICK chose (the slot flips only in S_PROMOTE, which moves on to axis m + 1
     /// through PICK or S_PUSH_DWELL and never reaches a commit).
     w_slot: DFF<Bit>,
-    /// A step's E computed in P_WAIT or U_STEP: its entry is formed from registers and
-    /// pushed into axis m's FIFO one cycle later (in S_COMMIT_STEP, m unchanged), so
-    /// that no path runs from the arithmetic into the FIFO RAMs in one cycle.
+    /// A period entry to push into axis m's FIFO, formed from registers one cycle
+    /// after it is decided, so that no path runs from the arithmetic (or the context
+    /// memory's read) into the FIFO RAMs in one cycle: a step's E computed in P_WAIT
+    /// or U_STEP, pushed in S_COMMIT_STEP (m unchanged), or a promoted dwell's T
+    /// (loaded into w_e in S_PROMOTE with E_prev = 0), pushed in S_PUSH_DWELL.
     pe_valid: DFF<Bit>,
     /// The pipelined multiplier's operands.
     op_a: DFF<Bits<32>>,
     op_b: DFF<Bits<32>>,
-    /// The step's last flag, and E before the step (Δ = w_e − s_eprev in S_COMMIT_STEP).
+    /// The entry's step and last flags, and E before the step (Δ = w_e − s_eprev).
+    pe_step: DFF<Bit>,
     pe_last: DFF<Bit>,
     s_eprev: DFF<Bits<32>>,
-    /// A promoted dwell's entry, pushed in S_PUSH_DWELL.
-    pd_valid: DFF<Bit>,
-    pd_entry: DFF<Bits<ENTRY_BITS>>,
     step_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
     // Axis m + 1's flags, through the K:1 multiplexers (indexed by `next_m`).
@@ -320,8 +319,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// K = 1: axis m + 1 is axis m, so a promote flips the slot the next PICK reads, and
     /// PICK reads the flags directly (the previous state may just have changed them).
     c_single: Constant<Bit>,
-    c_step_bit: Constant<Bits<ENTRY_BITS>>,
-    c_last_bit: Constant<Bits<ENTRY_BITS>>,
     flush: Signal<Local, Bit>,
     k_pick: Constant<Bits<STATE_BITS>>,
     k_check: Constant<Bits<STATE_BITS>>,
@@ -432,21 +429,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             w_uqs: Default::default(),
             w_urs: Default::default(),
             s_v0: Default::default(),
-            s_dq: Default::default(),
-            s_dmag: Default::default(),
-            s_vend: Default::default(),
-            s_t2: Default::default(),
-            s_anew: Default::default(),
+            s_d: Default::default(),
+            s_neg: Default::default(),
+            s_vt2: Default::default(),
             s_nz: Default::default(),
             s_dz: Default::default(),
             w_slot: Default::default(),
             pe_valid: Default::default(),
             op_a: Default::default(),
             op_b: Default::default(),
+            pe_step: Default::default(),
             pe_last: Default::default(),
             s_eprev: Default::default(),
-            pd_valid: Default::default(),
-            pd_entry: Default::default(),
             step_entry: Default::default(),
             nx_kind: Default::default(),
             nx_queued: Default::default(),
@@ -501,8 +495,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cmd_ok_axis: Default::default(),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
             c_single: Constant::new(K == 1),
-            c_step_bit: Constant::new((1u64 << 32).into()),
-            c_last_bit: Constant::new((1u64 << 34).into()),
             flush: Default::default(),
             k_pick: state("PICK"),
             k_check: state("S_CHECK"),
@@ -546,7 +538,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, s_v0, s_dq, s_dmag, s_vend, s_t2, s_anew, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_last, s_eprev, pd_valid, pd_entry, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, s_v0, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -561,14 +553,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.mul.start.next = false;
         self.div.start.next = false;
         self.root.start.next = false;
-        self.mul.a.next = 0.into();
-        self.mul.b.next = 0.into();
-        self.div.numerator.next = 0.into();
-        self.div.denominator.next = 0.into();
-        self.root.c.next = self.s_anew.q.val();
         self.root.p.next = self.w_p.q.val();
         self.pe_valid.d.next = false;
-        self.pd_valid.d.next = false;
+        self.pe_last.d.next = self.last.q.val();
         self.pop_now.next = false;
         self.commit.next = false;
         self.promote_now.next = false;
@@ -677,6 +664,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             + (bit_cast::<65, 32>(self.w_t.q.val()) << 5);
         self.p_wide.d.next = (self.div.quotient.val().get_bits::<40>(64) != 0) | self.p_test.val().get_bit(64);
         self.p_ready.d.next = self.div.valid.val() & (self.st.q.val() == self.k_p.val());
+        // C + B' accelerating (kind 2), C − B' decelerating.
         if self.w_kind.q.val() == 2 {
             self.a_step.next = self.w_a.q.val() + self.w_b.q.val();
         } else {
@@ -700,6 +688,37 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // Registered every cycle, read in U_STEP (one carry chain per cycle).
         self.u_q1.d.next = self.w_uq.q.val() + self.w_uqs.q.val();
         self.u_r1.d.next = self.w_ur.q.val() + self.w_urs.q.val();
+        // The root reads c and p only at its start (P_START).
+        self.root.c.next = self.a_step.val();
+        // The sequential multiplier and the divider read their operands only when
+        // started, so the operands are chosen here for every state (no zero default):
+        // n·B' in S_B, v_end·T² (decelerating) or v0·T² in S_TR.
+        if self.st.q.val() == self.k_b.val() {
+            self.mul.a.next = self.div.quotient.val().get_bits::<MUL_A_BITS>(0);
+            self.mul.b.next = self.w_n.q.val();
+        } else if self.s_neg.q.val() {
+            // P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
+            self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.s_vt2.q.val());
+            self.mul.b.next = self.w_t.q.val();
+        } else {
+            self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.narrow.val());
+            self.mul.b.next = self.s_v0.q.val();
+        }
+        // P' = round(v·T²·2^4 / (2|D·2^32|)) in S_X; B' = round(T²·2^40 / |D·2^32|) =
+        // (T²·2^41 + |D|) / (2|D|) in S_P (T² in s_vt2 by then); else the uniform
+        // quotient 2T / 2n.
+        if self.st.q.val() == self.k_x.val() {
+            self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4)
+                + bit_cast::<DIV_NUM_BITS, 64>(self.s_d.q.val());
+            self.div.denominator.next = self.s_d.q.val() << 1;
+        } else if (self.st.q.val() == self.k_p.val()) & !self.p_wide.q.val() {
+            self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, 64>(self.s_vt2.q.val()) << 41)
+                + bit_cast::<DIV_NUM_BITS, 64>(self.s_d.q.val());
+            self.div.denominator.next = self.s_d.q.val() << 1;
+        } else {
+            self.div.numerator.next = self.t_num.val() << 1;
+            self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
+        }
 
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
@@ -765,38 +784,28 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
             // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it).
-            self.s_dq.d.next = self.dq.val();
+            self.s_d.d.next = self.dq.val();
+            self.s_neg.d.next = self.dq.val().get_bit(63);
             self.s_dz.d.next = (self.narrow.val().get_bits::<32>(0) == 0)
                 & (self.narrow.val().get_bits::<32>(32) == self.w_n.q.val());
-            self.s_vend.d.next = self.vend.val();
+            self.s_vt2.d.next = self.vend.val();
             self.st.d.next = self.k_tr.val();
         } else if self.st.q.val() == self.k_tr.val() {
             // T² arrived. The segment is valid and effective (the push check in the bus
             // clock dropped bad ones and ran a deceleration that rounds past rest with
             // v0 − 1), so the setup only chooses its path.
-            if self.s_dq.q.val().get_bit(63) {
-                self.s_dmag.d.next = (!self.s_dq.q.val()) + 1;
-            } else {
-                self.s_dmag.d.next = self.s_dq.q.val();
+            if self.s_neg.q.val() {
+                self.s_d.d.next = (!self.s_d.q.val()) + 1;
             }
-            self.s_t2.d.next = self.narrow.val();
+            // The multiplier takes v_end·T·2^32 at this edge (it starts here).
+            self.s_vt2.d.next = self.narrow.val();
             if self.s_nz.q.val() {
                 self.st.d.next = self.k_dwell.val();
             } else if self.s_dz.q.val() {
-                self.div.numerator.next = self.t_num.val() << 1;
-                self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
                 self.div.start.next = true;
                 self.st.d.next = self.k_udiv.val();
             } else {
                 // v·T² needs the wide multiplier.
-                if self.s_dq.q.val().get_bit(63) {
-                    // Decelerating: P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
-                    self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.s_vend.q.val());
-                    self.mul.b.next = self.w_t.q.val();
-                } else {
-                    self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.narrow.val());
-                    self.mul.b.next = self.s_v0.q.val();
-                }
                 self.mul.start.next = true;
                 self.st.d.next = self.k_x.val();
             }
@@ -819,10 +828,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
         } else if self.st.q.val() == self.k_x.val() {
             if self.mul.valid.val() {
-                // P' = round(v·T²·2^4 / (2|D·2^32|))
-                self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4)
-                    + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
-                self.div.denominator.next = self.s_dmag.q.val() << 1;
+                // P' (the operands above).
                 self.div.start.next = true;
                 self.st.d.next = self.k_p.val();
             }
@@ -830,17 +836,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             if self.p_ready.q.val() {
                 if self.p_wide.q.val() {
                     // P' + 2T' does not fit the root: the nearly-uniform fallback.
-                    self.div.numerator.next = self.t_num.val() << 1;
-                    self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
                     self.div.start.next = true;
                     self.st.d.next = self.k_udiv.val();
                 } else {
                     self.w_p.d.next = self.div.quotient.val().get_bits::<64>(0);
-                    // B' = round(T²·2^40 / |D·2^32|) = (T²·2^41 + |D|) / (2|D|)
-                    self.div.numerator.next =
-                        (bit_cast::<DIV_NUM_BITS, 64>(self.s_t2.q.val()) << 41)
-                            + bit_cast::<DIV_NUM_BITS, 64>(self.s_dmag.q.val());
-                    self.div.denominator.next = self.s_dmag.q.val() << 1;
+                    // B' (the operands above).
                     self.div.start.next = true;
                     self.st.d.next = self.k_b.val();
                 }
@@ -851,10 +851,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_b.d.next = self.div.quotient.val().get_bits::<100>(0);
                 self.w_i.d.next = 0.into();
                 self.w_e.d.next = 0.into();
-                if self.s_dq.q.val().get_bit(63) {
-                    // Decelerating: C starts at n·B'.
-                    self.mul.a.next = self.div.quotient.val().get_bits::<MUL_A_BITS>(0);
-                    self.mul.b.next = self.w_n.q.val();
+                if self.s_neg.q.val() {
+                    // Decelerating: C starts at n·B' (the operands above).
                     self.mul.start.next = true;
                     self.st.d.next = self.k_nb.val();
                 } else {
@@ -879,10 +877,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
             if self.w_nd.q.val() {
-                // The dwell's one entry, registered: pushed from S_PUSH_DWELL, so the
-                // context RAM's read is not on a path into the period FIFOs.
-                self.pd_entry.d.next = bit_cast::<ENTRY_BITS, 32>(self.ctx_ram.r_t.val()) | self.c_last_bit.val();
-                self.pd_valid.d.next = true;
+                // The dwell's one entry (T, no step, last), formed in S_PUSH_DWELL from
+                // the working copy, which the promote does not write back.
+                self.w_e.d.next = self.ctx_ram.r_t.val();
+                self.s_eprev.d.next = 0.into();
+                self.pe_step.d.next = false;
+                self.pe_last.d.next = true;
+                self.pe_valid.d.next = true;
                 self.st.d.next = self.k_push_dwell.val();
             } else {
                 self.m.d.next = self.next_m.val();
@@ -894,15 +895,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
-            self.s_anew.d.next = self.a_step.val();
-            self.root.c.next = self.a_step.val();
+            // C moves on here; the working copy reaches the context memory only at the
+            // step's commit.
+            self.w_a.d.next = self.a_step.val();
             self.root.start.next = true;
             self.st.d.next = self.k_pwait.val();
         } else if self.st.q.val() == self.k_pwait.val() {
             if self.root.valid.val() {
                 self.pe_valid.d.next = true;
+                self.pe_step.d.next = true;
                 self.s_eprev.d.next = self.w_e.q.val();
-                self.w_a.d.next = self.s_anew.q.val();
                 self.w_e.d.next = self.e_next.val();
                 self.w_i.d.next = self.i_next.val();
                 if self.last.q.val() {
@@ -928,6 +930,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.w_kind.d.next = 0.into();
             }
             self.pe_valid.d.next = true;
+            self.pe_step.d.next = true;
             self.s_eprev.d.next = self.w_e.q.val();
             self.w_e.d.next = self.e_next.val();
             self.w_i.d.next = self.i_next.val();
@@ -951,13 +954,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_pick.val();
         }
 
-        // The period entry of P_WAIT and U_STEP, pushed in S_COMMIT_STEP (pe_valid):
-        // Δ = E − E_prev from registers (w_e holds the new E, s_eprev the one before),
-        // with its step, direction and last flags.
-        self.pe_last.d.next = self.last.q.val();
+        // The period entry (pe_valid): Δ = E − E_prev from registers (w_e holds the new
+        // E, s_eprev the one before; a dwell's T and 0), with its step, direction (a
+        // step's only) and last flags.
         self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
-            | self.c_step_bit.val()
-            | (bit_cast::<ENTRY_BITS, 1>(self.w_rev.q.val().into()) << 33)
+            | (bit_cast::<ENTRY_BITS, 1>(self.pe_step.q.val().into()) << 32)
+            | (bit_cast::<ENTRY_BITS, 1>((self.w_rev.q.val() & self.pe_step.q.val()).into()) << 33)
             | (bit_cast::<ENTRY_BITS, 1>(self.pe_last.q.val().into()) << 34);
 
         // ---- context memory writes (after the scheduler decided them) ---------
@@ -1004,13 +1006,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.pulse.flush.next = self.flush.val();
         self.pulse.high_min.next = self.high_min.val();
         self.pulse.low_min.next = self.low_min.val();
-        self.pulse.push_in.next = self.pe_valid.q.val() | self.pd_valid.q.val();
+        self.pulse.push_in.next = self.pe_valid.q.val();
         self.pulse.axis_in.next = self.m.q.val();
-        if self.pe_valid.q.val() {
-            self.pulse.entry_in.next = self.step_entry.val();
-        } else {
-            self.pulse.entry_in.next = self.pd_entry.q.val();
-        }
+        self.pulse.entry_in.next = self.step_entry.val();
         self.seg_ram.clock.next = self.clock.val();
         self.seg_ram.we.next = false;
         self.seg_ram.waddr.next = 0.into();
@@ -1071,8 +1069,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 | self.ctx[i].next_valid.val()
                 | (self.q_count[i].q.val() != 0)
                 // An entry of axis i on its way to the FIFO: in the scheduler's output
-                // register (pe_valid, pd_valid) or in either pulse stage.
-                | ((self.pe_valid.q.val() | self.pd_valid.q.val()) & (self.m.q.val().index() == i))
+                // register (pe_valid) or in either pulse stage.
+                | (self.pe_valid.q.val() & (self.m.q.val().index() == i))
                 | (self.pulse.p0_valid.val() & (self.pulse.p0_axis.val().index() == i))
                 | (self.pulse.p1_valid.val() & (self.pulse.p1_axis.val().index() == i));
             self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
@@ -1138,7 +1136,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
             self.pe_valid.d.next = false;
-            self.pd_valid.d.next = false;
         }
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
@@ -1154,7 +1151,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pf_sat.d.next = false;
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
-            self.pd_valid.d.next = false;
         }
     }
 }
