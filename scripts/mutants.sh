@@ -61,6 +61,8 @@ mutants=(
   "23#ip/src/hdl/top.rs#s/self.core.cmd_v0.next = self.c_word.q.val\(\).get_bits::<32>\(0\);/self.core.cmd_v0.next = self.cmd_fifo.data_out.val().get_bits::<32>(0);/#system#paper_experiment#a push's v0 taken from the FIFO a cycle after it left (the command stage skipped for one field)"
   "24#ip/src/hdl/core.rs#s/self.pk_kind.next = self.nx_kind.val\(\);/self.pk_kind.next = self.pf_kind.q.val();/#hdl_core_setup#setup_state_equals#K = 1 decides on the registered kind, a cycle old after its own commit"
   "25#ip/src/hdl/step_gen.rs#s/self.pos_delta.next = self.c_minus_one.val\(\);/self.pos_delta.next = 1.into();/#hdl_step_gen#short_segments_both_axes#the position counts a step backwards as one forwards"
+  "26#ip/src/hdl/seg_queue.rs#s/self.rd\[i\].d.next = self.wr\[i\].q.val\(\);/self.rd[i].d.next = self.rd[i].q.val();/#hdl_seg_queue#seg_queue_three_ways#abort leaves the segment queues as they were"
+  "27#ip/src/hdl/seg_queue.rs#s/if self.abort.val\(\) \{\n\s*self.wr\[i\].d.next = self.wr\[i\].q.val\(\);\n/if self.abort.val() {\n/#hdl_seg_queue#seg_queue_three_ways#a push in the abort's cycle survives the flush"
 )
 
 only=("$@")

@@ -502,7 +502,8 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
                 probes.push(("fsm_state".to_string(), crate::hdl::core::STATE_BITS, "dut.fsm_state".to_string()));
                 for a in 0..k {
                     probes.push((format!("fifo_level_{a}"), 8, format!("dut.core.axes${a}$level")));
-                    probes.push((format!("queue_level_{a}"), 8, format!("dut.core.q_count${a}$q")));
+                    // The queue's level is its pushed counter less its taken counter.
+                    probes.push((format!("queue_level_{a}"), 8, format!("dut.core.queues.wr${a}$q - dut.core.queues.rd${a}$q")));
                 }
                 probes.push(("irq".to_string(), 1, "dut.irq".to_string()));
                 let to_cycle = |s: f64| ((s * 1e12 / tick_ps as f64) as u64).min(cycles);

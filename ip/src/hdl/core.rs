@@ -1,7 +1,8 @@
 //! The TDM core: K axes served by one shared multiply / divide / square-root unit,
 //! scheduled round robin by a Gray-coded FSM (the paper's Fig. 7; docs/architecture.md).
 //!
-//! Per axis: a segment queue (`QDEPTH` × 96 bits), a context ([`AxisContext`]), and a
+//! Per axis: a segment queue (`QDEPTH` × 96 bits, every axis's in one [`SegQueue`]), a
+//! context ([`AxisContext`], its wide fields in the shared [`ContextRam`]), and a
 //! period FIFO with its step generator ([`StepAxis`]). Shared: one [`MulSeq`], one
 //! [`Divider`] and one [`OffsetRoot`] (`R` bits per cycle each), and the scheduler.
 //!
@@ -49,10 +50,11 @@ use super::context_ram::{ContextRam, ContextWord, CTX_ADDR_BITS, CTX_MAX_AXES};
 use super::divider::{div_latency, Divider, DIV_NUM_BITS};
 use super::mul_seq::{mul_seq_latency, MulSeq, MUL_A_BITS};
 use super::mul_wide::{MulReg, MUL_REG_LATENCY};
-use super::block_ram::BlockRam;
 use super::pulse_stage::PulseStage;
 use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
+use super::seg_queue::SegQueue;
+pub use super::seg_queue::{MAX_QUEUE_DEPTH, SEGMENT_BITS};
 use super::step_gen::StepAxis;
 use super::sync_start::SyncStart;
 use rust_hdl::prelude::*;
@@ -86,13 +88,7 @@ pub const fn t_setup(r: usize, decelerating: bool) -> usize {
 // writes a Rust constant's name into the Verilog).
 const _: () = assert!(DIV_NUM_BITS == 104);
 
-/// Width of a queued segment: v0 (31..0), T (63..32), steps (95..64).
-pub const SEGMENT_BITS: usize = 96;
-/// Deepest segment queue (a power of two: axis i's queue starts at i·QDEPTH).
-pub const MAX_QUEUE_DEPTH: usize = 32;
-/// Address bits of the segment RAM: up to 16 axes × 32 entries.
-pub const SEG_ADDR_BITS: usize = 9;
-const _: () = assert!(CTX_MAX_AXES * MAX_QUEUE_DEPTH == 1 << SEG_ADDR_BITS);
+const _: () = assert!(CTX_MAX_AXES == super::seg_queue::MAX_QUEUE_AXES);
 
 /// Width of the FSM state register.
 pub const STATE_BITS: usize = 5;
@@ -158,18 +154,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub high_min: Signal<In, Bits<16>>,
     pub low_min: Signal<In, Bits<16>>,
 
-    /// Every axis's segment queue in one RAM: axis i's entries at i·QDEPTH + 0..QDEPTH.
-    /// Its registered read port holds axis m's head from PICK into S_CHECK.
-    seg_ram: BlockRam<SEGMENT_BITS, SEG_ADDR_BITS>,
-    // Write and read pointers, kept below QDEPTH by a mask (rust-hdl cannot widen an
-    // array element inside a loop, so they have the RAM's address width; the bits above
-    // the mask are constant 0 and synthesis removes them).
-    q_wr: [DFF<Bits<SEG_ADDR_BITS>>; K],
-    q_rd: [DFF<Bits<SEG_ADDR_BITS>>; K],
-    q_count: [DFF<Bits<8>>; K],
-    q_base: [Constant<Bits<SEG_ADDR_BITS>>; K],
-    c_qmask: Constant<Bits<SEG_ADDR_BITS>>,
-    c_qdepth: Constant<Bits<8>>,
+    /// Every axis's segment queue ([`SegQueue`]: one RAM, two counters per axis). Its
+    /// registered read holds axis m's head from PICK into S_CHECK.
+    queues: SegQueue<K, QDEPTH>,
+    /// Bit i of the queues' `nonempty`, for axis i's flags.
+    q_pick: [BitPick<K>; K],
     axes: [StepAxis<DEPTH>; K],
     /// Writes the STEP high time into every period entry on its way to a FIFO.
     pulse: PulseStage,
@@ -185,7 +174,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     ready_bus: [BitInsert<K>; K],
     sat_bus: [BitInsert<K>; K],
     go_pick: [BitPick<K>; K],
-    taken: [DFF<Bits<8>>; K],
     sync: SyncStart<K>,
     mulw: MulReg<32, 32, 64>,
     mul: MulSeq<R>,
@@ -246,7 +234,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pe_step: DFF<Bit>,
     pe_last: DFF<Bit>,
     s_eprev: DFF<Bits<32>>,
-    step_entry: Signal<Local, Bits<ENTRY_BITS>>,
+    pe_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
     // Axis m + 1's flags, through the K:1 multiplexers (indexed by `next_m`).
     nx_kind: Signal<Local, Bits<2>>,
@@ -386,13 +374,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             sel_underruns: Default::default(),
             sel_busy: Default::default(),
             fsm_state: Default::default(),
-            seg_ram: BlockRam::new(K * QDEPTH),
-            q_wr: std::array::from_fn(|_| Default::default()),
-            q_rd: std::array::from_fn(|_| Default::default()),
-            q_count: std::array::from_fn(|_| Default::default()),
-            q_base: std::array::from_fn(|i| Constant::new(((i * QDEPTH) as u64).into())),
-            c_qmask: Constant::new(((QDEPTH - 1) as u64).into()),
-            c_qdepth: Constant::new((QDEPTH as u64).into()),
+            queues: SegQueue::new(),
+            q_pick: std::array::from_fn(BitPick::new),
             axes: std::array::from_fn(|_| Default::default()),
             ctx: std::array::from_fn(|_| Default::default()),
             ctx_ram: Default::default(),
@@ -404,7 +387,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             ready_bus: std::array::from_fn(BitInsert::new),
             sat_bus: std::array::from_fn(BitInsert::new),
             go_pick: std::array::from_fn(BitPick::new),
-            taken: std::array::from_fn(|_| Default::default()),
             sync: Default::default(),
             mulw: Default::default(),
             mul: Default::default(),
@@ -441,7 +423,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             pe_step: Default::default(),
             pe_last: Default::default(),
             s_eprev: Default::default(),
-            step_entry: Default::default(),
+            pe_entry: Default::default(),
             nx_kind: Default::default(),
             nx_queued: Default::default(),
             nx_full: Default::default(),
@@ -564,12 +546,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.cmd_error.next = self.cmd_err.q.val();
 
         // ---- axis m + 1 through the multiplexers, registered for PICK ---------
-        self.seg_ram.raddr.next = 0.into();
-        for i in 0..K {
-            if self.m.q.val().index() == i {
-                self.seg_ram.raddr.next = self.q_base[i].val() | self.q_rd[i].q.val();
-            }
-        }
+        // The queues read axis m's head (registered: valid in S_CHECK after PICK).
+        self.queues.axis.next = self.m.q.val();
         if self.m.q.val() == self.c_last_axis.val() {
             self.next_m.next = 0.into();
         } else {
@@ -584,7 +562,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         for i in 0..K {
             if self.next_m.val().index() == i {
                 self.nx_kind.next = self.ctx[i].kind.val();
-                self.nx_queued.next = self.q_count[i].q.val() != 0;
+                self.nx_queued.next = self.q_pick[i].value.val();
                 self.nx_full.next = self.axes[i].full.val();
                 self.nx_next_valid.next = self.ctx[i].next_valid.val();
                 self.nx_next_dwell.next = self.ctx[i].next_dwell.val();
@@ -639,9 +617,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
 
         // ---- datapath -------------------------------------------------------
         // Axis m's queue head: read at the edge that ends PICK, so valid in S_CHECK.
-        self.h_v0.next = self.seg_ram.rdata.val().get_bits::<32>(0);
-        self.h_t.next = self.seg_ram.rdata.val().get_bits::<32>(32);
-        self.h_steps.next = self.seg_ram.rdata.val().get_bits::<32>(64);
+        self.h_v0.next = self.queues.head.val().get_bits::<32>(0);
+        self.h_t.next = self.queues.head.val().get_bits::<32>(32);
+        self.h_steps.next = self.queues.head.val().get_bits::<32>(64);
         // |steps| of the head registered in S_CHECK (w_n holds the signed count there).
         if self.w_rev.q.val() {
             self.h_n.next = (!self.w_n.q.val()) + 1;
@@ -957,7 +935,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // The period entry (pe_valid): Δ = E − E_prev from registers (w_e holds the new
         // E, s_eprev the one before; a dwell's T and 0), with its step, direction (a
         // step's only) and last flags.
-        self.step_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
+        self.pe_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
             | (bit_cast::<ENTRY_BITS, 1>(self.pe_step.q.val().into()) << 32)
             | (bit_cast::<ENTRY_BITS, 1>((self.w_rev.q.val() & self.pe_step.q.val()).into()) << 33)
             | (bit_cast::<ENTRY_BITS, 1>(self.pe_last.q.val().into()) << 34);
@@ -992,11 +970,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ready.next = self.ready_bus[i].bus_out.val();
         }
         self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();
-        self.cmd_ready.next = true;
         self.sel_position.next = 0.into();
-        self.sel_queue.next = 0.into();
         self.sel_fifo.next = 0.into();
-        self.sel_taken.next = 0.into();
         self.sel_done.next = 0.into();
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
@@ -1008,58 +983,23 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.pulse.low_min.next = self.low_min.val();
         self.pulse.push_in.next = self.pe_valid.q.val();
         self.pulse.axis_in.next = self.m.q.val();
-        self.pulse.entry_in.next = self.step_entry.val();
-        self.seg_ram.clock.next = self.clock.val();
-        self.seg_ram.we.next = false;
-        self.seg_ram.waddr.next = 0.into();
-        self.seg_ram.wdata.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
+        self.pulse.entry_in.next = self.pe_entry.val();
+        // Commands into the queues; a command to an axis ≥ K is dropped (cmd_error).
+        self.queues.clock.next = self.clock.val();
+        self.queues.reset.next = self.reset.val();
+        self.queues.abort.next = self.abort.val();
+        self.queues.pop.next = self.pop_now.val();
+        self.queues.sel_axis.next = self.sel_axis.val();
+        self.queues.push_valid.next = self.cmd_valid.val();
+        self.queues.push_axis.next = self.cmd_axis.val();
+        self.cmd_ready.next = self.queues.push_ready.val();
+        self.sel_queue.next = self.queues.sel_level.val();
+        self.sel_taken.next = self.queues.sel_taken.val();
+        self.queues.push_word.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
             | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_t.val()) << 32)
             | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
         for i in 0..K {
-            self.taken[i].clock.next = self.clock.val();
-            self.taken[i].d.next = self.taken[i].q.val();
-            if self.abort.val() {
-                self.taken[i].d.next = self.taken[i].q.val() + self.q_count[i].q.val();
-            } else if self.pop_now.val() & (self.m.q.val().index() == i) {
-                self.taken[i].d.next = self.taken[i].q.val() + 1;
-            }
-            if self.reset.val() {
-                self.taken[i].d.next = 0.into();
-            }
-            // Axis i's queue: pointers and count here, entries in seg_ram. A push when
-            // full and a pop when empty are ignored; both in one cycle is allowed.
-            self.q_wr[i].clock.next = self.clock.val();
-            self.q_rd[i].clock.next = self.clock.val();
-            self.q_count[i].clock.next = self.clock.val();
-            self.q_wr[i].d.next = self.q_wr[i].q.val();
-            self.q_rd[i].d.next = self.q_rd[i].q.val();
-            self.q_count[i].d.next = self.q_count[i].q.val();
-            if self.cmd_axis.val().index() == i {
-                self.cmd_ready.next = self.q_count[i].q.val() != self.c_qdepth.val();
-                self.seg_ram.waddr.next = self.q_base[i].val() | self.q_wr[i].q.val();
-                if self.cmd_valid.val() & (self.q_count[i].q.val() != self.c_qdepth.val()) {
-                    self.seg_ram.we.next = true;
-                    self.q_wr[i].d.next = (self.q_wr[i].q.val() + 1) & self.c_qmask.val();
-                    self.q_count[i].d.next = self.q_count[i].q.val() + 1;
-                }
-            }
-            if self.pop_now.val() & (self.m.q.val().index() == i) & (self.q_count[i].q.val() != 0) {
-                self.q_rd[i].d.next = (self.q_rd[i].q.val() + 1) & self.c_qmask.val();
-                // A push in the same cycle (to this axis) leaves the count as it was.
-                if self.cmd_valid.val()
-                    & (self.cmd_axis.val().index() == i)
-                    & (self.q_count[i].q.val() != self.c_qdepth.val())
-                {
-                    self.q_count[i].d.next = self.q_count[i].q.val();
-                } else {
-                    self.q_count[i].d.next = self.q_count[i].q.val() - 1;
-                }
-            }
-            if self.flush.val() {
-                self.q_wr[i].d.next = 0.into();
-                self.q_rd[i].d.next = 0.into();
-                self.q_count[i].d.next = 0.into();
-            }
+            self.q_pick[i].bus.next = self.queues.nonempty.val();
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
             self.axes[i].abort.next = self.abort.val();
@@ -1067,7 +1007,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.axes[i].entry_in.next = self.pulse.entry_out.val();
             self.axes[i].more.next = (self.ctx[i].kind.val() != 0)
                 | self.ctx[i].next_valid.val()
-                | (self.q_count[i].q.val() != 0)
+                | self.q_pick[i].value.val()
                 // An entry of axis i on its way to the FIFO: in the scheduler's output
                 // register (pe_valid) or in either pulse stage.
                 | (self.pe_valid.q.val() & (self.m.q.val().index() == i))
@@ -1090,13 +1030,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.busy_bus[i].value.next = self.axes[i].busy.val();
             // Satisfied: a full FIFO, or nothing to compute.
             self.sat_bus[i].value.next = self.axes[i].full.val()
-                | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & (self.q_count[i].q.val() == 0));
+                | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & !self.q_pick[i].value.val());
             self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
             if self.sel_axis.val().index() == i {
                 self.sel_position.next = self.axes[i].position.val();
-                self.sel_queue.next = self.q_count[i].q.val();
                 self.sel_fifo.next = self.axes[i].level.val();
-                self.sel_taken.next = self.taken[i].q.val();
                 self.sel_done.next = self.axes[i].done_count.val();
                 self.sel_underruns.next = self.axes[i].under_count.val();
                 self.sel_busy.next = self.busy_bus[i].value.val();

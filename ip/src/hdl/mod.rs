@@ -8,14 +8,15 @@
 //! | offset root ⌊√(p² + c)⌋ − p, 36 digits, R per cycle | `root.rs` | `1 + 36/R` cycles |
 //! | control of an iterative unit (start, fixed cycles, valid) | `iterate.rs` | `1 + cycles` |
 //! | distributed RAM, synchronous write, asynchronous read (custom Verilog leaf) | `lut_ram.rs` | 0 (read) |
-//! | RAM with a registered read (custom Verilog leaf): the segment queues | `block_ram.rs` | 1 (read) |
+//! | RAM with a registered read (custom Verilog leaf): the segment queues' words | `block_ram.rs` | 1 (read) |
+//! | segment queues of every axis: one RAM, a push and a pop counter per axis | `seg_queue.rs` | 1 (head read), 1 (push, pop) |
 //! | FIFO in LUT RAM (period FIFOs), show-ahead | `ram_fifo.rs` | 0 (head) |
 //! | pulse stage: the STEP high time of every period entry, from the output timing | `pulse_stage.rs` | 2 cycles |
 //! | step generator, and the FIFO plus generator (`StepAxis`) | `step_gen.rs` | edges at release + E_i |
 //! | per-axis scheduler context, in registers | `context.rs` | 1 cycle (write) |
 //! | synchronised start of masked axes | `sync_start.rs` | `go` 2 cycles, `failed` 1 |
 //! | K-bit bus assembly and bit selection | `bit_insert.rs` | 0 |
-//! | the TDM core: queues, contexts, step axes, shared units, scheduler | `core.rs` | `t_calc_sqrt(R)`, `t_setup(R, _)` |
+//! | the TDM core: contexts, step axes, shared units, scheduler | `core.rs` | `t_calc_sqrt(R)`, `t_setup(R, _)` |
 //! | the non-TDM baseline: K one-axis cores | `baseline.rs` | as the core |
 //! | 2-FF bit synchroniser and 4-deep Gray-pointer async FIFO | `cdc.rs` | 2 edges / 2–3 edges |
 //! | EXMC/FSMC async SRAM slave, 16-bit | `exmc.rs` | write commits ≤ 4 bus clocks after NWE rises; read data ≤ 4 after NOE falls |
@@ -76,6 +77,7 @@ pub mod push_check;
 pub mod ram_fifo;
 pub mod regfile;
 pub mod root;
+pub mod seg_queue;
 pub mod status_sync;
 pub mod step_gen;
 pub mod sync_start;

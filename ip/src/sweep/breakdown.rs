@@ -13,7 +13,7 @@ pub fn block_of(module: &str) -> &'static str {
     const BLOCKS: [(&str, &str); 17] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
         ("core$ctx_ram", "per-axis contexts (current and next segment)"),
-        ("core$seg_ram", "segment queues (one RAM for every axis)"),
+        ("core$queues", "segment queues (one RAM for every axis, two counters each)"),
         ("core$axes$", "per-axis step generators and period FIFOs"),
         ("core$div", "shared divider"),
         ("core$root", "shared offset root"),
@@ -99,7 +99,7 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
 /// modules, small helpers) is flattened into them, so that a block is optimised as it
 /// is in the flattened design (a register's hold multiplexer becomes its clock enable).
 pub fn breakdown_blocks_kept(axes: usize) -> Vec<String> {
-    let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$seg_ram", "regs", "status", "cmd_fifo", "exmc"]
+    let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$queues", "regs", "status", "cmd_fifo", "exmc"]
         .iter()
         .map(|b| format!("tdm_stepper__{}", b.replace('$', "__")))
         .collect();

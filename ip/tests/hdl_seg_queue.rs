@@ -1,0 +1,183 @@
+//! SegQueue three ways: a model of K bounded queues (a VecDeque per axis, a taken
+//! counter per axis), rust-hdl simulation, and the exported Verilog in Verilator and
+//! Icarus. Random pushes (to every axis and to axes ≥ K, many to full queues), pops
+//! (many of empty queues, many with a push to the same axis in the same cycle),
+//! aborts (some with a push in the same cycle) and resets: every cycle `push_ready`,
+//! `nonempty`, the selected axis's level and taken counter, and the head of the axis
+//! read in the cycle before equal the model's.
+
+mod common;
+
+use common::*;
+use rust_hdl::prelude::*;
+use std::collections::VecDeque;
+use tdm_stepper::hdl::seg_queue::{SegQueue, SEGMENT_BITS};
+use tdm_stepper::verify::{Port, TbSpec};
+
+const K: usize = 3;
+const QDEPTH: usize = 4;
+const CYCLES: usize = 6000;
+
+fn uut() -> SegQueue<K, QDEPTH> {
+    let mut u = SegQueue::<K, QDEPTH>::new();
+    u.clock.connect();
+    u.reset.connect();
+    u.abort.connect();
+    u.push_valid.connect();
+    u.push_axis.connect();
+    u.push_word.connect();
+    u.axis.connect();
+    u.pop.connect();
+    u.sel_axis.connect();
+    u.connect_all();
+    u
+}
+
+/// Rows: reset, abort, push_valid, push_axis, push_word, axis, pop, sel_axis. Pushes
+/// outnumber pops in some stretches and pops outnumber pushes in others, so that the
+/// queues run full and empty again and again; the taken counters wrap (more than 256
+/// segments per axis).
+fn stimulus() -> Vec<Vec<u128>> {
+    let mut rng = Rng(0x5e90_0e5e_1234_abcd);
+    let mut rows = vec![vec![1, 0, 0, 0, 0, 0, 0, 0]];
+    for c in 0..CYCLES {
+        let push_bias = if (c / 300) % 2 == 0 { 3 } else { 1 };
+        let push = (rng.next() % 4 < push_bias) as u128;
+        // Axis K (not present) now and then.
+        let push_axis = (rng.next() % (K as u64 + 1)).min(K as u64) as u128;
+        let axis = (rng.next() % K as u64) as u128;
+        let pop = (rng.next() % 4 < 4 - push_bias) as u128;
+        let abort = (rng.next() % 400 == 0) as u128;
+        let reset = (rng.next() % 3000 == 0) as u128;
+        let sel = (rng.next() % K as u64) as u128;
+        rows.push(vec![reset, abort, push, push_axis, rng.next_u128() >> 32, axis, pop, sel]);
+    }
+    rows
+}
+
+/// Outputs per row: push_ready, nonempty, sel_level, sel_taken, head (the head of the
+/// previous row's `axis` as it was before that row's edge; None while that queue was
+/// empty, where the RAM word is not defined).
+fn model(rows: &[Vec<u128>]) -> Vec<Vec<Option<u128>>> {
+    let mut q: Vec<VecDeque<u128>> = vec![VecDeque::new(); K];
+    let mut taken = [0u8; K];
+    let mut head: Option<u128> = None;
+    let mut out = Vec::new();
+    for r in rows {
+        let (reset, abort, push, pa, word, axis, pop, sel) =
+            (r[0] == 1, r[1] == 1, r[2] == 1, r[3] as usize, r[4], r[5] as usize, r[6] == 1, r[7] as usize);
+        let ready = pa >= K || q[pa].len() < QDEPTH;
+        let nonempty = (0..K).filter(|&i| !q[i].is_empty()).map(|i| 1u128 << i).sum::<u128>();
+        out.push(vec![Some(ready as u128), Some(nonempty), Some(q[sel].len() as u128), Some(taken[sel] as u128), head]);
+        head = q[axis].front().copied();
+        if reset {
+            q.iter_mut().for_each(|x| x.clear());
+            taken = [0; K];
+        } else if abort {
+            for i in 0..K {
+                taken[i] = taken[i].wrapping_add(q[i].len() as u8);
+                q[i].clear();
+            }
+        } else {
+            if pop && !q[axis].is_empty() {
+                q[axis].pop_front();
+                taken[axis] = taken[axis].wrapping_add(1);
+            }
+            if push && pa < K && ready {
+                q[pa].push_back(word);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn seg_queue_three_ways() {
+    let rows = stimulus();
+    let want = model(&rows);
+    // The stimulus reaches what it is meant to: full queues refusing, heads read, the
+    // taken counters past 255.
+    assert!(want.iter().filter(|w| w[0] == Some(0)).count() > 500, "full queues");
+    assert!(want.iter().filter(|w| w[4].is_some()).count() > CYCLES / 2, "heads read");
+    assert!(rows.iter().filter(|r| r[1] == 1).count() >= 5, "aborts");
+    let pops: usize = {
+        let mut n = 0;
+        let mut q = vec![0usize; K];
+        for r in &rows {
+            let (axis, pa) = (r[5] as usize, r[3] as usize);
+            if r[0] == 1 || r[1] == 1 {
+                q = vec![0; K];
+                continue;
+            }
+            let ready = pa >= K || q[pa] < QDEPTH;
+            if r[6] == 1 && q[axis] > 0 {
+                q[axis] -= 1;
+                n += 1;
+            }
+            if r[2] == 1 && pa < K && ready {
+                q[pa] += 1;
+            }
+        }
+        n
+    };
+    assert!(pops > 256 * K, "the taken counters wrap ({pops} pops)");
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("abort", 1),
+            Port::new("push_valid", 1),
+            Port::new("push_axis", 8),
+            Port::new("push_word", SEGMENT_BITS),
+            Port::new("axis", 8),
+            Port::new("pop", 1),
+            Port::new("sel_axis", 8),
+        ],
+        outputs: vec![
+            Port::new("push_ready", 1),
+            Port::new("nonempty", K),
+            Port::new("sel_level", 8),
+            Port::new("sel_taken", 8),
+            Port::new("head", SEGMENT_BITS),
+        ],
+    };
+    three_ways(
+        "seg_queue",
+        uut,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.abort.next = r[1] == 1;
+            u.push_valid.next = r[2] == 1;
+            u.push_axis.next = Bits::<8>::from(r[3] as u64);
+            u.push_word.next = Bits::<SEGMENT_BITS>::from(num_bigint::BigUint::from(r[4]));
+            u.axis.next = Bits::<8>::from(r[5] as u64);
+            u.pop.next = r[6] == 1;
+            u.sel_axis.next = Bits::<8>::from(r[7] as u64);
+        },
+        |u| {
+            vec![
+                u.push_ready.val() as u128,
+                u.nonempty.val().to_u64() as u128,
+                u.sel_level.val().to_u64() as u128,
+                u.sel_taken.val().to_u64() as u128,
+                bits_to_u128(u.head.val()),
+            ]
+        },
+        &spec,
+        &rows,
+        &want,
+    );
+}
+
+#[test]
+#[should_panic(expected = "power of two")]
+fn seg_queue_rejects_a_depth_that_is_not_a_power_of_two() {
+    let _ = SegQueue::<2, 12>::new();
+}
+
+#[test]
+#[should_panic(expected = "outside 1..=16")]
+fn seg_queue_rejects_more_axes_than_its_ram_reaches() {
+    let _ = SegQueue::<17, 2>::new();
+}
