@@ -63,6 +63,8 @@ mutants=(
   "25#ip/src/hdl/step_gen.rs#s/self.pos_delta.next = self.c_minus_one.val\(\);/self.pos_delta.next = 1.into();/#hdl_step_gen#short_segments_both_axes#the position counts a step backwards as one forwards"
   "26#ip/src/hdl/seg_queue.rs#s/self.rd\[i\].d.next = self.wr\[i\].q.val\(\);/self.rd[i].d.next = self.rd[i].q.val();/#hdl_seg_queue#seg_queue_three_ways#abort leaves the segment queues as they were"
   "27#ip/src/hdl/seg_queue.rs#s/if self.abort.val\(\) \{\n\s*self.wr\[i\].d.next = self.wr\[i\].q.val\(\);\n/if self.abort.val() {\n/#hdl_seg_queue#seg_queue_three_ways#a push in the abort's cycle survives the flush"
+  "28#ip/src/hdl/axis_bank.rs#s/\n\s*\| \(self.pulse.p1_valid.val\(\) & \(self.pulse.p1_axis.val\(\).index\(\) == i\)\);/;/#hdl_axis_bank#axes_released_together#an entry in the pulse stage's last register not counted as coming (a starved axis ends its move with an entry on the way)"
+  "29#ip/src/hdl/axis_bank.rs#s/self.sat_bus\[i\].value.next = self.axes\[i\].full.val\(\) \| !self.pend_pick\[i\].value.val\(\);/self.sat_bus[i].value.next = self.axes[i].full.val();/#hdl_axis_bank#axes_released_together#an axis with nothing to compute never counts as satisfied (no setup ahead of time)"
 )
 
 only=("$@")

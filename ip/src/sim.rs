@@ -497,11 +497,11 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
                 for a in 0..k {
                     probes.push((format!("step_{a}"), 1, format!("dut.step[{a}]")));
                     probes.push((format!("dir_{a}"), 1, format!("dut.dir[{a}]")));
-                    probes.push((format!("position_{a}"), 32, format!("dut.core.axes${a}$position")));
+                    probes.push((format!("position_{a}"), 32, format!("dut.core.bank.axes${a}$position")));
                 }
                 probes.push(("fsm_state".to_string(), crate::hdl::core::STATE_BITS, "dut.fsm_state".to_string()));
                 for a in 0..k {
-                    probes.push((format!("fifo_level_{a}"), 8, format!("dut.core.axes${a}$level")));
+                    probes.push((format!("fifo_level_{a}"), 8, format!("dut.core.bank.axes${a}$level")));
                     // The queue's level is its pushed counter less its taken counter.
                     probes.push((format!("queue_level_{a}"), 8, format!("dut.core.queues.wr${a}$q - dut.core.queues.rd${a}$q")));
                 }

@@ -67,7 +67,7 @@ fn verilator_exported_with(name: &str, b: &BusModel, cycles: u64, opts: tdm_step
 /// [`verilator_exported`] that also records each axis's period FIFO level (probes in
 /// `trace.probes`, one value per axis).
 fn verilator_exported_levels<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
-    let probes = (0..K).map(|a| (format!("fifo_level_{a}"), 8, format!("dut.core.axes${a}$level"))).collect();
+    let probes = (0..K).map(|a| (format!("fifo_level_{a}"), 8, format!("dut.core.bank.axes${a}$level"))).collect();
     let vcd = tdm_stepper::verify::system::VcdOptions { path: Default::default(), window_cycles: (0, cycles), probes };
     verilator_exported_probed(name, b, cycles, tdm_stepper::export::ExportOptions { axes: K, ..Default::default() }, Some(vcd))
 }

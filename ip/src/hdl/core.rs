@@ -3,7 +3,8 @@
 //!
 //! Per axis: a segment queue (`QDEPTH` × 96 bits, every axis's in one [`SegQueue`]), a
 //! context ([`AxisContext`], its wide fields in the shared [`ContextRam`]), and a
-//! period FIFO with its step generator ([`StepAxis`]). Shared: one [`MulSeq`], one
+//! period FIFO with its step generator (every axis's, with the pulse stage and the
+//! synchronised start, in one [`AxisBank`]). Shared: one [`MulSeq`], one
 //! [`Divider`] and one [`OffsetRoot`] (`R` bits per cycle each), and the scheduler.
 //!
 //! **Scheduler.** In `PICK` it looks at axis m: if m has an active segment and room
@@ -15,7 +16,7 @@
 //! scheduler registers axis m + 1's flags every cycle, and every way into PICK moves
 //! to m + 1), so no K:1 multiplexer sits between m and the next state; the queue count
 //! and the FIFO's `full` may be a cycle old, which at worst skips an axis for a turn
-//! or lets its FIFO reach DEPTH + 1 entries ([`StepAxis`]). The setup and the
+//! or lets its FIFO reach DEPTH + 1 entries ([`super::step_gen::StepAxis`]). The setup and the
 //! per-step work are exactly the reference model's (docs/model.md), which the tests
 //! hold it to period by period. The FSM lives here rather than in its own block
 //! because rust-hdl cannot pass arrays of wide ports between blocks.
@@ -29,7 +30,7 @@
 //! nothing and a bad segment given to it directly runs undefined. A command to an
 //! axis ≥ K is dropped and sets the sticky `cmd_error`.
 //!
-//! **Start.** `start` with `start_mask` arms a synchronised release ([`SyncStart`]):
+//! **Start.** `start` with `start_mask` arms a synchronised release ([`super::sync_start::SyncStart`], in the [`AxisBank`]):
 //! the masked axes get `go` on the same clock edge once each is idle with its first
 //! period ready. `ext_go` releases axes directly (the non-TDM baseline uses it to
 //! release its one-axis cores together); `ready` says which axes could be released.
@@ -50,13 +51,11 @@ use super::context_ram::{ContextRam, ContextWord, CTX_ADDR_BITS, CTX_MAX_AXES};
 use super::divider::{div_latency, Divider, DIV_NUM_BITS};
 use super::mul_seq::{mul_seq_latency, MulSeq, MUL_A_BITS};
 use super::mul_wide::{MulReg, MUL_REG_LATENCY};
-use super::pulse_stage::PulseStage;
 use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::seg_queue::SegQueue;
 pub use super::seg_queue::{MAX_QUEUE_DEPTH, SEGMENT_BITS};
-use super::step_gen::StepAxis;
-use super::sync_start::SyncStart;
+use super::axis_bank::AxisBank;
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
@@ -150,7 +149,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// The scheduler's state register (Gray code), for waveforms.
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
     /// Output timing: minimum STEP high and low times in ticks (max(STEP_HIGH, DIR_HOLD)
-    /// and max(STEP_LOW, DIR_SETUP)); quasi-static, see [`PulseStage`].
+    /// and max(STEP_LOW, DIR_SETUP)); quasi-static, see [`super::pulse_stage::PulseStage`].
     pub high_min: Signal<In, Bits<16>>,
     pub low_min: Signal<In, Bits<16>>,
 
@@ -159,22 +158,16 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     queues: SegQueue<K, QDEPTH>,
     /// Bit i of the queues' `nonempty`, for axis i's flags.
     q_pick: [BitPick<K>; K],
-    axes: [StepAxis<DEPTH>; K],
-    /// Writes the STEP high time into every period entry on its way to a FIFO.
-    pulse: PulseStage,
+    /// The axes' back ends: pulse stage, period FIFOs, step generators, start, buses.
+    bank: AxisBank<K, DEPTH>,
+    /// Axis i has work not yet turned into entries (the bank's `pending`).
+    pend_bus: [BitInsert<K>; K],
+    /// Bit i of the bank's `full`, for axis i's flags.
+    full_pick: [BitPick<K>; K],
     /// Per-axis context flags; public so that simulations can inspect them.
     pub ctx: [AxisContext; K],
     /// The wide context fields of every axis, two words each (see [`Self::context`]).
     ctx_ram: ContextRam,
-    step_bus: [BitInsert<K>; K],
-    dir_bus: [BitInsert<K>; K],
-    under_bus: [BitInsert<K>; K],
-    active_bus: [BitInsert<K>; K],
-    busy_bus: [BitInsert<K>; K],
-    ready_bus: [BitInsert<K>; K],
-    sat_bus: [BitInsert<K>; K],
-    go_pick: [BitPick<K>; K],
-    sync: SyncStart<K>,
     mulw: MulReg<32, 32, 64>,
     mul: MulSeq<R>,
     div: Divider<R>,
@@ -364,7 +357,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             fail_tog: Default::default(),
             high_min: Default::default(),
             low_min: Default::default(),
-            pulse: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
             sel_queue: Default::default(),
@@ -376,18 +368,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             fsm_state: Default::default(),
             queues: SegQueue::new(),
             q_pick: std::array::from_fn(BitPick::new),
-            axes: std::array::from_fn(|_| Default::default()),
+            bank: Default::default(),
+            pend_bus: std::array::from_fn(BitInsert::new),
+            full_pick: std::array::from_fn(BitPick::new),
             ctx: std::array::from_fn(|_| Default::default()),
             ctx_ram: Default::default(),
-            step_bus: std::array::from_fn(BitInsert::new),
-            dir_bus: std::array::from_fn(BitInsert::new),
-            under_bus: std::array::from_fn(BitInsert::new),
-            active_bus: std::array::from_fn(BitInsert::new),
-            busy_bus: std::array::from_fn(BitInsert::new),
-            ready_bus: std::array::from_fn(BitInsert::new),
-            sat_bus: std::array::from_fn(BitInsert::new),
-            go_pick: std::array::from_fn(BitPick::new),
-            sync: Default::default(),
             mulw: Default::default(),
             mul: Default::default(),
             div: Default::default(),
@@ -563,16 +548,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             if self.next_m.val().index() == i {
                 self.nx_kind.next = self.ctx[i].kind.val();
                 self.nx_queued.next = self.q_pick[i].value.val();
-                self.nx_full.next = self.axes[i].full.val();
+                self.nx_full.next = self.full_pick[i].value.val();
                 self.nx_next_valid.next = self.ctx[i].next_valid.val();
                 self.nx_next_dwell.next = self.ctx[i].next_dwell.val();
                 self.slot_nm.next = self.ctx[i].slot.val();
             }
         }
-        // Every axis satisfied (the last element of the chain holds the whole bus).
-        for i in 0..K {
-            self.all_sat.next = self.sat_bus[i].bus_out.val().all();
-        }
+        // Every axis satisfied: a full FIFO, or nothing to compute.
+        self.all_sat.next = self.bank.all_sat.val();
         self.pf_kind.d.next = self.nx_kind.val();
         self.pf_queued.d.next = self.nx_queued.val();
         self.pf_full.d.next = self.nx_full.val();
@@ -958,32 +941,32 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.ctx_ram.w_urs.next = self.w_urs.q.val();
 
         // ---- per-axis wiring ------------------------------------------------
-        // The last element of each chain holds the whole bus (last assignment wins).
-        for i in 0..K {
-            self.step.next = self.step_bus[i].bus_out.val();
-            self.dir.next = self.dir_bus[i].bus_out.val();
-            self.underrun.next = self.under_bus[i].bus_out.val();
-            self.active.next = self.active_bus[i].bus_out.val();
-            self.busy.next = self.busy_bus[i].bus_out.val();
-            self.sync.ready.next = self.ready_bus[i].bus_out.val();
-            self.sync.empty.next = !(self.ready_bus[i].bus_out.val() | self.busy_bus[i].bus_out.val());
-            self.ready.next = self.ready_bus[i].bus_out.val();
-        }
         self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();
-        self.sel_position.next = 0.into();
-        self.sel_fifo.next = 0.into();
-        self.sel_done.next = 0.into();
-        self.sel_underruns.next = 0.into();
-        self.sel_busy.next = false;
         self.flush.next = self.reset.val() | self.abort.val();
-        // The scheduler's period entries go through the pulse stage to the FIFOs.
-        self.pulse.clock.next = self.clock.val();
-        self.pulse.flush.next = self.flush.val();
-        self.pulse.high_min.next = self.high_min.val();
-        self.pulse.low_min.next = self.low_min.val();
-        self.pulse.push_in.next = self.pe_valid.q.val();
-        self.pulse.axis_in.next = self.m.q.val();
-        self.pulse.entry_in.next = self.pe_entry.val();
+        // The scheduler's period entries go through the bank's pulse stage to the FIFOs.
+        self.bank.clock.next = self.clock.val();
+        self.bank.reset.next = self.reset.val();
+        self.bank.abort.next = self.abort.val();
+        self.bank.high_min.next = self.high_min.val();
+        self.bank.low_min.next = self.low_min.val();
+        self.bank.push.next = self.pe_valid.q.val();
+        self.bank.push_axis.next = self.m.q.val();
+        self.bank.entry.next = self.pe_entry.val();
+        self.bank.start.next = self.start.val();
+        self.bank.start_mask.next = self.start_mask.val();
+        self.bank.ext_go.next = self.ext_go.val();
+        self.bank.sel_axis.next = self.sel_axis.val();
+        self.step.next = self.bank.step.val();
+        self.dir.next = self.bank.dir.val();
+        self.underrun.next = self.bank.underrun.val();
+        self.active.next = self.bank.active.val();
+        self.busy.next = self.bank.busy.val();
+        self.ready.next = self.bank.ready.val();
+        self.sel_position.next = self.bank.sel_position.val();
+        self.sel_fifo.next = self.bank.sel_fifo.val();
+        self.sel_done.next = self.bank.sel_done.val();
+        self.sel_underruns.next = self.bank.sel_underruns.val();
+        self.sel_busy.next = self.bank.sel_busy.val();
         // Commands into the queues; a command to an axis ≥ K is dropped (cmd_error).
         self.queues.clock.next = self.clock.val();
         self.queues.reset.next = self.reset.val();
@@ -1000,21 +983,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
         for i in 0..K {
             self.q_pick[i].bus.next = self.queues.nonempty.val();
-            self.axes[i].clock.next = self.clock.val();
-            self.axes[i].reset.next = self.reset.val();
-            self.axes[i].abort.next = self.abort.val();
-            self.axes[i].push.next = self.pulse.push_out.val() & (self.pulse.axis_out.val().index() == i);
-            self.axes[i].entry_in.next = self.pulse.entry_out.val();
-            self.axes[i].more.next = (self.ctx[i].kind.val() != 0)
-                | self.ctx[i].next_valid.val()
-                | self.q_pick[i].value.val()
-                // An entry of axis i on its way to the FIFO: in the scheduler's output
-                // register (pe_valid) or in either pulse stage.
-                | (self.pe_valid.q.val() & (self.m.q.val().index() == i))
-                | (self.pulse.p0_valid.val() & (self.pulse.p0_axis.val().index() == i))
-                | (self.pulse.p1_valid.val() & (self.pulse.p1_axis.val().index() == i));
-            self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
-            self.axes[i].go.next = self.go_pick[i].value.val();
+            self.full_pick[i].bus.next = self.bank.full.val();
+            // Work of axis i not yet turned into entries: a segment in progress, set up
+            // or queued (the bank adds the entries in flight for its `more`).
+            self.pend_bus[i].value.next =
+                (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | self.q_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
             self.ctx[i].reset.next = self.flush.val();
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
@@ -1022,39 +995,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].new_dwell.next = self.w_dwell.q.val();
             self.ctx[i].new_kind.next = self.w_kind.q.val();
-            self.step_bus[i].value.next = self.axes[i].step.val();
-            self.dir_bus[i].value.next = self.axes[i].dir.val();
-            self.under_bus[i].value.next = self.axes[i].underrun.val();
-            self.active_bus[i].value.next = self.axes[i].active.val();
-            // Anything of the axis's still to come (`more`, above), moving, or STEP high.
-            self.busy_bus[i].value.next = self.axes[i].busy.val();
-            // Satisfied: a full FIFO, or nothing to compute.
-            self.sat_bus[i].value.next = self.axes[i].full.val()
-                | ((self.ctx[i].kind.val() == 0) & !self.ctx[i].next_valid.val() & !self.q_pick[i].value.val());
-            self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
-            if self.sel_axis.val().index() == i {
-                self.sel_position.next = self.axes[i].position.val();
-                self.sel_fifo.next = self.axes[i].level.val();
-                self.sel_done.next = self.axes[i].done_count.val();
-                self.sel_underruns.next = self.axes[i].under_count.val();
-                self.sel_busy.next = self.busy_bus[i].value.val();
-            }
         }
-        self.step_bus[0].bus_in.next = 0.into();
-        self.dir_bus[0].bus_in.next = 0.into();
-        self.under_bus[0].bus_in.next = 0.into();
-        self.active_bus[0].bus_in.next = 0.into();
-        self.busy_bus[0].bus_in.next = 0.into();
-        self.ready_bus[0].bus_in.next = 0.into();
-        self.sat_bus[0].bus_in.next = 0.into();
+        self.pend_bus[0].bus_in.next = 0.into();
         for i in 1..K {
-            self.step_bus[i].bus_in.next = self.step_bus[i - 1].bus_out.val();
-            self.dir_bus[i].bus_in.next = self.dir_bus[i - 1].bus_out.val();
-            self.under_bus[i].bus_in.next = self.under_bus[i - 1].bus_out.val();
-            self.active_bus[i].bus_in.next = self.active_bus[i - 1].bus_out.val();
-            self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
-            self.ready_bus[i].bus_in.next = self.ready_bus[i - 1].bus_out.val();
-            self.sat_bus[i].bus_in.next = self.sat_bus[i - 1].bus_out.val();
+            self.pend_bus[i].bus_in.next = self.pend_bus[i - 1].bus_out.val();
+        }
+        // The last element of the chain holds the whole bus (last assignment wins).
+        for i in 0..K {
+            self.bank.pending.next = self.pend_bus[i].bus_out.val();
         }
         if !self.cmd_ok_axis.val() {
             self.cmd_ready.next = true;
@@ -1062,11 +1010,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.cmd_err.d.next = true;
             }
         }
-        self.sync.clock.next = self.clock.val();
-        self.sync.reset.next = self.flush.val();
-        self.sync.start.next = self.start.val();
-        self.sync.start_mask.next = self.start_mask.val();
-        self.fail_tog.d.next = self.fail_tog.q.val() ^ self.sync.failed.val();
+        self.fail_tog.d.next = self.fail_tog.q.val() ^ self.bank.failed.val();
         if self.reset.val() {
             self.fail_tog.d.next = false;
         }

@@ -13,6 +13,7 @@
 //! | FIFO in LUT RAM (period FIFOs), show-ahead | `ram_fifo.rs` | 0 (head) |
 //! | pulse stage: the STEP high time of every period entry, from the output timing | `pulse_stage.rs` | 2 cycles |
 //! | step generator, and the FIFO plus generator (`StepAxis`) | `step_gen.rs` | edges at release + E_i |
+//! | the axes' back ends: pulse stage, K `StepAxis`, synchronised start, K-bit flags | `axis_bank.rs` | entry to FIFO 2 cycles |
 //! | per-axis scheduler context, in registers | `context.rs` | 1 cycle (write) |
 //! | synchronised start of masked axes | `sync_start.rs` | `go` 2 cycles, `failed` 1 |
 //! | K-bit bus assembly and bit selection | `bit_insert.rs` | 0 |
@@ -59,6 +60,7 @@ pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
     d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
 }
 
+pub mod axis_bank;
 pub mod baseline;
 pub mod bit_insert;
 pub mod block_ram;

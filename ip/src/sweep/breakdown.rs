@@ -10,15 +10,16 @@ pub fn block_of(module: &str) -> &'static str {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
     };
-    const BLOCKS: [(&str, &str); 17] = [
+    const BLOCKS: [(&str, &str); 18] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
         ("core$ctx_ram", "per-axis contexts (current and next segment)"),
         ("core$queues", "segment queues (one RAM for every axis, two counters each)"),
-        ("core$axes$", "per-axis step generators and period FIFOs"),
+        ("core$bank$axes$", "per-axis step generators and period FIFOs"),
         ("core$div", "shared divider"),
         ("core$root", "shared offset root"),
         ("core$mul", "shared multipliers"),
-        ("core$pulse", "pulse stage (STEP high times)"),
+        ("core$bank$pulse", "pulse stage (STEP high times)"),
+        ("core$bank", "axis bank: synchronised start, per-axis flags, status multiplexers"),
         (
             "core",
             "scheduler: FSM, working copy, K:1 multiplexers, counters",
@@ -99,12 +100,12 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
 /// modules, small helpers) is flattened into them, so that a block is optimised as it
 /// is in the flattened design (a register's hold multiplexer becomes its clock enable).
 pub fn breakdown_blocks_kept(axes: usize) -> Vec<String> {
-    let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$queues", "regs", "status", "cmd_fifo", "exmc"]
+    let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$queues", "core$bank", "regs", "status", "cmd_fifo", "exmc"]
         .iter()
         .map(|b| format!("tdm_stepper__{}", b.replace('$', "__")))
         .collect();
     for a in 0..axes {
-        for b in ["ctx", "axes"] {
+        for b in ["ctx", "bank__axes"] {
             m.push(format!("tdm_stepper__core__{b}__{a}"));
         }
     }

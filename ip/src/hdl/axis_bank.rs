@@ -1,0 +1,215 @@
+//! The axes' back ends: the pulse stage, K period FIFOs with their step generators
+//! ([`StepAxis`]), the synchronised start ([`SyncStart`]) and the K-bit status buses.
+//! Everything per axis that is not the scheduler's: one more axis costs one
+//! `StepAxis` and a bit of each bus, no arithmetic.
+//!
+//! Ports and latency:
+//! * **Entries** (`push`, `push_axis`, `entry`): the scheduler's period entry, bits
+//!   50..35 ignored. It goes through the [`PulseStage`] (which writes the STEP high time
+//!   from `high_min` and `low_min`) and is written into axis `push_axis`'s FIFO 2
+//!   cycles later.
+//! * **Coming** (`pending`, bit i): axis i has work the scheduler has not yet turned
+//!   into entries (a segment in progress, set up, or queued). An axis's `more` (the
+//!   step generator's underrun test) is `pending` or an entry of its own in flight
+//!   (offered now, or in either pulse stage), and its `busy` is `more`, moving, or
+//!   STEP high.
+//! * **Release**: `start` with `start_mask` arms the [`SyncStart`] (`go` 2 cycles after
+//!   the last masked axis is ready, `failed` one cycle when it cannot complete);
+//!   `ext_go` releases axes at once (the baseline's shared start).
+//! * **Flags** (registers or combinations of them, no input to output path except
+//!   `all_sat`'s from `pending`): `step`, `dir`, `underrun`, `active`, `busy`,
+//!   `ready` (FIFO not empty and not yet moving) and `full` (the FIFO holds DEPTH
+//!   entries, a cycle late: see [`StepAxis`]); `all_sat`: every axis has a full FIFO
+//!   or nothing to compute.
+//! * **Status** of axis `sel_axis` (multiplexers): position, FIFO level, segments
+//!   done, underruns begun, busy.
+//! * `abort` (one cycle): no further edge on any axis, the FIFOs and the pulse stage
+//!   flushed; `reset` (synchronous): the axes stop (a pulse in flight finishes) and
+//!   their counters clear.
+
+use super::bit_insert::{BitInsert, BitPick};
+use super::pulse_stage::PulseStage;
+use super::ram_fifo::ENTRY_BITS;
+use super::step_gen::StepAxis;
+use super::sync_start::SyncStart;
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct AxisBank<const K: usize, const DEPTH: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub abort: Signal<In, Bit>,
+    pub high_min: Signal<In, Bits<16>>,
+    pub low_min: Signal<In, Bits<16>>,
+    pub push: Signal<In, Bit>,
+    pub push_axis: Signal<In, Bits<8>>,
+    pub entry: Signal<In, Bits<ENTRY_BITS>>,
+    pub pending: Signal<In, Bits<K>>,
+    pub start: Signal<In, Bit>,
+    pub start_mask: Signal<In, Bits<K>>,
+    pub ext_go: Signal<In, Bits<K>>,
+    pub failed: Signal<Out, Bit>,
+    pub step: Signal<Out, Bits<K>>,
+    pub dir: Signal<Out, Bits<K>>,
+    pub underrun: Signal<Out, Bits<K>>,
+    pub active: Signal<Out, Bits<K>>,
+    pub busy: Signal<Out, Bits<K>>,
+    pub ready: Signal<Out, Bits<K>>,
+    pub full: Signal<Out, Bits<K>>,
+    pub all_sat: Signal<Out, Bit>,
+    pub sel_axis: Signal<In, Bits<8>>,
+    pub sel_position: Signal<Out, Bits<32>>,
+    pub sel_fifo: Signal<Out, Bits<8>>,
+    pub sel_done: Signal<Out, Bits<8>>,
+    pub sel_underruns: Signal<Out, Bits<8>>,
+    pub sel_busy: Signal<Out, Bit>,
+    axes: [StepAxis<DEPTH>; K],
+    pulse: PulseStage,
+    sync: SyncStart<K>,
+    step_bus: [BitInsert<K>; K],
+    dir_bus: [BitInsert<K>; K],
+    under_bus: [BitInsert<K>; K],
+    active_bus: [BitInsert<K>; K],
+    busy_bus: [BitInsert<K>; K],
+    ready_bus: [BitInsert<K>; K],
+    full_bus: [BitInsert<K>; K],
+    sat_bus: [BitInsert<K>; K],
+    go_pick: [BitPick<K>; K],
+    pend_pick: [BitPick<K>; K],
+    flush: Signal<Local, Bit>,
+}
+
+impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
+    fn default() -> Self {
+        AxisBank {
+            clock: Default::default(),
+            reset: Default::default(),
+            abort: Default::default(),
+            high_min: Default::default(),
+            low_min: Default::default(),
+            push: Default::default(),
+            push_axis: Default::default(),
+            entry: Default::default(),
+            pending: Default::default(),
+            start: Default::default(),
+            start_mask: Default::default(),
+            ext_go: Default::default(),
+            failed: Default::default(),
+            step: Default::default(),
+            dir: Default::default(),
+            underrun: Default::default(),
+            active: Default::default(),
+            busy: Default::default(),
+            ready: Default::default(),
+            full: Default::default(),
+            all_sat: Default::default(),
+            sel_axis: Default::default(),
+            sel_position: Default::default(),
+            sel_fifo: Default::default(),
+            sel_done: Default::default(),
+            sel_underruns: Default::default(),
+            sel_busy: Default::default(),
+            axes: std::array::from_fn(|_| Default::default()),
+            pulse: Default::default(),
+            sync: Default::default(),
+            step_bus: std::array::from_fn(BitInsert::new),
+            dir_bus: std::array::from_fn(BitInsert::new),
+            under_bus: std::array::from_fn(BitInsert::new),
+            active_bus: std::array::from_fn(BitInsert::new),
+            busy_bus: std::array::from_fn(BitInsert::new),
+            ready_bus: std::array::from_fn(BitInsert::new),
+            full_bus: std::array::from_fn(BitInsert::new),
+            sat_bus: std::array::from_fn(BitInsert::new),
+            go_pick: std::array::from_fn(BitPick::new),
+            pend_pick: std::array::from_fn(BitPick::new),
+            flush: Default::default(),
+        }
+    }
+}
+
+impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.flush.next = self.reset.val() | self.abort.val();
+        self.pulse.clock.next = self.clock.val();
+        self.pulse.flush.next = self.flush.val();
+        self.pulse.high_min.next = self.high_min.val();
+        self.pulse.low_min.next = self.low_min.val();
+        self.pulse.push_in.next = self.push.val();
+        self.pulse.axis_in.next = self.push_axis.val();
+        self.pulse.entry_in.next = self.entry.val();
+        self.sync.clock.next = self.clock.val();
+        self.sync.reset.next = self.flush.val();
+        self.sync.start.next = self.start.val();
+        self.sync.start_mask.next = self.start_mask.val();
+        self.failed.next = self.sync.failed.val();
+        self.sel_position.next = 0.into();
+        self.sel_fifo.next = 0.into();
+        self.sel_done.next = 0.into();
+        self.sel_underruns.next = 0.into();
+        self.sel_busy.next = false;
+        for i in 0..K {
+            self.axes[i].clock.next = self.clock.val();
+            self.axes[i].reset.next = self.reset.val();
+            self.axes[i].abort.next = self.abort.val();
+            self.axes[i].push.next = self.pulse.push_out.val() & (self.pulse.axis_out.val().index() == i);
+            self.axes[i].entry_in.next = self.pulse.entry_out.val();
+            self.pend_pick[i].bus.next = self.pending.val();
+            self.axes[i].more.next = self.pend_pick[i].value.val()
+                // An entry of axis i on its way to the FIFO: offered now, or in either
+                // pulse stage.
+                | (self.push.val() & (self.push_axis.val().index() == i))
+                | (self.pulse.p0_valid.val() & (self.pulse.p0_axis.val().index() == i))
+                | (self.pulse.p1_valid.val() & (self.pulse.p1_axis.val().index() == i));
+            self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();
+            self.axes[i].go.next = self.go_pick[i].value.val();
+            self.step_bus[i].value.next = self.axes[i].step.val();
+            self.dir_bus[i].value.next = self.axes[i].dir.val();
+            self.under_bus[i].value.next = self.axes[i].underrun.val();
+            self.active_bus[i].value.next = self.axes[i].active.val();
+            self.busy_bus[i].value.next = self.axes[i].busy.val();
+            self.full_bus[i].value.next = self.axes[i].full.val();
+            // Satisfied: a full FIFO, or nothing to compute.
+            self.sat_bus[i].value.next = self.axes[i].full.val() | !self.pend_pick[i].value.val();
+            self.ready_bus[i].value.next = (self.axes[i].level.val() != 0) & !self.axes[i].active.val();
+            if self.sel_axis.val().index() == i {
+                self.sel_position.next = self.axes[i].position.val();
+                self.sel_fifo.next = self.axes[i].level.val();
+                self.sel_done.next = self.axes[i].done_count.val();
+                self.sel_underruns.next = self.axes[i].under_count.val();
+                self.sel_busy.next = self.axes[i].busy.val();
+            }
+        }
+        self.step_bus[0].bus_in.next = 0.into();
+        self.dir_bus[0].bus_in.next = 0.into();
+        self.under_bus[0].bus_in.next = 0.into();
+        self.active_bus[0].bus_in.next = 0.into();
+        self.busy_bus[0].bus_in.next = 0.into();
+        self.ready_bus[0].bus_in.next = 0.into();
+        self.full_bus[0].bus_in.next = 0.into();
+        self.sat_bus[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.step_bus[i].bus_in.next = self.step_bus[i - 1].bus_out.val();
+            self.dir_bus[i].bus_in.next = self.dir_bus[i - 1].bus_out.val();
+            self.under_bus[i].bus_in.next = self.under_bus[i - 1].bus_out.val();
+            self.active_bus[i].bus_in.next = self.active_bus[i - 1].bus_out.val();
+            self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
+            self.ready_bus[i].bus_in.next = self.ready_bus[i - 1].bus_out.val();
+            self.full_bus[i].bus_in.next = self.full_bus[i - 1].bus_out.val();
+            self.sat_bus[i].bus_in.next = self.sat_bus[i - 1].bus_out.val();
+        }
+        // The last element of each chain holds the whole bus (last assignment wins).
+        for i in 0..K {
+            self.step.next = self.step_bus[i].bus_out.val();
+            self.dir.next = self.dir_bus[i].bus_out.val();
+            self.underrun.next = self.under_bus[i].bus_out.val();
+            self.active.next = self.active_bus[i].bus_out.val();
+            self.busy.next = self.busy_bus[i].bus_out.val();
+            self.ready.next = self.ready_bus[i].bus_out.val();
+            self.full.next = self.full_bus[i].bus_out.val();
+            self.all_sat.next = self.sat_bus[i].bus_out.val().all();
+            self.sync.ready.next = self.ready_bus[i].bus_out.val();
+            self.sync.empty.next = !(self.ready_bus[i].bus_out.val() | self.busy_bus[i].bus_out.val());
+        }
+    }
+}
