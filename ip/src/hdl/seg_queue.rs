@@ -13,7 +13,9 @@
 //! * **Push** (`push_valid`, `push_axis`, `push_word`): written at the clock edge when
 //!   the axis is < K and its queue is not full. `push_ready` says the addressed
 //!   axis's queue is not full, combinationally from `push_axis` (1 for an axis ≥ K,
-//!   whose push is dropped; the core flags it). Visible to `nonempty` and `sel_level`
+//!   whose push is dropped; the core flags it): the axis's two counters through K:1
+//!   multiplexers, then an XOR and a compare of their low log2(QDEPTH) + 1 bits (no
+//!   carry chain: on ECP5 at K = 16 a subtraction there was the clock's critical path). Visible to `nonempty` and `sel_level`
 //!   the cycle after the edge.
 //! * **Head** (`axis`, `head`): `head` is the head of queue `axis` as it was at the
 //!   last clock edge (the RAM's registered read; the read address follows `axis` and
@@ -65,6 +67,8 @@ pub struct SegQueue<const K: usize, const QDEPTH: usize> {
     base: [Constant<Bits<SEG_ADDR_BITS>>; K],
     c_mask: Constant<Bits<SEG_ADDR_BITS>>,
     c_depth: Constant<Bits<8>>,
+    /// 2·QDEPTH − 1: the counters' bits that tell a full queue from an empty one.
+    c_wrap: Constant<Bits<8>>,
     // The pushed axis's pointers and base, the popped (read) axis's, the selected one's.
     p_wr: Signal<Local, Bits<8>>,
     p_rd: Signal<Local, Bits<8>>,
@@ -105,6 +109,7 @@ impl<const K: usize, const QDEPTH: usize> SegQueue<K, QDEPTH> {
             base: std::array::from_fn(|i| Constant::new(((i * QDEPTH) as u64).into())),
             c_mask: Constant::new(((QDEPTH - 1) as u64).into()),
             c_depth: Constant::new((QDEPTH as u64).into()),
+            c_wrap: Constant::new(((2 * QDEPTH - 1) as u64).into()),
             p_wr: Default::default(),
             p_rd: Default::default(),
             p_base: Default::default(),
@@ -150,7 +155,10 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
                 self.s_rd.next = self.rd[i].q.val();
             }
         }
-        self.p_full.next = (self.p_wr.val() - self.p_rd.val()) == self.c_depth.val();
+        // Full: wr − rd = QDEPTH. The level never exceeds QDEPTH, so that is wr ≡ rd +
+        // QDEPTH (mod 2·QDEPTH): the low bits equal and the next one different, an XOR
+        // and a compare with no carry chain between the multiplexers and `push_ready`.
+        self.p_full.next = ((self.p_wr.val() ^ self.p_rd.val()) & self.c_wrap.val()) == self.c_depth.val();
         self.push_ready.next = !self.p_full.val();
         self.sel_level.next = self.s_wr.val() - self.s_rd.val();
         self.sel_taken.next = self.s_rd.val();
