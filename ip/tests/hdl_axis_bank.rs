@@ -21,7 +21,7 @@ use rust_hdl::prelude::*;
 use tdm_stepper::hdl::axis_bank::AxisBank;
 use tdm_stepper::hdl::ram_fifo::{pack_entry, ENTRY_BITS};
 use tdm_stepper::model::{pulse, FifoEntry, PulseTiming};
-use tdm_stepper::verify::{run, run_rust_hdl, Port, TbSpec};
+use tdm_stepper::verify::{run_rust_hdl, Port, TbSpec};
 
 const K: usize = 3;
 const DEPTH: usize = 4;
@@ -294,14 +294,7 @@ fn simulate_all(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
             ]
         },
     );
-    let verilog = generate_verilog(&uut());
-    for sim in SIMULATORS {
-        let got = run(sim, &sim_dir("axis_bank", sim), &verilog, &spec(), rows).unwrap();
-        for (k, (g, r)) in got.iter().zip(&reference).enumerate().skip(RESET_ROWS) {
-            let g: Vec<u128> = g.iter().map(|v| v.unwrap_or_else(|| panic!("axis_bank {sim:?}: x at row {k}"))).collect();
-            assert_eq!(&g, r, "axis_bank: {sim:?} differs from rust-hdl at row {k}");
-        }
-    }
+    verilog_matches_rust_hdl("axis_bank", &generate_verilog(&uut()), &spec(), rows, &reference, RESET_ROWS);
     reference
 }
 

@@ -12,7 +12,7 @@ use rust_hdl::prelude::*;
 use tdm_stepper::hdl::pulse_stage::PulseStage;
 use tdm_stepper::hdl::ram_fifo::{pack_entry, ENTRY_BITS};
 use tdm_stepper::model::PulseTiming;
-use tdm_stepper::verify::{run, run_rust_hdl, Port, TbSpec};
+use tdm_stepper::verify::{run_rust_hdl, Port, TbSpec};
 
 fn uut() -> PulseStage {
     let mut u = PulseStage::default();
@@ -160,14 +160,7 @@ fn high_time_equals_the_model_three_ways() {
     assert_eq!(reference.iter().filter(|o| o[0] == 1).count(), expected_pushes, "pushes out of nothing");
     assert!(expected_pushes > 500 && flushes.len() > 5, "stimulus too thin");
 
-    let verilog = generate_verilog(&uut());
-    for sim in SIMULATORS {
-        let got = run(sim, &sim_dir("pulse_stage", sim), &verilog, &spec(), &rows).unwrap();
-        for (k, (g, r)) in got.iter().zip(&reference).enumerate().skip(3) {
-            let g: Vec<u128> = g.iter().map(|v| v.unwrap_or_else(|| panic!("{sim:?}: x at row {k}"))).collect();
-            assert_eq!(&g, r, "{sim:?} differs from rust-hdl at row {k}");
-        }
-    }
+    verilog_matches_rust_hdl("pulse_stage", &generate_verilog(&uut()), &spec(), &rows, &reference, 3);
 }
 
 /// A high minimum of 0 (the core's inputs left unconnected) acts as 1: no pulse of 0.

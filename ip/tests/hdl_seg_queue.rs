@@ -57,9 +57,10 @@ fn stimulus() -> Vec<Vec<u128>> {
 
 /// Outputs per row: push_ready, nonempty, sel_level, sel_taken, head (the head of the
 /// previous row's `axis` as it was before that row's edge; None while that queue was
-/// empty, where the RAM word is not defined).
-fn model(rows: &[Vec<u128>]) -> Vec<Vec<Option<u128>>> {
+/// empty, where the RAM word is not defined); and how many segments were popped.
+fn model(rows: &[Vec<u128>]) -> (Vec<Vec<Option<u128>>>, usize) {
     let mut q: Vec<VecDeque<u128>> = vec![VecDeque::new(); K];
+    let mut pops = 0;
     let mut taken = [0u8; K];
     let mut head: Option<u128> = None;
     let mut out = Vec::new();
@@ -82,44 +83,25 @@ fn model(rows: &[Vec<u128>]) -> Vec<Vec<Option<u128>>> {
             if pop && !q[axis].is_empty() {
                 q[axis].pop_front();
                 taken[axis] = taken[axis].wrapping_add(1);
+                pops += 1;
             }
             if push && pa < K && ready {
                 q[pa].push_back(word);
             }
         }
     }
-    out
+    (out, pops)
 }
 
 #[test]
 fn seg_queue_three_ways() {
     let rows = stimulus();
-    let want = model(&rows);
+    let (want, pops) = model(&rows);
     // The stimulus reaches what it is meant to: full queues refusing, heads read, the
     // taken counters past 255.
     assert!(want.iter().filter(|w| w[0] == Some(0)).count() > 500, "full queues");
     assert!(want.iter().filter(|w| w[4].is_some()).count() > CYCLES / 2, "heads read");
     assert!(rows.iter().filter(|r| r[1] == 1).count() >= 5, "aborts");
-    let pops: usize = {
-        let mut n = 0;
-        let mut q = vec![0usize; K];
-        for r in &rows {
-            let (axis, pa) = (r[5] as usize, r[3] as usize);
-            if r[0] == 1 || r[1] == 1 {
-                q = vec![0; K];
-                continue;
-            }
-            let ready = pa >= K || q[pa] < QDEPTH;
-            if r[6] == 1 && q[axis] > 0 {
-                q[axis] -= 1;
-                n += 1;
-            }
-            if r[2] == 1 && pa < K && ready {
-                q[pa] += 1;
-            }
-        }
-        n
-    };
     assert!(pops > 256 * K, "the taken counters wrap ({pops} pops)");
     let spec = TbSpec {
         clock: "clock".into(),

@@ -126,6 +126,27 @@ pub fn three_ways<B: rust_hdl::prelude::Block>(
     }
 }
 
+/// Runs `verilog` in every simulator on `rows` and holds each trace to the rust-hdl
+/// `reference`, row for row from row `skip` on (the reset rows before it may show x),
+/// with no undefined output after it.
+#[allow(dead_code)] // not every test binary compares traces
+pub fn verilog_matches_rust_hdl(
+    name: &str,
+    verilog: &str,
+    spec: &tdm_stepper::verify::TbSpec,
+    rows: &[Vec<u128>],
+    reference: &[Vec<u128>],
+    skip: usize,
+) {
+    for sim in SIMULATORS {
+        let got = tdm_stepper::verify::run(sim, &sim_dir(name, sim), verilog, spec, rows).unwrap();
+        for (k, (g, r)) in got.iter().zip(reference).enumerate().skip(skip) {
+            let g: Vec<u128> = g.iter().map(|v| v.unwrap_or_else(|| panic!("{name} {sim:?}: x at row {k}"))).collect();
+            assert_eq!(&g, r, "{name}: {sim:?} differs from rust-hdl at row {k}");
+        }
+    }
+}
+
 #[allow(unused_imports)] // not every test binary inspects wide values
 pub use tdm_stepper::hdl::bits_to_u128;
 
