@@ -100,7 +100,7 @@
 #define TDM_GSTATUS_ENABLED_SHIFT 0u
 #define TDM_GSTATUS_ENABLED_MASK 0x0001u /* RO: the core has seen ENABLE = 1 and accepts commands */
 #define TDM_GSTATUS_REFUSED_SHIFT 1u
-#define TDM_GSTATUS_REFUSED_MASK 0x0002u /* W1C: a write was refused: a START, ABORT or push while the core was not enabled (ENABLE and ENABLED not both 1) or, for START and ABORT, with the command FIFO full (a push refused for a full queue or command FIFO sets that axis's STATUS.OVERFLOW instead); an output timing write while the core was on or of 0; CTRL.ENABLE = 1 with output timing that does not fit ID_MIN_PERIOD */
+#define TDM_GSTATUS_REFUSED_MASK 0x0002u /* W1C: a write was refused: a START, ABORT or push while the core was not enabled (ENABLE and ENABLED not both 1) or, for START and ABORT, with no room in the command FIFO (a push refused for a full queue or no room in the command FIFO sets that axis's STATUS.OVERFLOW instead); an output timing write while the core was on or of 0; CTRL.ENABLE = 1 with output timing that does not fit ID_MIN_PERIOD */
 #define TDM_GSTATUS_IRQ_SHIFT 2u
 #define TDM_GSTATUS_IRQ_MASK 0x0004u /* RO: the irq line */
 #define TDM_GSTATUS_START_FAILED_SHIFT 3u
@@ -167,7 +167,7 @@
 #define TDM_STATUS_UNDERRUN_SHIFT 6u
 #define TDM_STATUS_UNDERRUN_MASK 0x0040u /* W1C: a period came late: the pulse was stretched (no step lost) */
 #define TDM_STATUS_OVERFLOW_SHIFT 7u
-#define TDM_STATUS_OVERFLOW_MASK 0x0080u /* W1C: a push was refused: the queue (LEVEL = ID_QUEUE_DEPTH) or the command FIFO was full */
+#define TDM_STATUS_OVERFLOW_MASK 0x0080u /* W1C: a push was refused: the queue was full (LEVEL = ID_QUEUE_DEPTH) or the command FIFO had no room for it */
 #define TDM_STATUS_ERROR_SHIFT 8u
 #define TDM_STATUS_ERROR_MASK 0x0100u /* W1C: a segment was rejected; ERROR_CODE says why. Clearing it clears ERROR_CODE */
 #define TDM_STATUS_ERROR_CODE_SHIFT 12u

@@ -65,6 +65,11 @@ mutants=(
   "27#ip/src/hdl/seg_queue.rs#s/if self.abort.val\(\) \{\n\s*self.wr\[i\].d.next = self.wr\[i\].q.val\(\);\n/if self.abort.val() {\n/#hdl_seg_queue#seg_queue_three_ways#a push in the abort's cycle survives the flush"
   "28#ip/src/hdl/axis_bank.rs#s/\n\s*\| \(self.pulse.p1_valid.val\(\) & \(self.pulse.p1_axis.val\(\).index\(\) == i\)\);/;/#hdl_axis_bank#axes_released_together#an entry in the pulse stage's last register not counted as coming (a starved axis ends its move with an entry on the way)"
   "29#ip/src/hdl/axis_bank.rs#s/self.sat_bus\[i\].value.next = self.axes\[i\].full.val\(\) \| !self.pend_pick\[i\].value.val\(\);/self.sat_bus[i].value.next = self.axes[i].full.val();/#hdl_axis_bank#axes_released_together#an axis with nothing to compute never counts as satisfied (no setup ahead of time)"
+  "30#ip/src/hdl/exmc.rs#s/self.captured.d.val\(\) & \(self.nwe1.q.val\(\) \| self.ne1.q.val\(\)\)/self.captured.d.val() \& (self.nwe2.q.val() | self.ne2.q.val())/#hdl_exmc#commits_reads#wr_next from this cycle's strobes, not the next cycle's"
+  "31#ip/src/hdl/regfile.rs#s/self.rd_axis_next.val\(\).get_bit\(4\) & \(self.rn_axis.val\(\).index\(\) == i\)/(self.rn_axis.val().index() == i)/#hdl_regfile#commands_pass#a global register's read also selects the axis its address bits 7..4 name"
+  "32#ip/src/hdl/regfile.rs#s/self.st_aq.d.next = self.wr_axis_next.val\(\);/self.st_aq.d.next = self.rn_axis.val();/#hdl_regfile#commands_pass#a push reads the staging memories at the read address, not its own axis"
+  "33#ip/src/hdl/regfile.rs#s/self.fifo_full.next = self.cmd_full.val\(\) \| \(self.cmd_almost_full.val\(\) & self.chk.out_valid.val\(\)\);/self.fifo_full.next = self.cmd_full.val();/#hdl_regfile#commands_pass#a command taken while the one before it enters a command FIFO with one slot left (lost 4 cycles later)"
+  "34#ip/src/hdl/cdc.rs#s/self.afull.d.next = self.level_w.val\(\) >= 3;/self.afull.d.next = self.level_w.val() >= 4;/#hdl_cdc_fifo#async_fifo_flags#almost_full only when full"
 )
 
 only=("$@")

@@ -206,7 +206,7 @@ pub fn table() -> Vec<Register> {
             "GSTATUS", 0x12, false, Reset::Value(0),
             vec![
                 f("ENABLED", 0, 1, Ro, "the core has seen ENABLE = 1 and accepts commands"),
-                f("REFUSED", 1, 1, W1c, "a write was refused: a START, ABORT or push while the core was not enabled (ENABLE and ENABLED not both 1) or, for START and ABORT, with the command FIFO full (a push refused for a full queue or command FIFO sets that axis's STATUS.OVERFLOW instead); an output timing write while the core was on or of 0; CTRL.ENABLE = 1 with output timing that does not fit ID_MIN_PERIOD"),
+                f("REFUSED", 1, 1, W1c, "a write was refused: a START, ABORT or push while the core was not enabled (ENABLE and ENABLED not both 1) or, for START and ABORT, with no room in the command FIFO (a push refused for a full queue or no room in the command FIFO sets that axis's STATUS.OVERFLOW instead); an output timing write while the core was on or of 0; CTRL.ENABLE = 1 with output timing that does not fit ID_MIN_PERIOD"),
                 f("IRQ", 2, 1, Ro, "the irq line"),
                 f("START_FAILED", 3, 1, W1c, "a START was cancelled because a masked axis had nothing to run (no segment queued, being set up, computed or moving: e.g. its only segment was rejected); no axis moved, and IRQ_ERROR is set for every axis of that START's mask. Read the masked axes' STATUS (BUSY = 0 marks the empty one, ERROR says why), push valid segments, clear this bit and write START again"),
             ],
@@ -239,7 +239,7 @@ pub fn table() -> Vec<Register> {
                 f("LEVEL", 0, 5, Ro, "segments pushed and not yet taken by the scheduler (queued or in flight)"),
                 f("BUSY", 5, 1, Ro, "segments queued, in flight or moving"),
                 f("UNDERRUN", 6, 1, W1c, "a period came late: the pulse was stretched (no step lost)"),
-                f("OVERFLOW", 7, 1, W1c, "a push was refused: the queue (LEVEL = ID_QUEUE_DEPTH) or the command FIFO was full"),
+                f("OVERFLOW", 7, 1, W1c, "a push was refused: the queue was full (LEVEL = ID_QUEUE_DEPTH) or the command FIFO had no room for it"),
                 f("ERROR", 8, 1, W1c, "a segment was rejected; ERROR_CODE says why. Clearing it clears ERROR_CODE"),
                 f("ERROR_CODE", 12, 4, Ro, "1 T = 0, 2 would reverse, 3 period too short, 4 T, 5 steps, 6 v0 out of range"),
             ],
@@ -422,7 +422,12 @@ fn contract(m: &mut String, p: &CoreParams) {
          segments before and after it run as pushed, and no other axis is touched. The check \
          takes one command at a time: a write to STEPS_HI, START or ABORT committed fewer than \
          {c} bus clocks after the previous one is refused (GSTATUS.REFUSED), which the \
-         documented write timing (NWE low ≥ 3, high ≥ 2 bus clocks) never does.",
+         documented write timing (NWE low ≥ 3, high ≥ 2 bus clocks) never does. A command \
+         is taken only if the command FIFO between the clocks (4 entries, emptied at the \
+         core clock's pace) will have room for it when it leaves the check, counting the \
+         command still ahead of it: else a push is refused with STATUS.OVERFLOW and a START \
+         or ABORT with GSTATUS.REFUSED, and nothing taken is ever dropped. That happens only \
+         with `clk` several times slower than `bus_clk`.",
         v = PUSH_VERDICT_BUS_CLOCKS,
         c = COMMAND_SPACING_BUS_CLOCKS
     );

@@ -5,7 +5,9 @@
 //! it only while it is checked; a push captured before a later staging write keeps its
 //! values; a rejection and a push of the same axis in one cycle leave LEVEL right; a
 //! command written while the check is busy is refused (GSTATUS.REFUSED) and never
-//! reaches the FIFO.
+//! reaches the FIFO; with the command FIFO one entry short of full, a command taken in
+//! the check's last cycle (while the one before it goes into the FIFO) is refused, a
+//! push with OVERFLOW, and the same a cycle later is taken.
 
 mod common;
 
@@ -31,10 +33,14 @@ fn uut() -> RegFile<K> {
     u.wr_data.connect();
     u.rd.connect();
     u.rd_addr.connect();
+    u.rd_axis_next.connect();
+    u.wr_next.connect();
+    u.wr_axis_next.connect();
     u.st_valid.connect();
     u.st_axis.connect();
     u.st_word.connect();
     u.cmd_full.connect();
+    u.cmd_almost_full.connect();
     u.start_fail_toggle.connect();
     u.connect_all();
     u
@@ -55,6 +61,10 @@ fn spec() -> TbSpec {
             Port::new("st_word", STATUS_BITS),
             Port::new("cmd_full", 1),
             Port::new("start_fail_toggle", 1),
+            Port::new("rd_axis_next", 5),
+            Port::new("wr_next", 1),
+            Port::new("wr_axis_next", 4),
+            Port::new("cmd_almost_full", 1),
         ],
         outputs: vec![Port::new("cmd_write", 1), Port::new("cmd_data", CMD_BITS), Port::new("rd_data", 16)],
     }
@@ -150,7 +160,34 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
     for _ in 0..4 {
         s.idle();
     }
-    let rows = s.rows;
+    // 4. The command FIFO one entry short of full (`cmd_almost_full`) from here on: a
+    //    command taken in the check's last cycle, while the valid one before it goes
+    //    into the FIFO, would find no room 4 cycles later. A START there is refused, a
+    //    push there is refused with OVERFLOW and not counted; one cycle later both fit.
+    s.write(regs::addr("GSTATUS"), 0b10);
+    s.idle();
+    let almost_from = s.rows.len();
+    let p5 = s.write(a("STEPS_HI", 0), 0);
+    s.until(p5 + L);
+    let st2 = s.write(regs::addr("START"), 0b01);
+    s.idle();
+    let p6 = s.write(a("STEPS_HI", 0), 0);
+    s.until(p6 + L);
+    let p7 = s.write(a("STEPS_HI", 0), 0);
+    s.until(p7 + L + 1);
+    let st3 = s.write(regs::addr("START"), 0b01);
+    let gstatus2 = s.read(regs::addr("GSTATUS"));
+    let status0 = s.read(a("STATUS", 0));
+    for _ in 0..L + 2 {
+        s.idle();
+    }
+    // The look-ahead inputs as the bus slave drives them: the next row's `rd_addr`
+    // bits 8..4, `wr` and `wr_addr` bits 7..4.
+    let mut rows = s.rows;
+    for k in 0..rows.len() {
+        let next = rows.get(k + 1).cloned().unwrap_or(vec![0; 11]);
+        rows[k].extend([next[5] >> 4, next[1], (next[2] >> 4) & 15, (k >= almost_from) as u128]);
+    }
 
     let out = run_rust_hdl(
         &mut uut(),
@@ -168,6 +205,10 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
             u.st_word.next = (r[8] as u64).into();
             u.cmd_full.next = r[9] == 1;
             u.start_fail_toggle.next = r[10] == 1;
+            u.rd_axis_next.next = (r[11] as u64).into();
+            u.wr_next.next = r[12] == 1;
+            u.wr_axis_next.next = (r[13] as u64).into();
+            u.cmd_almost_full.next = r[14] == 1;
         },
         |u| vec![u.cmd_write.val() as u128, bits_to_u128(u.cmd_data.val()), u.rd_data.val().to_u64() as u128],
     );
@@ -175,18 +216,28 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
     let start = |mask: u128| mask | 1 << 104;
     assert_eq!(
         writes,
-        vec![(p1 + L, push_cmd(&good, 0)), (st1 + L, start(0b01)), (p4 + L, push_cmd(&good, 1))],
-        "commands into the FIFO (the early START at row {early} refused, the bad pushes dropped)"
+        vec![
+            (p1 + L, push_cmd(&good, 0)),
+            (st1 + L, start(0b01)),
+            (p4 + L, push_cmd(&good, 1)),
+            (p5 + L, push_cmd(&good, 0)),
+            (p6 + L, push_cmd(&good, 0)),
+            (st3 + L, start(0b01)),
+        ],
+        "commands into the FIFO (the early START at row {early} refused, the bad pushes dropped, \
+         the START at row {st2} and the push at row {p7} refused for want of room)"
     );
+    assert_eq!(out[gstatus2][2] & 0b10, 0b10, "GSTATUS.REFUSED after the START with no room");
     assert_eq!(out[gstatus][2] & 0b10, 0b10, "GSTATUS.REFUSED after the early START");
     let status = |r: usize| out[r][2] as u16;
     assert_eq!(status(during) & 0x11F, 1, "axis 1 while its push is checked: LEVEL 1, no ERROR");
     assert_eq!((status(after) & 0x11F, status(after) >> 12), (0x100, 1), "axis 1 after the verdict");
     assert_eq!(status(level) & 0x11F, 0x101, "reject and push in one cycle: LEVEL 1, ERROR");
     assert_eq!(status(level_end) & 0x1F, 1, "the valid push stays counted");
+    assert_eq!(status(status0) & 0x9F, 0x80 | 3, "axis 0: OVERFLOW, LEVEL 3 (the push with no room not counted)");
 
     let verilog = generate_verilog(&uut());
-    let reads = [gstatus, during, after, level, level_end];
+    let reads = [gstatus, during, after, level, level_end, gstatus2, status0];
     for sim in SIMULATORS {
         let got = run(sim, &sim_dir("regfile_commands", sim), &verilog, &spec(), &rows).unwrap();
         for (k, (g, r)) in got.iter().zip(&out).enumerate().skip(2) {

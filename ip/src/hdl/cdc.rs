@@ -7,7 +7,8 @@
 //!
 //! [`AsyncFifo`]: `W`-bit entries, 4 deep, written in `wclock`, read in `rclock`
 //! (unrelated clocks). Show-ahead: `data_out` is the head entry whenever `empty` is
-//! low; `read` pops it. `write` is ignored while `full`. Each side keeps a binary
+//! low; `read` pops it. `write` is ignored while `full`. `almost_full` (registered)
+//! says DEPTH − 1 or more entries were there as the writer saw them a cycle before. Each side keeps a binary
 //! and a Gray pointer (3 bits: 2 of address, 1 of wrap); only the Gray pointer
 //! crosses, through two flip-flops, so a pointer is seen either before or after one
 //! increment, never torn. Hence `full` and `empty` are conservative: an entry is
@@ -51,6 +52,11 @@ pub struct AsyncFifo<const W: usize> {
     pub write: Signal<In, Bit>,
     pub data_in: Signal<In, Bits<W>>,
     pub full: Signal<Out, Bit>,
+    /// At least DEPTH − 1 entries as the writer saw them in the previous cycle
+    /// (registered; conservative like `full`, and missing only a write made in the
+    /// previous cycle): with `full`, tells a writer that has a second write on the way
+    /// whether both fit.
+    pub almost_full: Signal<Out, Bit>,
     pub rclock: Signal<In, Clock>,
     pub rreset: Signal<In, Bit>,
     pub read: Signal<In, Bit>,
@@ -61,6 +67,7 @@ pub struct AsyncFifo<const W: usize> {
     wgray: DFF<Bits<3>>,
     rgray_w1: DFF<Bits<3>>,
     rgray_w2: DFF<Bits<3>>,
+    afull: DFF<Bit>,
     rbin: DFF<Bits<3>>,
     rgray: DFF<Bits<3>>,
     wgray_r1: DFF<Bits<3>>,
@@ -68,6 +75,8 @@ pub struct AsyncFifo<const W: usize> {
     wbin_inc: Signal<Local, Bits<3>>,
     rbin_inc: Signal<Local, Bits<3>>,
     is_full: Signal<Local, Bit>,
+    rbin_w: Signal<Local, Bits<3>>,
+    level_w: Signal<Local, Bits<3>>,
     is_empty: Signal<Local, Bit>,
     c_full: Constant<Bits<3>>,
 }
@@ -80,6 +89,7 @@ impl<const W: usize> Default for AsyncFifo<W> {
             write: Default::default(),
             data_in: Default::default(),
             full: Default::default(),
+            almost_full: Default::default(),
             rclock: Default::default(),
             rreset: Default::default(),
             read: Default::default(),
@@ -90,6 +100,7 @@ impl<const W: usize> Default for AsyncFifo<W> {
             wgray: Default::default(),
             rgray_w1: Default::default(),
             rgray_w2: Default::default(),
+            afull: Default::default(),
             rbin: Default::default(),
             rgray: Default::default(),
             wgray_r1: Default::default(),
@@ -97,6 +108,8 @@ impl<const W: usize> Default for AsyncFifo<W> {
             wbin_inc: Default::default(),
             rbin_inc: Default::default(),
             is_full: Default::default(),
+            rbin_w: Default::default(),
+            level_w: Default::default(),
             is_empty: Default::default(),
             // Full: the Gray pointers differ in exactly their two top bits.
             c_full: Constant::new(6u64.into()),
@@ -107,13 +120,19 @@ impl<const W: usize> Default for AsyncFifo<W> {
 impl<const W: usize> Logic for AsyncFifo<W> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, wclock, wbin, wgray, rgray_w1, rgray_w2);
+        dff_setup!(self, wclock, wbin, wgray, rgray_w1, rgray_w2, afull);
         dff_setup!(self, rclock, rbin, rgray, wgray_r1, wgray_r2);
         // Write side.
         self.rgray_w1.d.next = self.rgray.q.val();
         self.rgray_w2.d.next = self.rgray_w1.q.val();
         self.is_full.next = (self.wgray.q.val() ^ self.rgray_w2.q.val()) == self.c_full.val();
         self.full.next = self.is_full.val();
+        // The level the writer sees: its binary pointer less the reader's, decoded from
+        // the synchronised Gray pointer (3 bits: b2 = g2, b1 = g2 ^ g1, b0 = b1 ^ g0).
+        self.rbin_w.next = self.rgray_w2.q.val() ^ (self.rgray_w2.q.val() >> 1) ^ (self.rgray_w2.q.val() >> 2);
+        self.level_w.next = self.wbin.q.val() - self.rbin_w.val();
+        self.afull.d.next = self.level_w.val() >= 3;
+        self.almost_full.next = self.afull.q.val();
         self.wbin_inc.next = self.wbin.q.val() + 1;
         self.ram.clock.next = self.wclock.val();
         self.ram.we.next = self.write.val() & !self.is_full.val();
@@ -128,6 +147,7 @@ impl<const W: usize> Logic for AsyncFifo<W> {
             self.wgray.d.next = 0.into();
             self.rgray_w1.d.next = 0.into();
             self.rgray_w2.d.next = 0.into();
+            self.afull.d.next = false;
         }
         // Read side.
         self.wgray_r1.d.next = self.wgray.q.val();

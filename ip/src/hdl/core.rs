@@ -1004,8 +1004,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         for i in 0..K {
             self.bank.pending.next = self.pend_bus[i].bus_out.val();
         }
+        // (A command to an axis ≥ K is taken: the queues' `push_ready` is 1 for it.)
         if !self.cmd_ok_axis.val() {
-            self.cmd_ready.next = true;
             if self.cmd_valid.val() {
                 self.cmd_err.d.next = true;
             }

@@ -16,6 +16,11 @@
 //!   is registered onto `data_out` at that edge, where it stays until the next read.
 //!   `data_oe = !ne & !noe`, straight from the pins, so the pads drive only while the
 //!   MCU reads. Data is valid at most 4 bus clocks after NOE falls.
+//! * **A cycle ahead.** `wr_next` and `wr_axis_next` are what `wr` and `wr_addr`'s
+//!   bits 7..4 will be in the next cycle (the inputs of their flip-flops), and
+//!   `rd_axis_next` is bits 8..4 of the address a stage earlier (what `rd_addr` holds
+//!   in the next cycle), so the owner can decode the axis into flip-flops ahead of the
+//!   access. (Bits 8..4 are the register map's per-axis flag and axis field.)
 //!
 //! Minimum timing (docs/registers.md): NWE low ≥ 3 bus clocks, strobes high ≥ 2 bus
 //! clocks between accesses, NOE low ≥ 5 bus clocks before the MCU samples the data.
@@ -38,9 +43,18 @@ pub struct ExmcSlave {
     pub wr: Signal<Out, Bit>,
     pub wr_addr: Signal<Out, Bits<ADDR_BITS>>,
     pub wr_data: Signal<Out, Bits<16>>,
+    /// `wr` and bits 7..4 of `wr_addr` (the register map's axis field) as they will be
+    /// in the next cycle (their flip-flops' inputs), for an owner that selects a
+    /// memory address a cycle ahead.
+    pub wr_next: Signal<Out, Bit>,
+    pub wr_axis_next: Signal<Out, Bits<4>>,
     /// One cycle: a read of `rd_addr` begins; `rd_data` is latched at this edge.
     pub rd: Signal<Out, Bit>,
     pub rd_addr: Signal<Out, Bits<ADDR_BITS>>,
+    /// Bits 8..4 of the address `rd_addr` holds one cycle later (the first address
+    /// stage; the register map's per-axis flag and axis field), for an owner that
+    /// decodes the read's axis a cycle ahead.
+    pub rd_axis_next: Signal<Out, Bits<5>>,
     pub rd_data: Signal<In, Bits<16>>,
     ne1: DFF<Bit>,
     ne2: DFF<Bit>,
@@ -103,16 +117,23 @@ impl Logic for ExmcSlave {
         if self.commit.val() {
             self.captured.d.next = false;
         }
+        if self.reset.val() {
+            self.captured.d.next = false;
+        }
+        // The next cycle's commit: its capture flag, and a strobe then seen high (its
+        // second stage then is its first stage now).
+        self.wr_next.next = self.captured.d.val() & (self.nwe1.q.val() | self.ne1.q.val());
+        self.wr_axis_next.next = self.cap_addr.d.val().get_bits::<4>(4);
 
         // Read: latch the register's value as NOE is first seen low.
         self.read_start.next = !self.noe2.q.val() & self.noe3.q.val() & !self.ne2.q.val();
         self.rd.next = self.read_start.val();
         self.rd_addr.next = self.a2.q.val();
+        self.rd_axis_next.next = self.a1.q.val().get_bits::<5>(4);
         if self.read_start.val() {
             self.rdata.d.next = self.rd_data.val();
         }
         if self.reset.val() {
-            self.captured.d.next = false;
             self.rdata.d.next = 0.into();
         }
     }

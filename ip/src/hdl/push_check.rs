@@ -8,14 +8,17 @@
 //!
 //! Pipeline (one command in flight; latency 4 cycles):
 //! * edge 0 registers the command (`in_valid`, `in_data`, layout
-//!   [`super::regfile::CMD_BITS`]) and v0 + RMAX;
+//!   [`super::regfile::CMD_BITS`]) and v0 + RMAX (the latter every cycle, from
+//!   `in_data`'s low 32 bits whether or not `in_valid` is 1: the owner may offer a
+//!   push's v0 there early, ahead of its decision to write);
 //! * cycle 1: the two 32×32 products v0·T and (v0 + RMAX)·T go into two [`MulReg`]s;
 //!   the range codes (T = 0, T, |θ|, v0 above their maxima), n·2^33 and the two
 //!   start-rate limits are registered;
-//! * cycle 3: the products arrive and three 64-bit compares against 2n·2^32 are
-//!   registered: reverses (2n·2^32 < v0·T), rounds past rest (and 2n·2^32 + T > v0·T)
-//!   and too fast at the end (2n·2^32 > (v0 + RMAX)·T, that is v_end·T·2^32 > T·RMAX);
-//! * cycle 4: the verdict. `out_valid`/`out_data` for a valid push, START or ABORT;
+//! * cycle 3: the products arrive; three 64-bit compares against 2n·2^32 (reverses:
+//!   2n·2^32 < v0·T; rounds past rest: and 2n·2^32 + T > v0·T; too fast at the end:
+//!   2n·2^32 > (v0 + RMAX)·T, that is v_end·T·2^32 > T·RMAX) make the verdict's code,
+//!   in the model's order, and it is registered with the rounds-past-rest flag;
+//! * cycle 4: the verdict, from those registers. `out_valid`/`out_data` for a valid push, START or ABORT;
 //!   `rej_valid` with `rej_axis` and `rej_code` for a rejected push.
 //!
 //! `busy` is 1 in cycles 1 to 3: a command offered then would be lost, so the register
@@ -57,9 +60,9 @@ pub struct PushCheck {
     n2t: DFF<Bits<64>>,
     v0_fast: DFF<Bit>,
     v0_fast1: DFF<Bit>,
-    rev: DFF<Bit>,
     near: DFF<Bit>,
-    fast: DFF<Bit>,
+    /// The verdict's code (0: valid), registered at the end of cycle 3.
+    code: DFF<Bits<4>>,
     mul_vt: MulReg<32, 32, 64>,
     mul_rt: MulReg<32, 32, 64>,
     c_rmax: Constant<Bits<32>>,
@@ -73,8 +76,10 @@ pub struct PushCheck {
     x_steps: Signal<Local, Bits<32>>,
     x_n: Signal<Local, Bits<32>>,
     x_v0m1: Signal<Local, Bits<32>>,
-    below_vt: Signal<Local, Bit>,
-    code: Signal<Local, Bits<4>>,
+    rev: Signal<Local, Bit>,
+    near_now: Signal<Local, Bit>,
+    fast: Signal<Local, Bit>,
+    bad: Signal<Local, Bit>,
 }
 
 impl PushCheck {
@@ -104,9 +109,8 @@ impl PushCheck {
             n2t: Default::default(),
             v0_fast: Default::default(),
             v0_fast1: Default::default(),
-            rev: Default::default(),
             near: Default::default(),
-            fast: Default::default(),
+            code: Default::default(),
             mul_vt: Default::default(),
             mul_rt: Default::default(),
             c_rmax: Constant::new(rmax.into()),
@@ -120,8 +124,10 @@ impl PushCheck {
             x_steps: Default::default(),
             x_n: Default::default(),
             x_v0m1: Default::default(),
-            below_vt: Default::default(),
-            code: Default::default(),
+            rev: Default::default(),
+            near_now: Default::default(),
+            fast: Default::default(),
+            bad: Default::default(),
         }
     }
 }
@@ -129,7 +135,7 @@ impl PushCheck {
 impl Logic for PushCheck {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, s1, s2, s3, s4, cmd, vr, rcode, n2, n2t, v0_fast, v0_fast1, rev, near, fast);
+        dff_setup!(self, clock, s1, s2, s3, s4, cmd, vr, rcode, n2, n2t, v0_fast, v0_fast1, near, code);
         self.mul_vt.clock.next = self.clock.val();
         self.mul_rt.clock.next = self.clock.val();
 
@@ -140,8 +146,10 @@ impl Logic for PushCheck {
         self.s4.d.next = self.s3.q.val();
         if self.in_valid.val() {
             self.cmd.d.next = self.in_data.val();
-            self.vr.d.next = self.in_data.val().get_bits::<32>(0) + self.c_rmax.val();
         }
+        // v0 + RMAX every cycle (read only in cycle 1): no enable behind the owner's
+        // decision to write, so the adder follows only v0's own path.
+        self.vr.d.next = self.in_data.val().get_bits::<32>(0) + self.c_rmax.val();
         self.busy.next = self.s1.q.val() | self.s2.q.val() | self.s3.q.val();
 
         // Cycle 1: the products in, the range checks and 2n·2^32 registered.
@@ -176,37 +184,39 @@ impl Logic for PushCheck {
         self.v0_fast.d.next = self.x_v0.val() > self.c_rmax.val();
         self.v0_fast1.d.next = self.x_v0.val() > self.c_rmax1.val();
 
-        // Cycle 3: the products arrive (MulReg latency 2).
-        self.below_vt.next = self.n2.q.val() < self.mul_vt.p.val();
-        self.rev.d.next = self.below_vt.val();
-        self.near.d.next = self.below_vt.val() & (self.n2t.q.val() > self.mul_vt.p.val());
-        self.fast.d.next = self.n2.q.val() > self.mul_rt.p.val();
-
-        // Cycle 4: the verdict, in the model's order.
+        // Cycle 3: the products arrive (MulReg latency 2); the three compares and the
+        // verdict's code, in the model's order, registered (cycle 4 reads flip-flops).
+        self.rev.next = self.n2.q.val() < self.mul_vt.p.val();
+        self.near_now.next = self.rev.val() & (self.n2t.q.val() > self.mul_vt.p.val());
+        self.fast.next = self.n2.q.val() > self.mul_rt.p.val();
+        self.near.d.next = self.near_now.val();
         if self.rcode.q.val() != 0 {
-            self.code.next = self.rcode.q.val();
-        } else if self.near.q.val() {
+            self.code.d.next = self.rcode.q.val();
+        } else if self.near_now.val() {
             if self.v0_fast1.q.val() {
-                self.code.next = 3.into();
+                self.code.d.next = 3.into();
             } else {
-                self.code.next = 0.into();
+                self.code.d.next = 0.into();
             }
-        } else if self.rev.q.val() {
-            self.code.next = 2.into();
-        } else if self.v0_fast.q.val() | self.fast.q.val() {
-            self.code.next = 3.into();
+        } else if self.rev.val() {
+            self.code.d.next = 2.into();
+        } else if self.v0_fast.q.val() | self.fast.val() {
+            self.code.d.next = 3.into();
         } else {
-            self.code.next = 0.into();
+            self.code.d.next = 0.into();
         }
-        self.out_valid.next = self.s4.q.val() & (!self.is_push.val() | (self.code.val() == 0));
+
+        // Cycle 4: the verdict.
+        self.bad.next = self.code.q.val() != 0;
+        self.out_valid.next = self.s4.q.val() & (!self.is_push.val() | !self.bad.val());
         self.x_v0m1.next = self.x_v0.val() - 1;
         self.out_data.next = self.cmd.q.val();
         if self.is_push.val() & self.near.q.val() {
             self.out_data.next = ((self.cmd.q.val() >> 32) << 32) | bit_cast::<CMD_BITS, 32>(self.x_v0m1.val());
         }
-        self.rej_valid.next = self.s4.q.val() & self.is_push.val() & (self.code.val() != 0);
+        self.rej_valid.next = self.s4.q.val() & self.is_push.val() & self.bad.val();
         self.rej_axis.next = self.cmd.q.val().get_bits::<4>(96);
-        self.rej_code.next = self.code.val();
+        self.rej_code.next = self.code.q.val();
 
         if self.reset.val() {
             self.s1.d.next = false;

@@ -6,8 +6,11 @@
 //! **Writes** (`wr` from [`super::exmc::ExmcSlave`]) act at once: staging and control
 //! registers load, W1C bits clear, and START, ABORT and STEPS_HI put a command on
 //! `cmd_data` with `cmd_write` for the command FIFO (layout: [`CMD_BITS`]).
-//! **Reads** are combinational on `rd_addr` (`rd_data`); the slave latches them. A
-//! read of POS_LO latches the position's high half for POS_HI.
+//! **Reads** are combinational on `rd_addr` (`rd_data`); the slave latches them. The
+//! read's axis is decoded a cycle ahead from `rd_axis_next` into one-hot flip-flops,
+//! and each per-axis field is an OR of the axes' values under their selects, so the
+//! path to `rd_data` starts at flip-flops, not at a K:1 multiplexer. A read of POS_LO
+//! latches the position's high half for POS_HI.
 //!
 //! **Memories.** The staging registers and the mirror live in LUT RAM addressed by
 //! axis ([`LutRam`], 16 words: one more axis costs memory words, not flip-flops and
@@ -83,13 +86,25 @@ pub struct RegFile<const K: usize> {
     pub wr: Signal<In, Bit>,
     pub wr_addr: Signal<In, Bits<ADDR_BITS>>,
     pub wr_data: Signal<In, Bits<16>>,
+    /// `wr` and the axis field (bits 7..4) of `wr_addr` of the next cycle (the bus
+    /// slave's): the staging memories' read address is chosen a cycle ahead, into a
+    /// flip-flop.
+    pub wr_next: Signal<In, Bit>,
+    pub wr_axis_next: Signal<In, Bits<4>>,
     pub rd: Signal<In, Bit>,
     pub rd_addr: Signal<In, Bits<ADDR_BITS>>,
+    /// Bits 8..4 (the per-axis flag and the axis) of the address `rd_addr` will hold
+    /// in the next cycle (the bus slave's first address stage): the read's axis is
+    /// decoded from them a cycle ahead, into flip-flops, so no K:1 multiplexer
+    /// selected by `rd_addr` stands in front of `rd_data`.
+    pub rd_axis_next: Signal<In, Bits<5>>,
     pub rd_data: Signal<Out, Bits<16>>,
     pub st_valid: Signal<In, Bit>,
     pub st_axis: Signal<In, Bits<8>>,
     pub st_word: Signal<In, Bits<STATUS_BITS>>,
     pub cmd_full: Signal<In, Bit>,
+    /// The command FIFO's `almost_full` (DEPTH − 1 entries or more, a cycle old).
+    pub cmd_almost_full: Signal<In, Bit>,
     pub cmd_write: Signal<Out, Bit>,
     pub cmd_data: Signal<Out, Bits<CMD_BITS>>,
     /// CTRL.ENABLE.
@@ -133,6 +148,16 @@ pub struct RegFile<const K: usize> {
     f_err: [DFF<Bit>; K],
     f_code: [DFF<Bits<4>>; K],
     busy_bus: [BitInsert<16>; K],
+    /// The read addresses axis i's registers (decoded from `rd_axis_next`, so valid
+    /// with `rd_addr`): one-hot, or all 0 for a global register or an axis ≥ K.
+    rq_sel: [DFF<Bit>; K],
+    /// The staging memories' read address: the writing axis while a write commits,
+    /// else the read axis (set a cycle ahead from the `_next` inputs).
+    st_aq: DFF<Bits<4>>,
+    /// The writing axis's queue-full flag and staging flags (bits 0..4), registered
+    /// at `wr_axis_next` a cycle ahead of its write.
+    w_fq: DFF<Bit>,
+    w_vq: DFF<Bits<5>>,
     ctrl_en: DFF<Bit>,
     core_en: DFF<Bit>,
     refused: DFF<Bit>,
@@ -175,14 +200,13 @@ pub struct RegFile<const K: usize> {
     w_data32: Signal<Local, Bits<32>>,
     w_ok: Signal<Local, Bit>,
     w_hw: Signal<Local, Bits<6>>,
-    h_vld: Signal<Local, Bits<6>>,
+    h_vld: Signal<Local, Bits<5>>,
     st_addr: Signal<Local, Bits<4>>,
     h0: Signal<Local, Bits<16>>,
     h1: Signal<Local, Bits<16>>,
     h2: Signal<Local, Bits<16>>,
     h3: Signal<Local, Bits<16>>,
     h4: Signal<Local, Bits<16>>,
-    h5: Signal<Local, Bits<16>>,
     r_ax: Signal<Local, Bit>,
     r_axis: Signal<Local, Bits<4>>,
     r_off: Signal<Local, Bits<4>>,
@@ -204,6 +228,7 @@ pub struct RegFile<const K: usize> {
     ev_err: Signal<Local, Bits<16>>,
     push_ok: Signal<Local, Bit>,
     c_busy: Signal<Local, Bit>,
+    fifo_full: Signal<Local, Bit>,
     c_write: Signal<Local, Bit>,
     c_data: Signal<Local, Bits<CMD_BITS>>,
     rej_onehot: Signal<Local, Bits<16>>,
@@ -211,6 +236,8 @@ pub struct RegFile<const K: usize> {
     x_t: Signal<Local, Bits<32>>,
     x_steps: Signal<Local, Bits<32>>,
     r_sel: Signal<Local, Bit>,
+    rn_axis: Signal<Local, Bits<4>>,
+    r_vld: Signal<Local, Bits<6>>,
     r_level: Signal<Local, Bits<8>>,
     r_busy: Signal<Local, Bit>,
     r_fu: Signal<Local, Bit>,
@@ -287,13 +314,17 @@ impl<const K: usize> RegFile<K> {
             wr: Default::default(),
             wr_addr: Default::default(),
             wr_data: Default::default(),
+            wr_next: Default::default(),
+            wr_axis_next: Default::default(),
             rd: Default::default(),
             rd_addr: Default::default(),
+            rd_axis_next: Default::default(),
             rd_data: Default::default(),
             st_valid: Default::default(),
             st_axis: Default::default(),
             st_word: Default::default(),
             cmd_full: Default::default(),
+            cmd_almost_full: Default::default(),
             cmd_write: Default::default(),
             cmd_data: Default::default(),
             enable: Default::default(),
@@ -318,6 +349,10 @@ impl<const K: usize> RegFile<K> {
             f_err: std::array::from_fn(|_| Default::default()),
             f_code: std::array::from_fn(|_| Default::default()),
             busy_bus: std::array::from_fn(BitInsert::new),
+            rq_sel: std::array::from_fn(|_| Default::default()),
+            st_aq: Default::default(),
+            w_fq: Default::default(),
+            w_vq: Default::default(),
             ctrl_en: Default::default(),
             core_en: Default::default(),
             refused: Default::default(),
@@ -362,7 +397,6 @@ impl<const K: usize> RegFile<K> {
             h2: Default::default(),
             h3: Default::default(),
             h4: Default::default(),
-            h5: Default::default(),
             r_ax: Default::default(),
             r_axis: Default::default(),
             r_off: Default::default(),
@@ -384,6 +418,7 @@ impl<const K: usize> RegFile<K> {
             ev_err: Default::default(),
             push_ok: Default::default(),
             c_busy: Default::default(),
+            fifo_full: Default::default(),
             c_write: Default::default(),
             c_data: Default::default(),
             rej_onehot: Default::default(),
@@ -391,6 +426,8 @@ impl<const K: usize> RegFile<K> {
             x_t: Default::default(),
             x_steps: Default::default(),
             r_sel: Default::default(),
+            rn_axis: Default::default(),
+            r_vld: Default::default(),
             r_level: Default::default(),
             r_busy: Default::default(),
             r_fu: Default::default(),
@@ -462,8 +499,9 @@ impl<const K: usize> Logic for RegFile<K> {
         dff_setup!(
             self, clock, ctrl_en, core_en, refused, irq_done, irq_qlow, irq_err, mask_done, mask_qlow, mask_err, qlow,
             pos_latch, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last,
-            ql_valid, ql_pushed, ql_taken, ql_axis
+            ql_valid, ql_pushed, ql_taken, ql_axis, st_aq, w_fq, w_vq
         );
+        self.rn_axis.next = self.rd_axis_next.val().get_bits::<4>(0);
         // Output timing: the two minima the core applies, and whether they fit in the
         // minimum period (CTRL.ENABLE = 1 is refused otherwise). Registered: they
         // change only with a timing write, which needs the core held in reset.
@@ -481,6 +519,8 @@ impl<const K: usize> Logic for RegFile<K> {
         self.low_min.next = self.lmin.q.val();
         for i in 0..K {
             self.st_vld[i].clock.next = self.clock.val();
+            self.rq_sel[i].clock.next = self.clock.val();
+            self.rq_sel[i].d.next = self.rd_axis_next.val().get_bit(4) & (self.rn_axis.val().index() == i);
             self.m_vld[i].clock.next = self.clock.val();
             self.pushed[i].clock.next = self.clock.val();
             self.q_full[i].clock.next = self.clock.val();
@@ -506,11 +546,15 @@ impl<const K: usize> Logic for RegFile<K> {
         self.irq.next = self.irq_q.q.val();
         self.accepting.next = self.ctrl_en.q.val() & self.core_en.q.val();
         self.c_write.next = false;
-        self.c_data.next = 0.into();
         // The push check: busy while a command is in flight; its verdict 4 cycles on.
         self.chk.clock.next = self.clock.val();
         self.chk.reset.next = self.reset.val() | !self.ctrl_en.q.val();
         self.c_busy.next = self.chk.busy.val();
+        // No room in the command FIFO for a command taken now: full, or one slot left
+        // and the check's previous command going into it at this very edge (a command
+        // taken in the check's last cycle; else the check's one command at a time
+        // means `cmd_full` already counts every write before this one's, 4 cycles on).
+        self.fifo_full.next = self.cmd_full.val() | (self.cmd_almost_full.val() & self.chk.out_valid.val());
         self.cmd_write.next = self.chk.out_valid.val();
         self.cmd_data.next = self.chk.out_data.val();
         self.rej_onehot.next = 0.into();
@@ -562,11 +606,12 @@ impl<const K: usize> Logic for RegFile<K> {
         // commits (the push reads the other five half-words) and at the read axis
         // otherwise (the slave latches a read at `rd`, which never coincides with
         // `wr` when the bus keeps its documented timing).
-        if self.wr.val() {
-            self.st_addr.next = self.w_axis.val();
+        if self.wr_next.val() {
+            self.st_aq.d.next = self.wr_axis_next.val();
         } else {
-            self.st_addr.next = self.r_axis.val();
+            self.st_aq.d.next = self.rn_axis.val();
         }
+        self.st_addr.next = self.st_aq.q.val();
         for j in 0..6 {
             self.st_ram[j].clock.next = self.clock.val();
             self.st_ram[j].we.next = self.w_ok.val() & self.w_hw.val().get_bit(j);
@@ -591,27 +636,32 @@ impl<const K: usize> Logic for RegFile<K> {
         // level of the axis being written.
         self.o_taken.next = 0.into();
         self.o_pushed.next = 0.into();
-        self.w_full.next = false;
-        self.h_vld.next = 0.into();
+        // The writing axis's queue-full flag and staging flags are taken a cycle ahead,
+        // at `wr_axis_next`, into flip-flops (no K:1 multiplexer between the write
+        // address and the push's decision or data). A cycle older is still exact for
+        // pushes: the slave commits writes at least three cycles apart, so the flags
+        // have seen the previous write (see "pushes" below).
+        self.w_fq.d.next = false;
+        self.w_vq.d.next = 0.into();
         for i in 0..K {
             if self.st_axis.val().index() == i {
                 self.o_taken.next = self.m_taken[i].q.val();
                 self.o_pushed.next = self.pushed[i].q.val();
             }
-            if self.w_axis.val().index() == i {
-                self.w_full.next = self.q_full[i].q.val();
-            }
-            if self.st_addr.val().index() == i {
-                self.h_vld.next = self.st_vld[i].q.val();
+            if self.wr_axis_next.val().index() == i {
+                self.w_fq.d.next = self.q_full[i].q.val();
+                self.w_vq.d.next = self.st_vld[i].q.val().get_bits::<5>(0);
             }
         }
-        // The staging half-words at `st_addr`, 0 where not written since reset.
+        self.w_full.next = self.w_fq.q.val();
+        self.h_vld.next = self.w_vq.q.val();
+        // The staging half-words of the writing axis (a push reads them while its write
+        // commits, when `st_addr` is that axis), 0 where not written since reset.
         self.h0.next = 0.into();
         self.h1.next = 0.into();
         self.h2.next = 0.into();
         self.h3.next = 0.into();
         self.h4.next = 0.into();
-        self.h5.next = 0.into();
         if self.h_vld.val().get_bit(0) {
             self.h0.next = self.st_ram[0].rdata.val();
         }
@@ -626,9 +676,6 @@ impl<const K: usize> Logic for RegFile<K> {
         }
         if self.h_vld.val().get_bit(4) {
             self.h4.next = self.st_ram[4].rdata.val();
-        }
-        if self.h_vld.val().get_bit(5) {
-            self.h5.next = self.st_ram[5].rdata.val();
         }
         self.x_v0.next = bit_cast::<32, 16>(self.h0.val()) | (bit_cast::<32, 16>(self.h1.val()) << 16);
         self.x_t.next = bit_cast::<32, 16>(self.h2.val()) | (bit_cast::<32, 16>(self.h3.val()) << 16);
@@ -668,17 +715,19 @@ impl<const K: usize> Logic for RegFile<K> {
         }
 
         // ---- pushes ----------------------------------------------------------
-        // The queue-full test reads a registered flag, a cycle behind `pushed` and the
-        // mirror, so the level subtraction is off the path into the command FIFO. That
-        // is exact for pushes: the slave commits a write at most every third cycle
-        // (two samples with NWE low, one high), and the flag has seen the previous
-        // push by then. A segment the core takes in the cycle before a push is seen a
-        // cycle later, which can only refuse a push that would just have fitted.
+        // The queue-full test reads a registered flag, two cycles behind `pushed` and
+        // the mirror (a flag registered from them, taken a cycle ahead at the write's
+        // axis), so neither the level subtraction nor an axis multiplexer is on the
+        // path into the command FIFO. That is exact for pushes: the slave commits a
+        // write at most every third cycle (two samples with NWE low, one high), and
+        // the flag has seen the previous push by then. A segment the core takes (or a
+        // push the check rejects) in the two cycles before a push is seen later, which
+        // can only refuse a push that would just have fitted.
         self.push_ok.next = false;
         if self.w_ok.val() & (self.w_off.val() == self.o_steps_hi.val()) {
             if !self.accepting.val() | self.c_busy.val() {
                 self.refused.d.next = true;
-            } else if self.cmd_full.val() | self.w_full.val() {
+            } else if self.fifo_full.val() | self.w_full.val() {
                 self.ev_err.next = self.ev_err.val() | self.w_onehot.val();
             } else {
                 self.push_ok.next = true;
@@ -696,12 +745,23 @@ impl<const K: usize> Logic for RegFile<K> {
         // A rejected push: STATUS.ERROR with the code, IRQ_ERROR, and LEVEL no longer
         // counts it (below).
         self.ev_err.next = self.ev_err.val() | self.rej_onehot.val();
+        // The command's data is the push's unless the write address is START's or
+        // ABORT's, whether or not a command is written: the check's v0 + RMAX adder then
+        // follows the staging memory and the address, not the decision to write.
+        self.c_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
+            | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
+            | (bit_cast::<CMD_BITS, 32>(self.x_steps.val()) << 64)
+            | (bit_cast::<CMD_BITS, 4>(self.w_axis.val()) << 96);
         if self.push_ok.val() {
             self.c_write.next = true;
-            self.c_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
-                | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
-                | (bit_cast::<CMD_BITS, 32>(self.x_steps.val()) << 64)
-                | (bit_cast::<CMD_BITS, 4>(self.w_axis.val()) << 96);
+        }
+        // START's and ABORT's data, chosen by the write address alone (the decision to
+        // write them is `c_write`'s, below).
+        if self.wr_addr.val() == self.a_start.val() {
+            self.c_data.next = bit_cast::<CMD_BITS, 16>(self.wr_data.val()) | (bit_cast::<CMD_BITS, 2>(1.into()) << 104);
+        }
+        if self.wr_addr.val() == self.a_abort.val() {
+            self.c_data.next = bit_cast::<CMD_BITS, 2>(2.into()) << 104;
         }
 
         // ---- per axis ----------------------------------------------------------
@@ -832,18 +892,16 @@ impl<const K: usize> Logic for RegFile<K> {
                 }
             }
             if self.wr_addr.val() == self.a_start.val() {
-                if self.accepting.val() & !self.cmd_full.val() & !self.c_busy.val() {
+                if self.accepting.val() & !self.fifo_full.val() & !self.c_busy.val() {
                     self.c_write.next = true;
-                    self.c_data.next = bit_cast::<CMD_BITS, 16>(self.wr_data.val()) | (bit_cast::<CMD_BITS, 2>(1.into()) << 104);
                     self.start_last.d.next = self.wr_data.val() & self.c_axmask.val();
                 } else {
                     self.refused.d.next = true;
                 }
             }
             if (self.wr_addr.val() == self.a_abort.val()) & self.wr_data.val().get_bit(0) {
-                if self.accepting.val() & !self.cmd_full.val() & !self.c_busy.val() {
+                if self.accepting.val() & !self.fifo_full.val() & !self.c_busy.val() {
                     self.c_write.next = true;
-                    self.c_data.next = bit_cast::<CMD_BITS, 2>(2.into()) << 104;
                 } else {
                     self.refused.d.next = true;
                 }
@@ -968,6 +1026,8 @@ impl<const K: usize> Logic for RegFile<K> {
                 }
             }
         }
+        // The read axis's registers: an OR of each axis's, masked by its one-hot select
+        // (no multiplexer chain, and nothing decoded from `rd_addr` in front).
         self.r_sel.next = false;
         self.r_mvld.next = false;
         self.r_level.next = 0.into();
@@ -976,18 +1036,20 @@ impl<const K: usize> Logic for RegFile<K> {
         self.r_fo.next = false;
         self.r_fe.next = false;
         self.r_code.next = 0.into();
+        self.r_vld.next = 0.into();
         self.r_pos.next = 0.into();
         self.r_done.next = 0.into();
         for i in 0..K {
-            if self.r_axis.val().index() == i {
+            if self.rq_sel[i].q.val() {
                 self.r_sel.next = true;
-                self.r_mvld.next = self.m_vld[i].q.val();
-                self.r_level.next = self.lv[i].q.val();
-                self.r_busy.next = self.bz[i].q.val();
-                self.r_fu.next = self.f_under[i].q.val();
-                self.r_fo.next = self.f_over[i].q.val();
-                self.r_fe.next = self.f_err[i].q.val();
-                self.r_code.next = self.f_code[i].q.val();
+                self.r_mvld.next = self.r_mvld.val() | self.m_vld[i].q.val();
+                self.r_level.next = self.r_level.val() | self.lv[i].q.val();
+                self.r_busy.next = self.r_busy.val() | self.bz[i].q.val();
+                self.r_fu.next = self.r_fu.val() | self.f_under[i].q.val();
+                self.r_fo.next = self.r_fo.val() | self.f_over[i].q.val();
+                self.r_fe.next = self.r_fe.val() | self.f_err[i].q.val();
+                self.r_code.next = self.r_code.val() | self.f_code[i].q.val();
+                self.r_vld.next = self.r_vld.val() | self.st_vld[i].q.val();
             }
         }
         // The mirror's position and done count at the read axis, 0 until its first
@@ -998,27 +1060,29 @@ impl<const K: usize> Logic for RegFile<K> {
             self.r_pos.next = self.mb_ram.rdata.val().get_bits::<32>(0);
             self.r_done.next = self.mb_ram.rdata.val().get_bits::<8>(32);
         }
-        if self.rd.val() & self.r_ax.val() & self.r_sel.val() & (self.r_off.val() == self.o_pos_lo.val()) {
+        if self.rd.val() & self.r_sel.val() & (self.r_off.val() == self.o_pos_lo.val()) {
             self.pos_latch.d.next = self.r_pos.val().get_bits::<16>(16);
         }
-        if self.r_ax.val() & self.r_sel.val() {
-            if self.r_off.val() == self.o_v0_lo.val() {
-                self.rd_data.next = self.h0.val();
+        // (A staging half-word reads at `st_addr`, the read axis when no write commits;
+        // 0 where not written since reset.)
+        if self.r_sel.val() {
+            if (self.r_off.val() == self.o_v0_lo.val()) & self.r_vld.val().get_bit(0) {
+                self.rd_data.next = self.st_ram[0].rdata.val();
             }
-            if self.r_off.val() == self.o_v0_hi.val() {
-                self.rd_data.next = self.h1.val();
+            if (self.r_off.val() == self.o_v0_hi.val()) & self.r_vld.val().get_bit(1) {
+                self.rd_data.next = self.st_ram[1].rdata.val();
             }
-            if self.r_off.val() == self.o_t_lo.val() {
-                self.rd_data.next = self.h2.val();
+            if (self.r_off.val() == self.o_t_lo.val()) & self.r_vld.val().get_bit(2) {
+                self.rd_data.next = self.st_ram[2].rdata.val();
             }
-            if self.r_off.val() == self.o_t_hi.val() {
-                self.rd_data.next = self.h3.val();
+            if (self.r_off.val() == self.o_t_hi.val()) & self.r_vld.val().get_bit(3) {
+                self.rd_data.next = self.st_ram[3].rdata.val();
             }
-            if self.r_off.val() == self.o_steps_lo.val() {
-                self.rd_data.next = self.h4.val();
+            if (self.r_off.val() == self.o_steps_lo.val()) & self.r_vld.val().get_bit(4) {
+                self.rd_data.next = self.st_ram[4].rdata.val();
             }
-            if self.r_off.val() == self.o_steps_hi.val() {
-                self.rd_data.next = self.h5.val();
+            if (self.r_off.val() == self.o_steps_hi.val()) & self.r_vld.val().get_bit(5) {
+                self.rd_data.next = self.st_ram[5].rdata.val();
             }
             if self.r_off.val() == self.o_status.val() {
                 self.rd_data.next = bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))

@@ -160,6 +160,9 @@ macro_rules! stepper_top {
                 self.regs.wr_data.next = self.exmc.wr_data.val();
                 self.regs.rd.next = self.exmc.rd.val();
                 self.regs.rd_addr.next = self.exmc.rd_addr.val();
+                self.regs.rd_axis_next.next = self.exmc.rd_axis_next.val();
+                self.regs.wr_next.next = self.exmc.wr_next.val();
+                self.regs.wr_axis_next.next = self.exmc.wr_axis_next.val();
                 self.exmc.rd_data.next = self.regs.rd_data.val();
                 self.irq.next = self.regs.irq.val();
 
@@ -169,6 +172,7 @@ macro_rules! stepper_top {
                 self.cmd_fifo.write.next = self.regs.cmd_write.val();
                 self.cmd_fifo.data_in.next = self.regs.cmd_data.val();
                 self.regs.cmd_full.next = self.cmd_fifo.full.val();
+                self.regs.cmd_almost_full.next = self.cmd_fifo.almost_full.val();
                 self.cmd_fifo.rclock.next = self.clk.val();
                 self.cmd_fifo.rreset.next = self.rst_core.sig_out.val();
                 self.cmd_fifo.read.next = true;
