@@ -115,6 +115,10 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
     let limits = Limits::default();
     let good = Segment::new(0, 1000, 5);
     assert!(good.validate(&limits).is_ok());
+    // Axis 1's segment differs from axis 0's, so a push that read another axis's
+    // staging would show.
+    let good1 = Segment::new(0, 1000, 7);
+    assert!(good1.validate(&limits).is_ok());
     assert_eq!(Segment::new(0, 0, 5).validate(&limits).unwrap_err().code(), 1);
     let mut s = Stim { rows: vec![] };
     s.rows.push(vec![1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
@@ -138,7 +142,7 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
     let gstatus = s.read(regs::addr("GSTATUS"));
     // 2. A bad push on axis 1 (T = 0: never written): LEVEL counts it while it is
     //    checked, then STATUS shows ERROR with code 1 and LEVEL 0.
-    s.write(a("STEPS_LO", 1), 5);
+    s.write(a("STEPS_LO", 1), 7);
     s.idle();
     let p2 = s.write(a("STEPS_HI", 1), 0);
     let during = s.read(a("STATUS", 1));
@@ -219,7 +223,7 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
         vec![
             (p1 + L, push_cmd(&good, 0)),
             (st1 + L, start(0b01)),
-            (p4 + L, push_cmd(&good, 1)),
+            (p4 + L, push_cmd(&good1, 1)),
             (p5 + L, push_cmd(&good, 0)),
             (p6 + L, push_cmd(&good, 0)),
             (st3 + L, start(0b01)),
