@@ -14,6 +14,7 @@ use common::*;
 use rust_hdl::prelude::*;
 use tdm_stepper::hdl::exmc::ExmcSlave;
 use tdm_stepper::regs::ADDR_BITS;
+use tdm_stepper::verify::bus::{MIN_HIGH_BUS_CLOCKS, MIN_READ_BUS_CLOCKS, MIN_WRITE_BUS_CLOCKS};
 use tdm_stepper::verify::{run_rust_hdl, Port, TbSpec};
 
 fn uut() -> ExmcSlave {
@@ -73,13 +74,13 @@ fn commits_reads_and_look_ahead_outputs() {
     for _ in 0..300 {
         let addr = (rng.next() & 0x1ff) as u16;
         let data = rng.next() as u16;
-        // Strobes high ≥ 2 bus clocks between accesses (the documented minimum), or more.
-        let gap = 2 + rng.next() % 3;
+        // Strobes high for the documented minimum between accesses, or longer.
+        let gap = MIN_HIGH_BUS_CLOCKS + rng.next() % 3;
         idle(&mut rows, &mut rng, gap);
         match rng.next() % 5 {
             0 | 1 => {
-                // A write with NWE low 3..6 bus clocks (3 is the documented minimum).
-                let low = 3 + rng.next() % 4;
+                // A write with NWE low for the documented minimum or up to 3 bus clocks more.
+                let low = MIN_WRITE_BUS_CLOCKS + rng.next() % 4;
                 for _ in 0..low {
                     rows.push(vec![0, 0, 1, 0, addr as u128, data as u128, rng.next() as u128 & 0xffff]);
                 }
@@ -91,8 +92,8 @@ fn commits_reads_and_look_ahead_outputs() {
                 accesses.push(Access::Write { addr, data, complete: false });
             }
             _ => {
-                // A read with NOE low 5..8 bus clocks.
-                let low = 5 + rng.next() % 4;
+                // A read with NOE low for the documented minimum or up to 3 bus clocks more.
+                let low = MIN_READ_BUS_CLOCKS + rng.next() % 4;
                 for _ in 0..low {
                     rows.push(vec![0, 0, 0, 1, addr as u128, 0, rng.next() as u128 & 0xffff]);
                 }
@@ -150,9 +151,11 @@ fn commits_reads_and_look_ahead_outputs() {
     for &k in &reads {
         // The owner's rd_data of the rd cycle is on data_out from the next cycle on.
         assert_eq!(out[k + 1][8], rows[k][6], "data_out after the read at row {k}");
-        // Data valid at most 4 bus clocks after NOE falls.
+        // Data valid at most 4 bus clocks after NOE falls: a bus clock before the MCU
+        // samples it at the earliest (NOE low for the documented minimum).
         let fall = (0..=k).rev().find(|&j| rows[j][2] == 1).unwrap() + 1;
-        assert!(k + 1 - fall <= 4, "read at row {k}: data {} bus clocks after NOE fell", k + 1 - fall);
+        let due = MIN_READ_BUS_CLOCKS as usize - 1;
+        assert!(k + 1 - fall <= due, "read at row {k}: data {} bus clocks after NOE fell", k + 1 - fall);
     }
     for (k, r) in rows.iter().enumerate() {
         assert_eq!(out[k][9], (r[1] == 0 && r[2] == 0) as u128, "data_oe at row {k}");
