@@ -50,7 +50,7 @@ mutants=(
   "12#ip/src/hdl/core.rs#s/self.pe_last.d.next = true;/self.pe_last.d.next = false;/#hdl_core#two_axes_match#dwell entry without its last flag"
   "13#ip/src/hdl/core.rs#s/& \(\(self.pk_kind.val\(\) == 0\) \| self.pk_sat.val\(\)\)/\& (self.pk_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
   "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
-  "15#ip/src/hdl/core.rs#s/if self.u_r1.q.val\(\) >= self.two_n.val\(\) \{/if self.u_r1.q.val() > self.two_n.val() {/#hdl_core#uniform_step_carries#uniform step: remainder equal to 2n not carried"
+  "15#ip/src/hdl/core.rs#s/if !self.u_r2.q.val\(\).get_bit\(33\) \{/if !self.u_r2.q.val().get_bit(33) \& (self.u_r2.q.val() != 0) {/#hdl_core#uniform_step_carries#uniform step: remainder equal to 2n not carried"
   "16#ip/src/hdl/core.rs#s/if self.p_ready.q.val\(\) \{/if self.div.valid.val() {/#hdl_core_setup#setup_state_equals#fallback decided on the registered test a cycle early (the quotient before the last digits)"
   "17#ip/src/hdl/root.rs#s/self.t3_w.val\(\) - \(\(self.m_w.val\(\) >> 2\) \| \(self.m_w.val\(\) >> 3\)\)/self.t3_w.val() - (self.m_w.val() >> 2)/#hdl_root#root_two_digits#root pair: next 3t + 3m/2 after digits 01 off by m/8"
   "18#ip/src/hdl/step_gen.rs#s/\n\s*\| \(\(self.fifo.level.val\(\) == self.depth_less.val\(\)\) & self.push.val\(\) & !self.gen.pop.val\(\)\);/;/#hdl_step_gen#full_flag_follows#registered full flag misses a push that fills the FIFO"
@@ -70,6 +70,9 @@ mutants=(
   "32#ip/src/hdl/regfile.rs#s/self.st_aq.d.next = self.wr_axis_next.val\(\);/self.st_aq.d.next = self.rn_axis.val();/#hdl_regfile#commands_pass#a push reads the staging memories at the read address, not its own axis"
   "33#ip/src/hdl/regfile.rs#s/self.fifo_full.next = self.cmd_full.val\(\) \| \(self.cmd_almost_full.val\(\) & self.chk.out_valid.val\(\)\);/self.fifo_full.next = self.cmd_full.val();/#hdl_regfile#commands_pass#a command taken while the one before it enters a command FIFO with one slot left (lost 4 cycles later)"
   "34#ip/src/hdl/cdc.rs#s/self.afull.d.next = self.level_w.val\(\) >= 3;/self.afull.d.next = self.level_w.val() >= 4;/#hdl_cdc_fifo#async_fifo_flags#almost_full only when full"
+  "35#ip/src/hdl/seg_queue.rs#s/\(\(\(self.wr\[i\].q.val\(\) \+ 1\) \^/(((self.wr[i].q.val()) ^/#hdl_seg_queue#seg_queue_three_ways#a queue's full flag tested on its level before the push (never set: a full queue overwritten)"
+  "36#ip/src/hdl/seg_queue.rs#s/self.rd\[i\].d.next = self.rd\[i\].q.val\(\) \+ 1;\n\s*self.full\[i\].d.next = false;/self.rd[i].d.next = self.rd[i].q.val() + 1;/#hdl_seg_queue#seg_queue_three_ways#a pop leaves a full queue's full flag set (pushes refused with room)"
+  "37#ip/src/hdl/core.rs#s/\(bit_cast::<37, 32>\(self.w_t.q.val\(\)\) << 4\) \+ 8;/(bit_cast::<37, 32>(self.w_t.q.val()) << 4) + 7;/#hdl_core#two_axes_match#decelerating E rounded with 7 for 8 (T − E one tick off where τ' + 8 is a multiple of 16)"
 )
 
 only=("$@")

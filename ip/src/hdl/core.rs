@@ -196,7 +196,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_uqs: DFF<Bits<32>>,
     w_urs: DFF<Bits<32>>,
     // Setup temporaries.
+    /// The queue head's v0 and signed step count, loaded in S_CHECK straight from the
+    /// segment RAM's registered read (the head's T goes into `op_b`): no multiplexer
+    /// follows the RAM's clock-to-out. S_ISSUE_VT moves T and the count into w_t and w_n.
     s_v0: DFF<Bits<32>>,
+    s_steps: DFF<Bits<32>>,
     // |values| < 2^61 (docs/model.md, "Widths"), so 64 bits two's complement.
     /// D·2^32 from S_VT, its magnitude from S_TR on; `s_neg` is D < 0 (decelerating).
     s_d: DFF<Bits<64>>,
@@ -285,12 +289,32 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     p_ready: DFF<Bit>,
     last: DFF<Bit>,
     a_step: Signal<Local, Bits<100>>,
+    /// E from the root's τ' in one addition: ⌊(τ' + 8)/16⌋ accelerating, and
+    /// decelerating T − ⌊(τ' + 8)/16⌋ = ⌊(¬τ' + 16T + 8)/16⌋ (equal modulo 2^32, 37-bit
+    /// two's complement). The mask (¬ or not) and the addend (8 or 16T + 8) are
+    /// registered every cycle from the kind and T, which PICK loads and the square-root
+    /// path holds until P_WAIT reads E: one carry chain between the root and E.
+    e_mask: DFF<Bits<37>>,
+    e_add: DFF<Bits<37>>,
+    e_x: Signal<Local, Bits<37>>,
+    e_sum: Signal<Local, Bits<37>>,
     rounded: Signal<Local, Bits<32>>,
+    c_ones37: Constant<Bits<37>>,
     e_next: Signal<Local, Bits<32>>,
     i_next: Signal<Local, Bits<32>>,
     two_n: Signal<Local, Bits<32>>,
     u_q1: DFF<Bits<32>>,
     u_r1: DFF<Bits<32>>,
+    /// w_ur + w_urs − 2n, registered with u_r1 (34 bits, negative when bit 33 is set), so
+    /// U_STEP chooses from registers: the sum's carry chain does not drive the selects.
+    /// One carry chain: the three operands first go through a carry-save stage.
+    u_r2: DFF<Bits<34>>,
+    ur_x: Signal<Local, Bits<34>>,
+    ur_y: Signal<Local, Bits<34>>,
+    ur_n: Signal<Local, Bits<34>>,
+    ur_z: Signal<Local, Bits<34>>,
+    ur_s: Signal<Local, Bits<34>>,
+    ur_c: Signal<Local, Bits<34>>,
     // Actions on axis m.
     pop_now: Signal<Local, Bit>,
     commit: Signal<Local, Bit>,
@@ -396,6 +420,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             w_uqs: Default::default(),
             w_urs: Default::default(),
             s_v0: Default::default(),
+            s_steps: Default::default(),
             s_d: Default::default(),
             s_neg: Default::default(),
             s_vt2: Default::default(),
@@ -451,12 +476,24 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             p_ready: Default::default(),
             last: Default::default(),
             a_step: Default::default(),
+            e_mask: Default::default(),
+            e_add: Default::default(),
+            e_x: Default::default(),
+            e_sum: Default::default(),
             rounded: Default::default(),
+            c_ones37: Constant::new(Bits::<37>::mask()),
             e_next: Default::default(),
             i_next: Default::default(),
             two_n: Default::default(),
             u_q1: Default::default(),
             u_r1: Default::default(),
+            u_r2: Default::default(),
+            ur_x: Default::default(),
+            ur_y: Default::default(),
+            ur_n: Default::default(),
+            ur_z: Default::default(),
+            ur_s: Default::default(),
+            ur_c: Default::default(),
             pop_now: Default::default(),
             commit: Default::default(),
             cmd_ok_axis: Default::default(),
@@ -505,7 +542,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, s_v0, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, u_r2, e_mask, e_add, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -603,7 +640,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.h_v0.next = self.queues.head.val().get_bits::<32>(0);
         self.h_t.next = self.queues.head.val().get_bits::<32>(32);
         self.h_steps.next = self.queues.head.val().get_bits::<32>(64);
-        // |steps| of the head registered in S_CHECK (w_n holds the signed count there).
+        // |steps| of the head, from the signed count and its sign loaded into w_n and
+        // w_rev in S_ISSUE_VT (read in S_ISSUE_TR).
         if self.w_rev.q.val() {
             self.h_n.next = (!self.w_n.q.val()) + 1;
         } else {
@@ -631,8 +669,17 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else {
             self.a_step.next = self.w_a.q.val() - self.w_b.q.val();
         }
-        // E = (τ' + 8) >> 4, τ' = x < 2^35.
-        self.rounded.next = bit_cast::<32, 36>((self.root.x.val() + 8) >> 4);
+        // E = (τ' + 8) >> 4 (accelerating) or T − that (decelerating), τ' = x < 2^35.
+        if self.w_kind.q.val() == 3 {
+            self.e_mask.d.next = self.c_ones37.val();
+            self.e_add.d.next = (bit_cast::<37, 32>(self.w_t.q.val()) << 4) + 8;
+        } else {
+            self.e_mask.d.next = 0.into();
+            self.e_add.d.next = 8.into();
+        }
+        self.e_x.next = bit_cast::<37, 36>(self.root.x.val()) ^ self.e_mask.q.val();
+        self.e_sum.next = self.e_x.val() + self.e_add.q.val();
+        self.rounded.next = bit_cast::<32, 37>(self.e_sum.val() >> 4);
         self.i_next.next = self.w_i.q.val() + 1;
         // The last-step test i + 1 = n, registered: w_i and w_n are loaded in PICK and
         // hold through P_START/P_WAIT and U_ADD/U_STEP, which read it, so the compare is
@@ -640,15 +687,27 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.last.d.next = self.i_next.val() == self.w_n.q.val();
         if self.last.q.val() {
             self.e_next.next = self.w_t.q.val();
-        } else if self.w_kind.q.val() == 2 {
-            self.e_next.next = self.rounded.val();
         } else {
-            self.e_next.next = self.w_t.q.val() - self.rounded.val();
+            self.e_next.next = self.rounded.val();
         }
         self.two_n.next = self.w_n.q.val() << 1;
         // Registered every cycle, read in U_STEP (one carry chain per cycle).
         self.u_q1.d.next = self.w_uq.q.val() + self.w_uqs.q.val();
         self.u_r1.d.next = self.w_ur.q.val() + self.w_urs.q.val();
+        // u_r2 = w_ur + w_urs + ~2n + 1 (mod 2^34): sum and carry of the three, the +1 in
+        // the carry word's empty bit 0. (The complement as a signal of its own: `~`
+        // inside a wider expression inverts the zero-extended bits in the Verilog.)
+        self.ur_x.next = bit_cast::<34, 32>(self.w_ur.q.val());
+        self.ur_y.next = bit_cast::<34, 32>(self.w_urs.q.val());
+        self.ur_n.next = bit_cast::<34, 32>(self.two_n.val());
+        self.ur_z.next = !self.ur_n.val();
+        self.ur_s.next = self.ur_x.val() ^ self.ur_y.val() ^ self.ur_z.val();
+        self.ur_c.next = (((self.ur_x.val() & self.ur_y.val())
+            | (self.ur_x.val() & self.ur_z.val())
+            | (self.ur_y.val() & self.ur_z.val()))
+            << 1)
+            | 1;
+        self.u_r2.d.next = self.ur_s.val() + self.ur_c.val();
         // The root reads c and p only at its start (P_START).
         self.root.c.next = self.a_step.val();
         // The sequential multiplier and the divider read their operands only when
@@ -722,25 +781,26 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.ra.d.next = self.addr_next.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // The queue head goes into registers (v0, T, the signed step count and its
-            // sign), and v0·T's operands into the multiplier's: nothing else follows
-            // the RAM's clock-to-out.
+            // The queue head goes into registers that take nothing else (v0 and the
+            // signed step count), and v0·T's operands into the multiplier's (T stays in
+            // op_b): nothing but op_a's two-way select follows the RAM's clock-to-out.
             self.s_v0.d.next = self.h_v0.val();
+            self.s_steps.d.next = self.h_steps.val();
             self.op_a.d.next = self.h_v0.val();
             self.op_b.d.next = self.h_t.val();
-            self.w_dwell.d.next = false;
-            self.w_t.d.next = self.h_t.val();
-            self.w_n.d.next = self.h_steps.val();
-            self.w_rev.d.next = self.h_steps.val().get_bit(31);
             self.st.d.next = self.k_issue_vt.val();
         } else if self.st.q.val() == self.k_issue_vt.val() {
-            // v0·T goes into the multiplier; load T²'s operands.
-            self.op_a.d.next = self.w_t.q.val();
-            self.op_b.d.next = self.w_t.q.val();
-            self.w_n.d.next = self.h_n.val();
+            // v0·T goes into the multiplier; T²'s operands are T and T (op_b holds).
+            // T, the signed step count and its sign into the working copy.
+            self.op_a.d.next = self.op_b.q.val();
+            self.w_dwell.d.next = false;
+            self.w_t.d.next = self.op_b.q.val();
+            self.w_n.d.next = self.s_steps.q.val();
+            self.w_rev.d.next = self.s_steps.q.val().get_bit(31);
             self.st.d.next = self.k_issue_tr.val();
         } else if self.st.q.val() == self.k_issue_tr.val() {
-            // T² goes in; w_n holds |steps|.
+            // T² goes in; w_n takes |steps| (0 exactly when the signed count is 0).
+            self.w_n.d.next = self.h_n.val();
             self.s_nz.d.next = self.w_n.q.val() == 0;
             self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
@@ -877,9 +937,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_ustep.val();
         } else if self.st.q.val() == self.k_ustep.val() {
             // E_i = ⌊(2iT + n)/(2n)⌋ as a quotient and a remainder.
-            if self.u_r1.q.val() >= self.two_n.val() {
+            // (u_r1 ≥ 2n: u_r2 = u_r1 − 2n is not negative; every operand is < 2^26.)
+            if !self.u_r2.q.val().get_bit(33) {
                 self.w_uq.d.next = self.u_q1.q.val() + 1;
-                self.w_ur.d.next = self.u_r1.q.val() - self.two_n.val();
+                self.w_ur.d.next = self.u_r2.q.val().get_bits::<32>(0);
                 self.e_next.next = self.u_q1.q.val() + 1;
             } else {
                 self.w_uq.d.next = self.u_q1.q.val();

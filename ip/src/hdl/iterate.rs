@@ -57,10 +57,14 @@ impl Logic for Iterate {
                 self.running.d.next = false;
                 self.done.d.next = true;
             }
-        } else if self.start.val() {
+        } else {
+            // The count loads while idle whether or not a start comes, so `start`
+            // drives only `running` and `done`, not the counter's eight flip-flops.
             self.count.d.next = self.cycles.val();
-            self.running.d.next = true;
-            self.done.d.next = false;
+            if self.start.val() {
+                self.running.d.next = true;
+                self.done.d.next = false;
+            }
         }
     }
 }

@@ -13,10 +13,14 @@
 //! * **Push** (`push_valid`, `push_axis`, `push_word`): written at the clock edge when
 //!   the axis is < K and its queue is not full. `push_ready` says the addressed
 //!   axis's queue is not full, combinationally from `push_axis` (1 for an axis ≥ K,
-//!   whose push is dropped; the core flags it): the axis's two counters through K:1
-//!   multiplexers, then an XOR and a compare of their low log2(QDEPTH) + 1 bits (no
-//!   carry chain: on ECP5 at K = 16 a subtraction there was the clock's critical path). Visible to `nonempty` and `sel_level`
-//!   the cycle after the edge.
+//!   whose push is dropped; the core flags it): one registered flag per axis, `full`,
+//!   through a K:1 multiplexer of single bits. The flag is exact: an edge that pushes
+//!   into a queue one short of full sets it (that test, an XOR and a compare of
+//!   wr + 1's and rd's low log2(QDEPTH) + 1 bits, comes from the counters alone), and a
+//!   pop, an abort or a reset clears it. So no counter multiplexer or compare lies
+//!   between `push_axis` and the write enables (on ECP5 at K = 16 they were the
+//!   clock's critical path). Visible to `nonempty` and `sel_level` the cycle after
+//!   the edge.
 //! * **Head** (`axis`, `head`): `head` is the head of queue `axis` as it was at the
 //!   last clock edge (the RAM's registered read; the read address follows `axis` and
 //!   the pointers with no register of its own). The scheduler sets `axis` in the
@@ -63,6 +67,8 @@ pub struct SegQueue<const K: usize, const QDEPTH: usize> {
     ram: BlockRam<SEGMENT_BITS, SEG_ADDR_BITS>,
     wr: [DFF<Bits<8>>; K],
     rd: [DFF<Bits<8>>; K],
+    /// Axis i's queue holds QDEPTH segments (wr − rd = QDEPTH), registered.
+    full: [DFF<Bit>; K],
     ne_bus: [BitInsert<K>; K],
     base: [Constant<Bits<SEG_ADDR_BITS>>; K],
     c_mask: Constant<Bits<SEG_ADDR_BITS>>,
@@ -71,7 +77,6 @@ pub struct SegQueue<const K: usize, const QDEPTH: usize> {
     c_wrap: Constant<Bits<8>>,
     // The pushed axis's pointers and base, the popped (read) axis's, the selected one's.
     p_wr: Signal<Local, Bits<8>>,
-    p_rd: Signal<Local, Bits<8>>,
     p_base: Signal<Local, Bits<SEG_ADDR_BITS>>,
     p_full: Signal<Local, Bit>,
     r_rd: Signal<Local, Bits<8>>,
@@ -105,13 +110,13 @@ impl<const K: usize, const QDEPTH: usize> SegQueue<K, QDEPTH> {
             ram: BlockRam::new(K * QDEPTH),
             wr: std::array::from_fn(|_| Default::default()),
             rd: std::array::from_fn(|_| Default::default()),
+            full: std::array::from_fn(|_| Default::default()),
             ne_bus: std::array::from_fn(BitInsert::new),
             base: std::array::from_fn(|i| Constant::new(((i * QDEPTH) as u64).into())),
             c_mask: Constant::new(((QDEPTH - 1) as u64).into()),
             c_depth: Constant::new((QDEPTH as u64).into()),
             c_wrap: Constant::new(((2 * QDEPTH - 1) as u64).into()),
             p_wr: Default::default(),
-            p_rd: Default::default(),
             p_base: Default::default(),
             p_full: Default::default(),
             r_rd: Default::default(),
@@ -134,7 +139,7 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
         // The three axes' pointers through K:1 multiplexers (an axis ≥ K selects zeros:
         // an empty queue at the base of axis 0, which nothing writes or pops).
         self.p_wr.next = 0.into();
-        self.p_rd.next = 0.into();
+        self.p_full.next = false;
         self.p_base.next = 0.into();
         self.r_rd.next = 0.into();
         self.r_base.next = 0.into();
@@ -143,7 +148,7 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
         for i in 0..K {
             if self.push_axis.val().index() == i {
                 self.p_wr.next = self.wr[i].q.val();
-                self.p_rd.next = self.rd[i].q.val();
+                self.p_full.next = self.full[i].q.val();
                 self.p_base.next = self.base[i].val();
             }
             if self.axis.val().index() == i {
@@ -155,10 +160,6 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
                 self.s_rd.next = self.rd[i].q.val();
             }
         }
-        // Full: wr − rd = QDEPTH. The level never exceeds QDEPTH, so that is wr ≡ rd +
-        // QDEPTH (mod 2·QDEPTH): the low bits equal and the next one different, an XOR
-        // and a compare with no carry chain between the multiplexers and `push_ready`.
-        self.p_full.next = ((self.p_wr.val() ^ self.p_rd.val()) & self.c_wrap.val()) == self.c_depth.val();
         self.push_ready.next = !self.p_full.val();
         self.sel_level.next = self.s_wr.val() - self.s_rd.val();
         self.sel_taken.next = self.s_rd.val();
@@ -173,22 +174,35 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
         for i in 0..K {
             self.wr[i].clock.next = self.clock.val();
             self.rd[i].clock.next = self.clock.val();
+            self.full[i].clock.next = self.clock.val();
             self.wr[i].d.next = self.wr[i].q.val();
             self.rd[i].d.next = self.rd[i].q.val();
-            if self.push_valid.val() & (self.push_axis.val().index() == i) & !self.p_full.val() {
+            self.full[i].d.next = self.full[i].q.val();
+            if self.push_valid.val() & (self.push_axis.val().index() == i) & !self.full[i].q.val() {
                 self.ram.we.next = true;
                 self.wr[i].d.next = self.wr[i].q.val() + 1;
+                // Full after it if it was one short: wr + 1 − rd = QDEPTH. The level
+                // never exceeds QDEPTH, so that is wr + 1 ≡ rd + QDEPTH (mod 2·QDEPTH):
+                // the low bits equal and the next one different, an XOR and a compare
+                // of registers, no subtraction.
+                self.full[i].d.next =
+                    (((self.wr[i].q.val() + 1) ^ self.rd[i].q.val()) & self.c_wrap.val()) == self.c_depth.val();
             }
+            // A pop leaves the queue short of full whether or not a push comes with it
+            // (a push to a full queue is refused, and one to a shorter queue refills it).
             if self.pop.val() & (self.axis.val().index() == i) & (self.wr[i].q.val() != self.rd[i].q.val()) {
                 self.rd[i].d.next = self.rd[i].q.val() + 1;
+                self.full[i].d.next = false;
             }
             if self.abort.val() {
                 self.wr[i].d.next = self.wr[i].q.val();
                 self.rd[i].d.next = self.wr[i].q.val();
+                self.full[i].d.next = false;
             }
             if self.reset.val() {
                 self.wr[i].d.next = 0.into();
                 self.rd[i].d.next = 0.into();
+                self.full[i].d.next = false;
             }
             self.ne_bus[i].value.next = self.wr[i].q.val() != self.rd[i].q.val();
         }
