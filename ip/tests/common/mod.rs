@@ -100,9 +100,12 @@ pub fn defined(rows: Vec<Vec<u128>>) -> Vec<Vec<Option<u128>>> {
 
 pub const SIMULATORS: [Simulator; 2] = [Simulator::Verilator, Simulator::Icarus];
 
-/// A scratch folder for one simulator run.
+/// A scratch folder for one simulator run. CARGO_TARGET_TMPDIR is shared by the debug
+/// and release builds of a test, so the folder names the profile too: a release run
+/// of a test beside the test command's debug run of it must not read the other's files.
 pub fn sim_dir(name: &str, sim: Simulator) -> std::path::PathBuf {
-    std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}_{sim:?}"))
+    let profile = if cfg!(debug_assertions) { "debug" } else { "release" };
+    std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}_{sim:?}_{profile}"))
 }
 
 /// Runs a block three ways on `rows`: `want` (the model's outputs per row), the
