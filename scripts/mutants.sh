@@ -72,7 +72,8 @@ mutants=(
   "34#ip/src/hdl/cdc.rs#s/self.afull.d.next = self.level_w.val\(\) >= 3;/self.afull.d.next = self.level_w.val() >= 4;/#hdl_cdc_fifo#async_fifo_flags#almost_full only when full"
   "35#ip/src/hdl/seg_queue.rs#s/\(\(\(self.wr\[i\].q.val\(\) \+ 1\) \^/(((self.wr[i].q.val()) ^/#hdl_seg_queue#seg_queue_three_ways#a queue's full flag tested on its level before the push (never set: a full queue overwritten)"
   "36#ip/src/hdl/seg_queue.rs#s/self.rd\[i\].d.next = self.rd\[i\].q.val\(\) \+ 1;\n\s*self.full\[i\].d.next = false;/self.rd[i].d.next = self.rd[i].q.val() + 1;/#hdl_seg_queue#seg_queue_three_ways#a pop leaves a full queue's full flag set (pushes refused with room)"
-  "37#ip/src/hdl/core.rs#s/\(bit_cast::<37, 32>\(self.w_t.q.val\(\)\) << 4\) \+ 8;/(bit_cast::<37, 32>(self.w_t.q.val()) << 4) + 7;/#hdl_core#two_axes_match#decelerating E rounded with 7 for 8 (T − E one tick off where τ' + 8 is a multiple of 16)"
+  "37#ip/src/hdl/core.rs#s/\(bit_cast::<37, 32>\(self.w_t.q.val\(\)\) << 4\) \| 8;/(bit_cast::<37, 32>(self.w_t.q.val()) << 4) | 7;/#hdl_core#two_axes_match#decelerating E rounded with 7 for 8 (T − E one tick off where τ' + 8 is a multiple of 16)"
+  "38#ip/src/hdl/push_check.rs#s/\(self.x_steps.val\(\) < self.c_min_n.val\(\)\)/(self.x_steps.val() < self.c_max_n.val())/#hdl_push_check#verdicts_equal_the_model#a negative step count never found out of range (the compare below −MAX_STEPS against +MAX_STEPS)"
 )
 
 only=("$@")

@@ -291,11 +291,13 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     a_step: Signal<Local, Bits<100>>,
     /// E from the root's τ' in one addition: ⌊(τ' + 8)/16⌋ accelerating, and
     /// decelerating T − ⌊(τ' + 8)/16⌋ = ⌊(¬τ' + 16T + 8)/16⌋ (equal modulo 2^32, 37-bit
-    /// two's complement). The mask (¬ or not) and the addend (8 or 16T + 8) are
-    /// registered every cycle from the kind and T, which PICK loads and the square-root
-    /// path holds until P_WAIT reads E: one carry chain between the root and E.
-    e_mask: DFF<Bits<37>>,
-    e_add: DFF<Bits<37>>,
+    /// two's complement). `e_dec` (kind = 3) is registered every cycle from the kind,
+    /// which PICK loads and the square-root path holds until P_WAIT reads E; the mask
+    /// (¬ or not) and the addend (8 or 16T + 8, T being held too) are one LUT per bit
+    /// from it, side by side in front of the one carry chain between the root and E.
+    e_dec: DFF<Bit>,
+    e_mask: Signal<Local, Bits<37>>,
+    e_add: Signal<Local, Bits<37>>,
     e_x: Signal<Local, Bits<37>>,
     e_sum: Signal<Local, Bits<37>>,
     rounded: Signal<Local, Bits<32>>,
@@ -476,6 +478,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             p_ready: Default::default(),
             last: Default::default(),
             a_step: Default::default(),
+            e_dec: Default::default(),
             e_mask: Default::default(),
             e_add: Default::default(),
             e_x: Default::default(),
@@ -542,7 +545,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, u_r2, e_mask, e_add, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, u_r2, e_dec, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -670,15 +673,17 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.a_step.next = self.w_a.q.val() - self.w_b.q.val();
         }
         // E = (τ' + 8) >> 4 (accelerating) or T − that (decelerating), τ' = x < 2^35.
-        if self.w_kind.q.val() == 3 {
-            self.e_mask.d.next = self.c_ones37.val();
-            self.e_add.d.next = (bit_cast::<37, 32>(self.w_t.q.val()) << 4) + 8;
+        self.e_dec.d.next = self.w_kind.q.val() == 3;
+        // 16T + 8 is T's bits above a constant 8 (an OR, no adder).
+        if self.e_dec.q.val() {
+            self.e_mask.next = self.c_ones37.val();
+            self.e_add.next = (bit_cast::<37, 32>(self.w_t.q.val()) << 4) | 8;
         } else {
-            self.e_mask.d.next = 0.into();
-            self.e_add.d.next = 8.into();
+            self.e_mask.next = 0.into();
+            self.e_add.next = 8.into();
         }
-        self.e_x.next = bit_cast::<37, 36>(self.root.x.val()) ^ self.e_mask.q.val();
-        self.e_sum.next = self.e_x.val() + self.e_add.q.val();
+        self.e_x.next = bit_cast::<37, 36>(self.root.x.val()) ^ self.e_mask.val();
+        self.e_sum.next = self.e_x.val() + self.e_add.val();
         self.rounded.next = bit_cast::<32, 37>(self.e_sum.val() >> 4);
         self.i_next.next = self.w_i.q.val() + 1;
         // The last-step test i + 1 = n, registered: w_i and w_n are loaded in PICK and

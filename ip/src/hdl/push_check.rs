@@ -69,12 +69,15 @@ pub struct PushCheck {
     c_rmax1: Constant<Bits<32>>,
     c_max_t: Constant<Bits<32>>,
     c_max_n: Constant<Bits<32>>,
+    /// 2^32 − MAX_STEPS: a negative count below it (as unsigned) is below −MAX_STEPS.
+    c_min_n: Constant<Bits<32>>,
     c_max_v0: Constant<Bits<32>>,
     is_push: Signal<Local, Bit>,
     x_v0: Signal<Local, Bits<32>>,
     x_t: Signal<Local, Bits<32>>,
     x_steps: Signal<Local, Bits<32>>,
     x_n: Signal<Local, Bits<32>>,
+    n_big: Signal<Local, Bit>,
     x_v0m1: Signal<Local, Bits<32>>,
     rev: Signal<Local, Bit>,
     near_now: Signal<Local, Bit>,
@@ -117,12 +120,14 @@ impl PushCheck {
             c_rmax1: Constant::new((rmax + 1).into()),
             c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
             c_max_n: Constant::new((MAX_STEPS as u64).into()),
+            c_min_n: Constant::new(((1u64 << 32) - MAX_STEPS as u64).into()),
             c_max_v0: Constant::new((MAX_V0_RATE as u64).into()),
             is_push: Default::default(),
             x_v0: Default::default(),
             x_t: Default::default(),
             x_steps: Default::default(),
             x_n: Default::default(),
+            n_big: Default::default(),
             x_v0m1: Default::default(),
             rev: Default::default(),
             near_now: Default::default(),
@@ -166,11 +171,16 @@ impl Logic for PushCheck {
         self.mul_vt.b.next = self.x_t.val();
         self.mul_rt.a.next = self.vr.q.val();
         self.mul_rt.b.next = self.x_t.val();
+        // |θ| > MAX_STEPS as two compares of θ itself with constants, side by side (not
+        // the negation's carry chain and then a compare's): θ ≥ 0 above MAX_STEPS, or
+        // θ < 0 below 2^32 − MAX_STEPS as unsigned (θ < −MAX_STEPS; i32::MIN too).
+        self.n_big.next = (!self.x_steps.val().get_bit(31) & (self.x_steps.val() > self.c_max_n.val()))
+            | (self.x_steps.val().get_bit(31) & (self.x_steps.val() < self.c_min_n.val()));
         if self.x_t.val() == 0 {
             self.rcode.d.next = 1.into();
         } else if self.x_t.val() > self.c_max_t.val() {
             self.rcode.d.next = 4.into();
-        } else if self.x_n.val() > self.c_max_n.val() {
+        } else if self.n_big.val() {
             self.rcode.d.next = 5.into();
         } else if self.x_v0.val() > self.c_max_v0.val() {
             self.rcode.d.next = 6.into();

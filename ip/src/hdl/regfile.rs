@@ -196,12 +196,9 @@ pub struct RegFile<const K: usize> {
     w_ax: Signal<Local, Bit>,
     w_axis: Signal<Local, Bits<4>>,
     w_off: Signal<Local, Bits<4>>,
-    w_full: Signal<Local, Bit>,
     w_data32: Signal<Local, Bits<32>>,
     w_ok: Signal<Local, Bit>,
     w_hw: Signal<Local, Bits<6>>,
-    h_vld: Signal<Local, Bits<5>>,
-    st_addr: Signal<Local, Bits<4>>,
     h0: Signal<Local, Bits<16>>,
     h1: Signal<Local, Bits<16>>,
     h2: Signal<Local, Bits<16>>,
@@ -386,12 +383,9 @@ impl<const K: usize> RegFile<K> {
             w_ax: Default::default(),
             w_axis: Default::default(),
             w_off: Default::default(),
-            w_full: Default::default(),
             w_data32: Default::default(),
             w_ok: Default::default(),
             w_hw: Default::default(),
-            h_vld: Default::default(),
-            st_addr: Default::default(),
             h0: Default::default(),
             h1: Default::default(),
             h2: Default::default(),
@@ -611,13 +605,12 @@ impl<const K: usize> Logic for RegFile<K> {
         } else {
             self.st_aq.d.next = self.rn_axis.val();
         }
-        self.st_addr.next = self.st_aq.q.val();
         for j in 0..6 {
             self.st_ram[j].clock.next = self.clock.val();
             self.st_ram[j].we.next = self.w_ok.val() & self.w_hw.val().get_bit(j);
             self.st_ram[j].waddr.next = self.w_axis.val();
             self.st_ram[j].wdata.next = self.wr_data.val();
-            self.st_ram[j].raddr.next = self.st_addr.val();
+            self.st_ram[j].raddr.next = self.st_aq.q.val();
         }
         self.mb_ram.clock.next = self.clock.val();
         self.mb_ram.we.next = self.st_valid.val();
@@ -653,28 +646,26 @@ impl<const K: usize> Logic for RegFile<K> {
                 self.w_vq.d.next = self.st_vld[i].q.val().get_bits::<5>(0);
             }
         }
-        self.w_full.next = self.w_fq.q.val();
-        self.h_vld.next = self.w_vq.q.val();
         // The staging half-words of the writing axis (a push reads them while its write
-        // commits, when `st_addr` is that axis), 0 where not written since reset.
+        // commits, when `st_aq` is that axis), 0 where not written since reset.
         self.h0.next = 0.into();
         self.h1.next = 0.into();
         self.h2.next = 0.into();
         self.h3.next = 0.into();
         self.h4.next = 0.into();
-        if self.h_vld.val().get_bit(0) {
+        if self.w_vq.q.val().get_bit(0) {
             self.h0.next = self.st_ram[0].rdata.val();
         }
-        if self.h_vld.val().get_bit(1) {
+        if self.w_vq.q.val().get_bit(1) {
             self.h1.next = self.st_ram[1].rdata.val();
         }
-        if self.h_vld.val().get_bit(2) {
+        if self.w_vq.q.val().get_bit(2) {
             self.h2.next = self.st_ram[2].rdata.val();
         }
-        if self.h_vld.val().get_bit(3) {
+        if self.w_vq.q.val().get_bit(3) {
             self.h3.next = self.st_ram[3].rdata.val();
         }
-        if self.h_vld.val().get_bit(4) {
+        if self.w_vq.q.val().get_bit(4) {
             self.h4.next = self.st_ram[4].rdata.val();
         }
         self.x_v0.next = bit_cast::<32, 16>(self.h0.val()) | (bit_cast::<32, 16>(self.h1.val()) << 16);
@@ -727,7 +718,7 @@ impl<const K: usize> Logic for RegFile<K> {
         if self.w_ok.val() & (self.w_off.val() == self.o_steps_hi.val()) {
             if !self.accepting.val() | self.c_busy.val() {
                 self.refused.d.next = true;
-            } else if self.fifo_full.val() | self.w_full.val() {
+            } else if self.fifo_full.val() | self.w_fq.q.val() {
                 self.ev_err.next = self.ev_err.val() | self.w_onehot.val();
             } else {
                 self.push_ok.next = true;
@@ -1063,7 +1054,7 @@ impl<const K: usize> Logic for RegFile<K> {
         if self.rd.val() & self.r_sel.val() & (self.r_off.val() == self.o_pos_lo.val()) {
             self.pos_latch.d.next = self.r_pos.val().get_bits::<16>(16);
         }
-        // (A staging half-word reads at `st_addr`, the read axis when no write commits;
+        // (A staging half-word reads at `st_aq`, the read axis when no write commits;
         // 0 where not written since reset.)
         if self.r_sel.val() {
             if (self.r_off.val() == self.o_v0_lo.val()) & self.r_vld.val().get_bit(0) {

@@ -112,31 +112,37 @@ impl Logic for RootPair {
         self.d3.next = self.rem4.val() - self.t3_w.val();
         self.mask_out.next = self.mask_in.val() >> 2;
         self.c_out.next = self.c_in.val() << 2;
-        if !self.d3.val().get_bit(69) {
-            self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d3.val());
-            self.x_out.next = self.x_in.val() | self.mask_in.val() | (self.mask_in.val() >> 1);
-            // t + 9m/4; t + 17m/8; 3t + 3m/2 + 45m/8.
-            self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
-                self.t_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 2)),
-            );
-            self.tlo_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
-                self.t_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 3)),
-            );
-            self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
-                self.t3_w.val()
-                    + ((self.m_w.val() << 2) | self.m_w.val() | (self.m_w.val() >> 1) | (self.m_w.val() >> 3)),
-            );
-        } else if !self.d2.val().get_bit(69) {
-            self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d2.val());
-            self.x_out.next = self.x_in.val() | self.mask_in.val();
-            // t + 5m/4; t + 9m/8; 3t + 3m/2 + 21m/8.
-            self.trial_out.next =
-                bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 2)));
-            self.tlo_out.next =
-                bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 3)));
-            self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
-                self.t3_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 1) | (self.m_w.val() >> 3)),
-            );
+        // The tests are nested (d = 3 passes only where d = 2 does, d = 2 only where
+        // d = 1 does), so the priority of d = 3, 2, 1, 0 is a balanced 4:1 select:
+        // the d ≥ 2 borrow picks between two 2:1 selects by the other two, one LUT
+        // level after the borrows rather than a chain of three.
+        if !self.d2.val().get_bit(69) {
+            if !self.d3.val().get_bit(69) {
+                self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d3.val());
+                self.x_out.next = self.x_in.val() | self.mask_in.val() | (self.mask_in.val() >> 1);
+                // t + 9m/4; t + 17m/8; 3t + 3m/2 + 45m/8.
+                self.trial_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
+                    self.t_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 2)),
+                );
+                self.tlo_out.next = bit_cast::<TRIAL_BITS, PAIR_BITS>(
+                    self.t_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 3)),
+                );
+                self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
+                    self.t3_w.val()
+                        + ((self.m_w.val() << 2) | self.m_w.val() | (self.m_w.val() >> 1) | (self.m_w.val() >> 3)),
+                );
+            } else {
+                self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d2.val());
+                self.x_out.next = self.x_in.val() | self.mask_in.val();
+                // t + 5m/4; t + 9m/8; 3t + 3m/2 + 21m/8.
+                self.trial_out.next =
+                    bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 2)));
+                self.tlo_out.next =
+                    bit_cast::<TRIAL_BITS, PAIR_BITS>(self.t_w.val() + (self.m_w.val() | (self.m_w.val() >> 3)));
+                self.t3_out.next = bit_cast::<T3_BITS, PAIR_BITS>(
+                    self.t3_w.val() + ((self.m_w.val() << 1) | (self.m_w.val() >> 1) | (self.m_w.val() >> 3)),
+                );
+            }
         } else if !self.d1.val().get_bit(69) {
             self.rem_out.next = bit_cast::<REM_BITS, PAIR_BITS>(self.d1.val());
             self.x_out.next = self.x_in.val() | (self.mask_in.val() >> 1);
