@@ -20,11 +20,6 @@ export CARGO_TARGET_DIR="${MUTANTS_TARGET:-$repo/target/mutants}"
 # tests/hdl_core_setup.rs does not find (its closest segments on either side are the
 # test's `fallback_boundary`): equivalent in practice.
 #
-# Mutant 13 (no setup ahead of time) survives: with it a segment is set up as soon as
-# its predecessor's last period is computed, and in every test the four periods then
-# still in the FIFO cover the setups due at that boundary. A test whose FIFO slack at
-# a boundary is shorter than the setups queued there is still to be written.
-#
 # Mutant 15 (the uniform step misses a carry when the running remainder is exactly
 # 2n) needs a segment on the uniform path with n even and T ≡ n/2 (mod n); an exactly
 # uniform one cannot have that (v0 would be 2^33 / odd), so hdl_core's
@@ -48,7 +43,7 @@ mutants=(
   "10#ip/src/hdl/push_check.rs#s/self.rcode.d.next = 5.into\(\);/self.rcode.d.next = 4.into();/#hdl_push_check#verdicts_equal_the_model#range check reports the wrong code (steps range as T range)"
   "11#ip/src/hdl/core.rs#s/self.s_eprev.d.next = self.w_e.q.val\(\);\n(\s*)self.w_e.d.next = self.e_next.val\(\);\n(\s*)self.w_i.d.next = self.i_next.val\(\);\n(\s*)if self.last/self.s_eprev.d.next = self.w_e.q.val() + 1;\n\1self.w_e.d.next = self.e_next.val();\n\2self.w_i.d.next = self.i_next.val();\n\3if self.last/#hdl_core#two_axes_match#square-root period entry one tick short"
   "12#ip/src/hdl/core.rs#s/self.pe_last.d.next = true;/self.pe_last.d.next = false;/#hdl_core#two_axes_match#dwell entry without its last flag"
-  "13#ip/src/hdl/core.rs#s/& \(\(self.pk_kind.val\(\) == 0\) \| self.pk_sat.val\(\)\)/\& (self.pk_kind.val() == 0)/#hdl_core#simultaneous_segment_boundaries#no setup ahead of time"
+  "13#ip/src/hdl/core.rs#s/& \(\(self.pk_kind.val\(\) == 0\) \| self.pk_sat.val\(\)\)/\& (self.pk_kind.val() == 0)/#hdl_core#setups_ahead_of_time#no setup ahead of time"
   "14#ip/src/hdl/divider.rs#s/self.num_out.next = \(self.num_in.val\(\) << 2\) \| 3;/self.num_out.next = (self.num_in.val() << 2) | 2;/#hdl_divider#divider_radix_4#divider pair: digit 3 written as 2"
   "15#ip/src/hdl/core.rs#s/if !self.u_r2.q.val\(\).get_bit\(33\) \{/if !self.u_r2.q.val().get_bit(33) \& (self.u_r2.q.val() != 0) {/#hdl_core#uniform_step_carries#uniform step: remainder equal to 2n not carried"
   "16#ip/src/hdl/core.rs#s/if self.p_ready.q.val\(\) \{/if self.div.valid.val() {/#hdl_core_setup#setup_state_equals#fallback decided on the registered test a cycle early (the quotient before the last digits)"

@@ -292,13 +292,35 @@ fn one_four_and_eight_axes_run_the_paper_experiment() {
     verilator_run::<8>("core_k8_paper", &generate_verilog(&uut::<8>()), &cycled(8));
 }
 
-/// Four axes reaching segment boundaries together, with 100-tick periods there: the
-/// next segments are set up ahead of time, so no FIFO runs dry at the boundaries.
+/// Four axes reaching segment boundaries together, with 100-tick periods there: no FIFO
+/// runs dry at the boundaries. (Their 4-entry FIFOs would cover the four setups even if
+/// these waited for the boundary; the next test is the one that needs them ahead.)
 #[test]
 fn simultaneous_segment_boundaries_do_not_underrun() {
     const K: usize = 4;
     let axes = vec![moves()[0].clone(); K];
     verilator_run::<K>("core_k4_boundaries", &generate_verilog(&uut::<K>()), &axes);
+}
+
+/// Setup ahead of time, where it is what keeps the edges on time: four identical
+/// axes, each six accelerating segments from 1/121 to about 1/119 step per tick
+/// (periods near 120 ticks at every boundary; load 4·22/120 = 0.73), on a core with a
+/// 2-entry period FIFO. At a boundary an axis holds about three periods (its current
+/// entry and the FIFO's two), some 360 cycles, less than four setups one after the
+/// other (about 470 cycles here). The core sets each axis's next segment up while every
+/// FIFO is full, at the start of the segment before, so every edge is the model's;
+/// setting it up only when the axis runs out of periods (mutant 13 in
+/// scripts/mutants.sh) makes axis 0's first edge after the first boundary late.
+/// (`simultaneous_segment_boundaries_do_not_underrun`'s 4-entry FIFOs cover the four
+/// setups either way.)
+#[test]
+fn setups_ahead_of_time_cover_boundaries_near_the_maximum_rate() {
+    const K: usize = 4;
+    let seg = Segment::new(((1u64 << 32) / 121) as u32, 12_000, 100);
+    assert!(seg.validate(&Limits::default()).is_ok());
+    let axes = vec![vec![seg; 6]; K];
+    let u = connect_core!(TdmCore::<K, R, 2, QDEPTH>::new());
+    verilator_run::<K>("core_k4_near_max_boundaries", &generate_verilog(&u), &axes);
 }
 
 /// Identical commands on sync-started axes: identical STEP and DIR on every cycle.
