@@ -291,11 +291,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     a_step: Signal<Local, Bits<100>>,
     /// E from the root's τ' in one addition: ⌊(τ' + 8)/16⌋ accelerating, and
     /// decelerating T − ⌊(τ' + 8)/16⌋ = ⌊(¬τ' + 16T + 8)/16⌋ (equal modulo 2^32, 37-bit
-    /// two's complement). `e_dec` (kind = 3) is registered every cycle from the kind,
-    /// which PICK loads and the square-root path holds until P_WAIT reads E; the mask
-    /// (¬ or not) and the addend (8 or 16T + 8, T being held too) are one LUT per bit
-    /// from it, side by side in front of the one carry chain between the root and E.
-    e_dec: DFF<Bit>,
+    /// two's complement). `e_dec` (decelerating) is the kind's bit 0: PICK loads the
+    /// kind and the square-root path (kind 2 or 3) holds it until P_WAIT reads E, so
+    /// the mask (¬ or not) and the addend (8 or 16T + 8, T being held too) are one
+    /// small LUT per bit from flip-flops, side by side in front of the one carry chain
+    /// between the root and E.
+    e_dec: Signal<Local, Bit>,
     e_mask: Signal<Local, Bits<37>>,
     e_add: Signal<Local, Bits<37>>,
     e_x: Signal<Local, Bits<37>>,
@@ -545,7 +546,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, u_r2, e_dec, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
+            w_uqs, w_urs, u_q1, u_r1, u_r2, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
         self.mulw.clock.next = self.clock.val();
@@ -673,9 +674,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.a_step.next = self.w_a.q.val() - self.w_b.q.val();
         }
         // E = (τ' + 8) >> 4 (accelerating) or T − that (decelerating), τ' = x < 2^35.
-        self.e_dec.d.next = self.w_kind.q.val() == 3;
+        // Decelerating: kind 3 on the square-root path (kinds 2 and 3), its bit 0.
+        self.e_dec.next = self.w_kind.q.val().get_bit(0);
         // 16T + 8 is T's bits above a constant 8 (an OR, no adder).
-        if self.e_dec.q.val() {
+        if self.e_dec.val() {
             self.e_mask.next = self.c_ones37.val();
             self.e_add.next = (bit_cast::<37, 32>(self.w_t.q.val()) << 4) | 8;
         } else {

@@ -233,6 +233,9 @@ pub struct RegFile<const K: usize> {
     x_t: Signal<Local, Bits<32>>,
     x_steps: Signal<Local, Bits<32>>,
     r_sel: Signal<Local, Bit>,
+    /// The global registers' read value, and the read axis's (0 where none matches).
+    g_data: Signal<Local, Bits<16>>,
+    a_data: Signal<Local, Bits<16>>,
     rn_axis: Signal<Local, Bits<4>>,
     r_vld: Signal<Local, Bits<6>>,
     r_level: Signal<Local, Bits<8>>,
@@ -420,6 +423,8 @@ impl<const K: usize> RegFile<K> {
             x_t: Default::default(),
             x_steps: Default::default(),
             r_sel: Default::default(),
+            g_data: Default::default(),
+            a_data: Default::default(),
             rn_axis: Default::default(),
             r_vld: Default::default(),
             r_level: Default::default(),
@@ -934,86 +939,91 @@ impl<const K: usize> Logic for RegFile<K> {
             .any();
 
         // ---- reads ---------------------------------------------------------------
-        self.rd_data.next = 0.into();
+        // Every register's address is distinct, so at most one test below passes: each
+        // ORs its value into `g_data`, which synthesis makes a balanced OR of the
+        // decoded values (an if chain that overwrote would be a 25-deep priority
+        // multiplexer in front of `rd_data`, which was `bus_clk`'s critical path).
+        self.g_data.next = 0.into();
         if !self.r_ax.val() {
             if self.rd_addr.val() == self.a_magic.val() {
-                self.rd_data.next = self.v_magic.val();
+                self.g_data.next = self.g_data.val() | self.v_magic.val();
             }
             if self.rd_addr.val() == self.a_version.val() {
-                self.rd_data.next = self.v_version.val();
+                self.g_data.next = self.g_data.val() | self.v_version.val();
             }
             if self.rd_addr.val() == self.a_axes.val() {
-                self.rd_data.next = self.v_axes.val();
+                self.g_data.next = self.g_data.val() | self.v_axes.val();
             }
             if self.rd_addr.val() == self.a_qdepth.val() {
-                self.rd_data.next = self.v_qdepth.val();
+                self.g_data.next = self.g_data.val() | self.v_qdepth.val();
             }
             if self.rd_addr.val() == self.a_fdepth.val() {
-                self.rd_data.next = self.v_fdepth.val();
+                self.g_data.next = self.g_data.val() | self.v_fdepth.val();
             }
             if self.rd_addr.val() == self.a_tcalc.val() {
-                self.rd_data.next = self.v_tcalc.val();
+                self.g_data.next = self.g_data.val() | self.v_tcalc.val();
             }
             if self.rd_addr.val() == self.a_clk_lo.val() {
-                self.rd_data.next = self.v_clk_lo.val();
+                self.g_data.next = self.g_data.val() | self.v_clk_lo.val();
             }
             if self.rd_addr.val() == self.a_clk_hi.val() {
-                self.rd_data.next = self.v_clk_hi.val();
+                self.g_data.next = self.g_data.val() | self.v_clk_hi.val();
             }
             if self.rd_addr.val() == self.a_minp.val() {
-                self.rd_data.next = self.v_minp.val();
+                self.g_data.next = self.g_data.val() | self.v_minp.val();
             }
             if self.rd_addr.val() == self.a_t_high.val() {
-                self.rd_data.next = self.t_high.q.val();
+                self.g_data.next = self.g_data.val() | self.t_high.q.val();
             }
             if self.rd_addr.val() == self.a_t_low.val() {
-                self.rd_data.next = self.t_low.q.val();
+                self.g_data.next = self.g_data.val() | self.t_low.q.val();
             }
             if self.rd_addr.val() == self.a_t_setup.val() {
-                self.rd_data.next = self.t_setup.q.val();
+                self.g_data.next = self.g_data.val() | self.t_setup.q.val();
             }
             if self.rd_addr.val() == self.a_t_hold.val() {
-                self.rd_data.next = self.t_hold.q.val();
+                self.g_data.next = self.g_data.val() | self.t_hold.q.val();
             }
             if self.rd_addr.val() == self.a_rmax_lo.val() {
-                self.rd_data.next = self.v_rmax_lo.val();
+                self.g_data.next = self.g_data.val() | self.v_rmax_lo.val();
             }
             if self.rd_addr.val() == self.a_rmax_hi.val() {
-                self.rd_data.next = self.v_rmax_hi.val();
+                self.g_data.next = self.g_data.val() | self.v_rmax_hi.val();
             }
             if self.rd_addr.val() == self.a_ctrl.val() {
-                self.rd_data.next = bit_cast::<16, 1>(self.ctrl_en.q.val().into());
+                self.g_data.next = self.g_data.val() | bit_cast::<16, 1>(self.ctrl_en.q.val().into());
             }
             if self.rd_addr.val() == self.a_irq_done.val() {
-                self.rd_data.next = self.irq_done.q.val();
+                self.g_data.next = self.g_data.val() | self.irq_done.q.val();
             }
             if self.rd_addr.val() == self.a_irq_qlow.val() {
-                self.rd_data.next = self.irq_qlow.q.val();
+                self.g_data.next = self.g_data.val() | self.irq_qlow.q.val();
             }
             if self.rd_addr.val() == self.a_irq_err.val() {
-                self.rd_data.next = self.irq_err.q.val();
+                self.g_data.next = self.g_data.val() | self.irq_err.q.val();
             }
             if self.rd_addr.val() == self.a_mask_done.val() {
-                self.rd_data.next = self.mask_done.q.val();
+                self.g_data.next = self.g_data.val() | self.mask_done.q.val();
             }
             if self.rd_addr.val() == self.a_mask_qlow.val() {
-                self.rd_data.next = self.mask_qlow.q.val();
+                self.g_data.next = self.g_data.val() | self.mask_qlow.q.val();
             }
             if self.rd_addr.val() == self.a_mask_err.val() {
-                self.rd_data.next = self.mask_err.q.val();
+                self.g_data.next = self.g_data.val() | self.mask_err.q.val();
             }
             if self.rd_addr.val() == self.a_qlow.val() {
-                self.rd_data.next = bit_cast::<16, 5>(self.qlow.q.val());
+                self.g_data.next = self.g_data.val() | bit_cast::<16, 5>(self.qlow.q.val());
             }
             if self.rd_addr.val() == self.a_gstatus.val() {
-                self.rd_data.next = bit_cast::<16, 1>(self.core_en.q.val().into())
+                self.g_data.next = self.g_data.val()
+                    | bit_cast::<16, 1>(self.core_en.q.val().into())
                     | (bit_cast::<16, 1>(self.refused.q.val().into()) << 1)
                     | (bit_cast::<16, 1>(self.irq_q.q.val().into()) << 2)
                     | (bit_cast::<16, 1>(self.start_failed.q.val().into()) << 3);
             }
             if self.rd_addr.val() == self.a_busy.val() {
                 for i in 0..K {
-                    self.rd_data.next = self.busy_bus[i].bus_out.val();
+                    self.g_data.next = self.g_data.val() | self.busy_bus[i].bus_out.val();
                 }
             }
         }
@@ -1056,27 +1066,30 @@ impl<const K: usize> Logic for RegFile<K> {
         }
         // (A staging half-word reads at `st_aq`, the read axis when no write commits;
         // 0 where not written since reset.)
+        // The read axis's offsets are distinct too: an OR as above.
+        self.a_data.next = 0.into();
         if self.r_sel.val() {
             if (self.r_off.val() == self.o_v0_lo.val()) & self.r_vld.val().get_bit(0) {
-                self.rd_data.next = self.st_ram[0].rdata.val();
+                self.a_data.next = self.a_data.val() | self.st_ram[0].rdata.val();
             }
             if (self.r_off.val() == self.o_v0_hi.val()) & self.r_vld.val().get_bit(1) {
-                self.rd_data.next = self.st_ram[1].rdata.val();
+                self.a_data.next = self.a_data.val() | self.st_ram[1].rdata.val();
             }
             if (self.r_off.val() == self.o_t_lo.val()) & self.r_vld.val().get_bit(2) {
-                self.rd_data.next = self.st_ram[2].rdata.val();
+                self.a_data.next = self.a_data.val() | self.st_ram[2].rdata.val();
             }
             if (self.r_off.val() == self.o_t_hi.val()) & self.r_vld.val().get_bit(3) {
-                self.rd_data.next = self.st_ram[3].rdata.val();
+                self.a_data.next = self.a_data.val() | self.st_ram[3].rdata.val();
             }
             if (self.r_off.val() == self.o_steps_lo.val()) & self.r_vld.val().get_bit(4) {
-                self.rd_data.next = self.st_ram[4].rdata.val();
+                self.a_data.next = self.a_data.val() | self.st_ram[4].rdata.val();
             }
             if (self.r_off.val() == self.o_steps_hi.val()) & self.r_vld.val().get_bit(5) {
-                self.rd_data.next = self.st_ram[5].rdata.val();
+                self.a_data.next = self.a_data.val() | self.st_ram[5].rdata.val();
             }
             if self.r_off.val() == self.o_status.val() {
-                self.rd_data.next = bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))
+                self.a_data.next = self.a_data.val()
+                    | bit_cast::<16, 5>(self.r_level.val().get_bits::<5>(0))
                     | (bit_cast::<16, 1>(self.r_busy.val().into()) << 5)
                     | (bit_cast::<16, 1>(self.r_fu.val().into()) << 6)
                     | (bit_cast::<16, 1>(self.r_fo.val().into()) << 7)
@@ -1084,14 +1097,22 @@ impl<const K: usize> Logic for RegFile<K> {
                     | (bit_cast::<16, 4>(self.r_code.val()) << 12);
             }
             if self.r_off.val() == self.o_pos_lo.val() {
-                self.rd_data.next = self.r_pos.val().get_bits::<16>(0);
+                self.a_data.next = self.a_data.val() | self.r_pos.val().get_bits::<16>(0);
             }
             if self.r_off.val() == self.o_pos_hi.val() {
-                self.rd_data.next = self.pos_latch.q.val();
+                self.a_data.next = self.a_data.val() | self.pos_latch.q.val();
             }
             if self.r_off.val() == self.o_done_count.val() {
-                self.rd_data.next = bit_cast::<16, 8>(self.r_done.val());
+                self.a_data.next = self.a_data.val() | bit_cast::<16, 8>(self.r_done.val());
             }
+        }
+
+        // A per-axis address (the one-hot `rq_sel`, registered from the same address)
+        // reads the axis's registers, any other the global ones.
+        if self.r_sel.val() {
+            self.rd_data.next = self.a_data.val();
+        } else {
+            self.rd_data.next = self.g_data.val();
         }
 
         if !self.ctrl_en.q.val() {

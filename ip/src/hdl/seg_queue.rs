@@ -2,8 +2,9 @@
 //!
 //! Axis i's queue is words i·QDEPTH .. (i + 1)·QDEPTH of one [`BlockRam`] (96-bit
 //! segments: v0 in bits 31..0, T in 63..32, steps in 95..64). Per axis the block keeps
-//! two 8-bit counters and nothing else: `wr` counts the segments pushed and `rd` the
-//! segments taken (popped by the scheduler, or flushed by an abort). The queue holds
+//! two 8-bit counters and two flags (`full`, `nonempty`, below): `wr` counts the
+//! segments pushed and `rd` the segments taken (popped by the scheduler, or flushed
+//! by an abort). The queue holds
 //! `wr − rd` segments (at most QDEPTH ≤ 32, so 8 bits never wrap into ambiguity), its
 //! head is at `rd mod QDEPTH` and its tail at `wr mod QDEPTH`, and `rd` is the
 //! wrapping taken counter the register file reports: no count or taken register of
@@ -30,9 +31,14 @@
 //! * **Abort** (one cycle): every queue empties at the clock edge (`rd` takes `wr`, so
 //!   the taken counter counts the flushed segments), and a push in that cycle is
 //!   dropped. **Reset** (synchronous) zeroes both counters of every axis.
-//! * **Status**: `nonempty` (bit i: axis i has a queued segment), and for axis
-//!   `sel_axis` its level (`wr − rd`) and taken counter (`rd`), all from registers
-//!   through multiplexers, no register of their own.
+//! * **Status**: `nonempty` (bit i: axis i has a queued segment) is a flag per axis,
+//!   exact like `full`: a push sets it, a pop that leaves the queue empty (it held
+//!   one, `rd + 1 ≡ wr` in the same low bits; no push to it in that cycle) clears it,
+//!   and so do an abort and a reset. So no counter compare lies between the queue and
+//!   an axis's `more` (the step generator's underrun test, through the scheduler's
+//!   `pending`: on ECP5 at K = 8 and 16 that compare was on the clock's critical
+//!   path). For axis `sel_axis`, its level (`wr − rd`) and taken counter (`rd`), from
+//!   the counters through multiplexers, no register of their own.
 
 use super::bit_insert::BitInsert;
 use super::block_ram::BlockRam;
@@ -69,6 +75,8 @@ pub struct SegQueue<const K: usize, const QDEPTH: usize> {
     rd: [DFF<Bits<8>>; K],
     /// Axis i's queue holds QDEPTH segments (wr − rd = QDEPTH), registered.
     full: [DFF<Bit>; K],
+    /// Axis i's queue holds a segment (wr ≠ rd), registered.
+    ne: [DFF<Bit>; K],
     ne_bus: [BitInsert<K>; K],
     base: [Constant<Bits<SEG_ADDR_BITS>>; K],
     c_mask: Constant<Bits<SEG_ADDR_BITS>>,
@@ -111,6 +119,7 @@ impl<const K: usize, const QDEPTH: usize> SegQueue<K, QDEPTH> {
             wr: std::array::from_fn(|_| Default::default()),
             rd: std::array::from_fn(|_| Default::default()),
             full: std::array::from_fn(|_| Default::default()),
+            ne: std::array::from_fn(|_| Default::default()),
             ne_bus: std::array::from_fn(BitInsert::new),
             base: std::array::from_fn(|i| Constant::new(((i * QDEPTH) as u64).into())),
             c_mask: Constant::new(((QDEPTH - 1) as u64).into()),
@@ -175,6 +184,8 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
             self.wr[i].clock.next = self.clock.val();
             self.rd[i].clock.next = self.clock.val();
             self.full[i].clock.next = self.clock.val();
+            self.ne[i].clock.next = self.clock.val();
+            self.ne[i].d.next = self.ne[i].q.val();
             self.wr[i].d.next = self.wr[i].q.val();
             self.rd[i].d.next = self.rd[i].q.val();
             self.full[i].d.next = self.full[i].q.val();
@@ -193,18 +204,26 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
             if self.pop.val() & (self.axis.val().index() == i) & (self.wr[i].q.val() != self.rd[i].q.val()) {
                 self.rd[i].d.next = self.rd[i].q.val() + 1;
                 self.full[i].d.next = false;
+                // Empty after it if it held one: rd + 1 ≡ wr (mod 2·QDEPTH), as for
+                // `full` (a push in the same cycle refills it, below).
+                self.ne[i].d.next = (((self.rd[i].q.val() + 1) ^ self.wr[i].q.val()) & self.c_wrap.val()) != 0;
+            }
+            if self.push_valid.val() & (self.push_axis.val().index() == i) & !self.full[i].q.val() {
+                self.ne[i].d.next = true;
             }
             if self.abort.val() {
                 self.wr[i].d.next = self.wr[i].q.val();
                 self.rd[i].d.next = self.wr[i].q.val();
                 self.full[i].d.next = false;
+                self.ne[i].d.next = false;
             }
             if self.reset.val() {
                 self.wr[i].d.next = 0.into();
                 self.rd[i].d.next = 0.into();
                 self.full[i].d.next = false;
+                self.ne[i].d.next = false;
             }
-            self.ne_bus[i].value.next = self.wr[i].q.val() != self.rd[i].q.val();
+            self.ne_bus[i].value.next = self.ne[i].q.val();
         }
         self.ne_bus[0].bus_in.next = 0.into();
         for i in 1..K {
