@@ -69,6 +69,9 @@ mutants=(
   "36#ip/src/hdl/seg_queue.rs#s/self.rd\[i\].d.next = self.rd\[i\].q.val\(\) \+ 1;\n\s*self.full\[i\].d.next = false;/self.rd[i].d.next = self.rd[i].q.val() + 1;/#hdl_seg_queue#seg_queue_three_ways#a pop leaves a full queue's full flag set (pushes refused with room)"
   "37#ip/src/hdl/core.rs#s/\(bit_cast::<37, 32>\(self.w_t.q.val\(\)\) << 4\) \| 8;/(bit_cast::<37, 32>(self.w_t.q.val()) << 4) | 7;/#hdl_core#two_axes_match#decelerating E rounded with 7 for 8 (T − E one tick off where τ' + 8 is a multiple of 16)"
   "38#ip/src/hdl/push_check.rs#s/\(self.x_steps.val\(\) < self.c_min_n.val\(\)\)/(self.x_steps.val() < self.c_max_n.val())/#hdl_push_check#verdicts_equal_the_model#a negative step count never found out of range (the compare below −MAX_STEPS against +MAX_STEPS)"
+  "39#ip/src/hdl/seg_queue.rs#s/self.ne\[i\].d.next = \(\(\(self.rd\[i\].q.val\(\) \+ 1\) \^ self.wr\[i\].q.val\(\)\) & self.c_wrap.val\(\)\) != 0;/self.ne[i].d.next = true;/#hdl_seg_queue#seg_queue_three_ways#a pop that empties a queue leaves its nonempty flag set"
+  "40#ip/src/hdl/seg_queue.rs#s/\{\n\s*self.ne\[i\].d.next = true;\n\s*\}/{\n            }/#hdl_seg_queue#seg_queue_three_ways#a push does not set its queue's nonempty flag"
+  "41#ip/src/hdl/regfile.rs#s/self.rd_data.next = self.g_data.val\(\);/self.rd_data.next = self.a_data.val();/#hdl_regfile#commands_pass#a global register reads as the read axis's value (0)"
 )
 
 only=("$@")
