@@ -832,13 +832,22 @@ impl<const K: usize> Logic for RegFile<K> {
             // `pushed` does, so the verdict is readable when it was before. The
             // queue-full flag is the same value registered: a cycle behind `pushed`
             // and the mirror, as the pushes above need.
+            // BUSY's and the full flag's tests read the one difference pushed − taken
+            // (L), both ways side by side, and the verdict only selects: L − 1 ≠ 0 is
+            // L ≠ 1, and L − 1 ≥ QDEPTH (mod 256) is L > QDEPTH or L = 0. So the
+            // verdict's fan-out is not in front of a carry chain (a `bus_clk` path).
             if self.chk.rej_valid.val() & (self.chk.rej_axis.val().index() == i) {
                 self.lv[i].d.next = self.pushed[i].q.val() - self.m_taken[i].q.val() - 1;
+                self.bz[i].d.next =
+                    ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 1) | self.m_busy[i].q.val();
+                self.q_full[i].d.next = ((self.pushed[i].q.val() - self.m_taken[i].q.val()) > self.c_qdepth.val())
+                    | ((self.pushed[i].q.val() - self.m_taken[i].q.val()) == 0);
             } else {
                 self.lv[i].d.next = self.pushed[i].q.val() - self.m_taken[i].q.val();
+                self.bz[i].d.next =
+                    ((self.pushed[i].q.val() - self.m_taken[i].q.val()) != 0) | self.m_busy[i].q.val();
+                self.q_full[i].d.next = (self.pushed[i].q.val() - self.m_taken[i].q.val()) >= self.c_qdepth.val();
             }
-            self.bz[i].d.next = (self.lv[i].d.val() != 0) | self.m_busy[i].q.val();
-            self.q_full[i].d.next = self.lv[i].d.val() >= self.c_qdepth.val();
             if self.reset.val() {
                 self.lv[i].d.next = 0.into();
                 self.bz[i].d.next = false;
