@@ -30,7 +30,8 @@
 //!   the queue is not empty. A push to the same axis in that cycle is allowed.
 //! * **Abort** (one cycle): every queue empties at the clock edge (`rd` takes `wr`, so
 //!   the taken counter counts the flushed segments), and a push in that cycle is
-//!   dropped. **Reset** (synchronous) zeroes both counters of every axis.
+//!   dropped. **Reset** (synchronous) zeroes both counters and clears both flags of
+//!   every axis.
 //! * **Status**: `nonempty` (bit i: axis i has a queued segment) is a flag per axis,
 //!   exact like `full`: a push sets it, a pop that leaves the queue empty (it held
 //!   one, `rd + 1 ≡ wr` in the same low bits; no push to it in that cycle) clears it,
