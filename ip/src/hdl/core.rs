@@ -175,6 +175,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 
     st: DFF<Bits<STATE_BITS>>,
     m: DFF<Bits<8>>,
+    /// Axis m + 1 (mod K), registered: it moves with m, so no carry chain lies between
+    /// m and the next axis's flags and context address.
+    nm: DFF<Bits<8>>,
+    /// Axis m + 2 (mod K), what `nm` takes when m moves on.
+    nn: Signal<Local, Bits<8>>,
+    c_first_next: Constant<Bits<8>>,
     /// The context memory's read address, registered: `{axis, slot}` of the word the
     /// next state reads (the next PICK's axis, or the next slot for S_PROMOTE), decided
     /// one cycle ahead so that no flag multiplexer sits in front of the RAM's read.
@@ -406,6 +412,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             root: Default::default(),
             st: Default::default(),
             m: Default::default(),
+            nm: Default::default(),
+            nn: Default::default(),
+            c_first_next: Constant::new(((1 % K) as u64).into()),
             ra: Default::default(),
             cmd_err: Default::default(),
             w_kind: Default::default(),
@@ -545,7 +554,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, st, m, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
+            self, clock, st, m, nm, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, u_q1, u_r1, u_r2, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
             p_wide, p_ready, last
         );
@@ -574,10 +583,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // ---- axis m + 1 through the multiplexers, registered for PICK ---------
         // The queues read axis m's head (registered: valid in S_CHECK after PICK).
         self.queues.axis.next = self.m.q.val();
-        if self.m.q.val() == self.c_last_axis.val() {
-            self.next_m.next = 0.into();
+        self.next_m.next = self.nm.q.val();
+        if self.nm.q.val() == self.c_last_axis.val() {
+            self.nn.next = 0.into();
         } else {
-            self.next_m.next = self.m.q.val() + 1;
+            self.nn.next = self.nm.q.val() + 1;
         }
         self.nx_kind.next = 0.into();
         self.nx_queued.next = false;
@@ -785,6 +795,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_check.val();
             } else {
                 self.m.d.next = self.next_m.val();
+                self.nm.d.next = self.nn.val();
                 self.ra.d.next = self.addr_next.val();
             }
         } else if self.st.q.val() == self.k_check.val() {
@@ -900,6 +911,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.nwe_now.next = true;
             self.pop_now.next = true;
             self.m.d.next = self.next_m.val();
+            self.nm.d.next = self.nn.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_promote.val() {
@@ -915,11 +927,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_push_dwell.val();
             } else {
                 self.m.d.next = self.next_m.val();
+                self.nm.d.next = self.nn.val();
                 self.ra.d.next = self.addr_next.val();
                 self.st.d.next = self.k_pick.val();
             }
         } else if self.st.q.val() == self.k_push_dwell.val() {
             self.m.d.next = self.next_m.val();
+            self.nm.d.next = self.nn.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
@@ -967,6 +981,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_commit_step.val() {
             self.commit.next = true;
             self.m.d.next = self.next_m.val();
+            self.nm.d.next = self.nn.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_drain.val() {
@@ -974,11 +989,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
             if !(self.mul.busy.val() | self.div.busy.val() | self.root.busy.val()) {
                 self.m.d.next = self.next_m.val();
+                self.nm.d.next = self.nn.val();
                 self.ra.d.next = self.addr_next.val();
                 self.st.d.next = self.k_pick.val();
             }
         } else {
             self.m.d.next = self.next_m.val();
+            self.nm.d.next = self.nn.val();
             self.ra.d.next = self.addr_next.val();
             self.st.d.next = self.k_pick.val();
         }
@@ -1090,6 +1107,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
             self.m.d.next = 0.into();
+            self.nm.d.next = self.c_first_next.val();
             self.ra.d.next = 0.into();
             // Axis 0 after reset: idle, nothing queued (PICK moves on).
             self.pf_kind.d.next = 0.into();
