@@ -72,6 +72,8 @@ mutants=(
   "39#ip/src/hdl/seg_queue.rs#s/self.ne\[i\].d.next = \(\(\(self.rd\[i\].q.val\(\) \+ 1\) \^ self.wr\[i\].q.val\(\)\) & self.c_wrap.val\(\)\) != 0;/self.ne[i].d.next = true;/#hdl_seg_queue#seg_queue_three_ways#a pop that empties a queue leaves its nonempty flag set"
   "40#ip/src/hdl/seg_queue.rs#s/\{\n\s*self.ne\[i\].d.next = true;\n\s*\}/{\n            }/#hdl_seg_queue#seg_queue_three_ways#a push does not set its queue's nonempty flag"
   "41#ip/src/hdl/regfile.rs#s/self.rd_data.next = self.g_data.val\(\);/self.rd_data.next = self.a_data.val();/#hdl_regfile#commands_pass#a global register reads as the read axis's value (0)"
+  "42#ip/src/hdl/ram_fifo.rs#s/self.count_delta.next = self.minus_one.val\(\);/self.count_delta.next = 1.into();/#hdl_step_gen#full_flag_follows#the period FIFO counts a pop as a push"
+  "43#ip/src/hdl/core.rs#s/self.nn.next = 0.into\(\);/self.nn.next = self.nm.q.val() + 1;/#hdl_core#t_calc_is_what_the_constant_says#axis m + 2 never wraps to 0 (the registered next axis runs past the last)"
 )
 
 only=("$@")

@@ -15,6 +15,10 @@
 //! `push` is ignored when full and `pop` when empty; both in one cycle is allowed.
 //! `reset` (synchronous) empties it. `level` is the number of entries held. Latency:
 //! an entry pushed at an edge is on `head` from that edge when the FIFO was empty.
+//!
+//! Structure (area, one per axis): the count moves by one adder (+1 on a push alone,
+//! −1 on a pop alone, selected ahead of the carry chain), and at DEPTH = 32 the
+//! pointers wrap by themselves, with no compare.
 
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
@@ -49,7 +53,11 @@ pub struct RamFifo<const W: usize, const DEPTH: usize> {
     count: DFF<Bits<8>>,
     do_push: Signal<Local, Bit>,
     do_pop: Signal<Local, Bit>,
+    count_delta: Signal<Local, Bits<8>>,
     last: Constant<Bits<ADDR_BITS>>,
+    /// DEPTH < 32: the pointers wrap at `last`; at 32 they wrap by themselves.
+    wraps: Constant<Bit>,
+    minus_one: Constant<Bits<8>>,
     depth: Constant<Bits<8>>,
 }
 
@@ -72,6 +80,9 @@ impl<const W: usize, const DEPTH: usize> Default for RamFifo<W, DEPTH> {
             count: Default::default(),
             do_push: Default::default(),
             do_pop: Default::default(),
+            count_delta: Default::default(),
+            wraps: Constant::new(DEPTH != 1 << ADDR_BITS),
+            minus_one: Constant::new(0xFFu64.into()),
             last: Constant::new(((DEPTH - 1) as u64).into()),
             depth: Constant::new((DEPTH as u64).into()),
         }
@@ -94,24 +105,27 @@ impl<const W: usize, const DEPTH: usize> Logic for RamFifo<W, DEPTH> {
         self.ram.raddr.next = self.rd.q.val();
         self.head.next = self.ram.rdata.val();
         if self.do_push.val() {
-            if self.wr.q.val() == self.last.val() {
+            if self.wraps.val() & (self.wr.q.val() == self.last.val()) {
                 self.wr.d.next = 0.into();
             } else {
                 self.wr.d.next = self.wr.q.val() + 1;
             }
         }
         if self.do_pop.val() {
-            if self.rd.q.val() == self.last.val() {
+            if self.wraps.val() & (self.rd.q.val() == self.last.val()) {
                 self.rd.d.next = 0.into();
             } else {
                 self.rd.d.next = self.rd.q.val() + 1;
             }
         }
-        if self.do_push.val() & !self.do_pop.val() {
-            self.count.d.next = self.count.q.val() + 1;
+        // One adder for both directions: +1 on a push alone, -1 on a pop alone.
+        if self.do_push.val() {
+            self.count_delta.next = 1.into();
+        } else {
+            self.count_delta.next = self.minus_one.val();
         }
-        if self.do_pop.val() & !self.do_push.val() {
-            self.count.d.next = self.count.q.val() - 1;
+        if self.do_push.val() != self.do_pop.val() {
+            self.count.d.next = self.count.q.val() + self.count_delta.val();
         }
         if self.reset.val() {
             self.wr.d.next = 0.into();
