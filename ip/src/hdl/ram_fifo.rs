@@ -17,8 +17,9 @@
 //! an entry pushed at an edge is on `head` from that edge when the FIFO was empty.
 //!
 //! Structure (area, one per axis): the count moves by one adder (+1 on a push alone,
-//! −1 on a pop alone, selected ahead of the carry chain), and at DEPTH = 32 the
-//! pointers wrap by themselves, with no compare.
+//! −1 on a pop alone, selected ahead of the carry chain), and the pointers run modulo
+//! the RAM's 32 words whatever DEPTH is (the count keeps at most DEPTH ≤ 32 entries
+//! between them), so they wrap by themselves, with no compare.
 
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
@@ -54,9 +55,6 @@ pub struct RamFifo<const W: usize, const DEPTH: usize> {
     do_push: Signal<Local, Bit>,
     do_pop: Signal<Local, Bit>,
     count_delta: Signal<Local, Bits<8>>,
-    last: Constant<Bits<ADDR_BITS>>,
-    /// DEPTH < 32: the pointers wrap at `last`; at 32 they wrap by themselves.
-    wraps: Constant<Bit>,
     minus_one: Constant<Bits<8>>,
     depth: Constant<Bits<8>>,
 }
@@ -81,9 +79,7 @@ impl<const W: usize, const DEPTH: usize> Default for RamFifo<W, DEPTH> {
             do_push: Default::default(),
             do_pop: Default::default(),
             count_delta: Default::default(),
-            wraps: Constant::new(DEPTH != 1 << ADDR_BITS),
             minus_one: Constant::new(0xFFu64.into()),
-            last: Constant::new(((DEPTH - 1) as u64).into()),
             depth: Constant::new((DEPTH as u64).into()),
         }
     }
@@ -104,19 +100,12 @@ impl<const W: usize, const DEPTH: usize> Logic for RamFifo<W, DEPTH> {
         self.ram.wdata.next = self.entry_in.val();
         self.ram.raddr.next = self.rd.q.val();
         self.head.next = self.ram.rdata.val();
+        // The pointers wrap at the RAM's 32 words (5 bits), not at DEPTH.
         if self.do_push.val() {
-            if self.wraps.val() & (self.wr.q.val() == self.last.val()) {
-                self.wr.d.next = 0.into();
-            } else {
-                self.wr.d.next = self.wr.q.val() + 1;
-            }
+            self.wr.d.next = self.wr.q.val() + 1;
         }
         if self.do_pop.val() {
-            if self.wraps.val() & (self.rd.q.val() == self.last.val()) {
-                self.rd.d.next = 0.into();
-            } else {
-                self.rd.d.next = self.rd.q.val() + 1;
-            }
+            self.rd.d.next = self.rd.q.val() + 1;
         }
         // One adder for both directions: +1 on a push alone, -1 on a pop alone.
         if self.do_push.val() {
