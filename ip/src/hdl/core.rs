@@ -272,6 +272,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_nd: DFF<Bit>,
     promote_now: Signal<Local, Bit>,
     nwe_now: Signal<Local, Bit>,
+    /// The scheduler moves on to axis m + 1 at this edge: m, `nm` and `ra` advance
+    /// together (set by every state that leaves axis m for the next PICK).
+    advance: Signal<Local, Bit>,
     next_m: Signal<Local, Bits<8>>,
     // Read addresses for `ra`: axis m's next slot, and axis m + 1's current slot as it
     // will be after this clock edge.
@@ -469,6 +472,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             w_nd: Default::default(),
             promote_now: Default::default(),
             nwe_now: Default::default(),
+            advance: Default::default(),
             next_m: Default::default(),
             addr_promote: Default::default(),
             addr_next: Default::default(),
@@ -577,6 +581,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.commit.next = false;
         self.promote_now.next = false;
         self.nwe_now.next = false;
+        self.advance.next = false;
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
 
@@ -794,9 +799,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 // spare time and no FIFO runs dry behind it.
                 self.st.d.next = self.k_check.val();
             } else {
-                self.m.d.next = self.next_m.val();
-                self.nm.d.next = self.nn.val();
-                self.ra.d.next = self.addr_next.val();
+                self.advance.next = true;
             }
         } else if self.st.q.val() == self.k_check.val() {
             // The queue head goes into registers that take nothing else (v0 and the
@@ -910,9 +913,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_commit_setup.val() {
             self.nwe_now.next = true;
             self.pop_now.next = true;
-            self.m.d.next = self.next_m.val();
-            self.nm.d.next = self.nn.val();
-            self.ra.d.next = self.addr_next.val();
+            self.advance.next = true;
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_promote.val() {
             self.promote_now.next = true;
@@ -926,15 +927,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.pe_valid.d.next = true;
                 self.st.d.next = self.k_push_dwell.val();
             } else {
-                self.m.d.next = self.next_m.val();
-                self.nm.d.next = self.nn.val();
-                self.ra.d.next = self.addr_next.val();
+                self.advance.next = true;
                 self.st.d.next = self.k_pick.val();
             }
         } else if self.st.q.val() == self.k_push_dwell.val() {
-            self.m.d.next = self.next_m.val();
-            self.nm.d.next = self.nn.val();
-            self.ra.d.next = self.addr_next.val();
+            self.advance.next = true;
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_pstart.val() {
             // C moves on here; the working copy reaches the context memory only at the
@@ -980,24 +977,26 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_commit_step.val();
         } else if self.st.q.val() == self.k_commit_step.val() {
             self.commit.next = true;
-            self.m.d.next = self.next_m.val();
-            self.nm.d.next = self.nn.val();
-            self.ra.d.next = self.addr_next.val();
+            self.advance.next = true;
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_drain.val() {
             // After an abort: wait until no unit still runs an abandoned operation. Like
             // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
             if !(self.mul.busy.val() | self.div.busy.val() | self.root.busy.val()) {
-                self.m.d.next = self.next_m.val();
-                self.nm.d.next = self.nn.val();
-                self.ra.d.next = self.addr_next.val();
+                self.advance.next = true;
                 self.st.d.next = self.k_pick.val();
             }
         } else {
+            self.advance.next = true;
+            self.st.d.next = self.k_pick.val();
+        }
+
+        // Moving on to axis m + 1: its number, the one after it, and its context word's
+        // address (its current slot), all registered.
+        if self.advance.val() {
             self.m.d.next = self.next_m.val();
             self.nm.d.next = self.nn.val();
             self.ra.d.next = self.addr_next.val();
-            self.st.d.next = self.k_pick.val();
         }
 
         // The period entry (pe_valid): Δ = E − E_prev from registers (w_e holds the new
