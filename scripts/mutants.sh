@@ -34,7 +34,7 @@ mutants=(
   "1#ip/src/hdl/core.rs#s/<< 41\)\n(\s*)\+ bit_cast::<DIV_NUM_BITS, 64>\(self.s_d.q.val\(\)\)/<< 41)\n\1+ 0/#hdl_core_setup#setup_state_equals#B' floored instead of rounded"
   "2#ip/src/hdl/core.rs#s/self.p_wide.d.next = \(self.div.quotient.val\(\).get_bits::<40>\(64\) != 0\) \| /self.p_wide.d.next = /#hdl_core_setup#setup_state_equals#fallback test ignores the quotient's high half (P' ≥ 2^64 takes the root)"
   "3#ip/src/hdl/pulse_stage.rs#s/self.half1.d.next = self.d17.val\(\).get_bits::<16>\(1\);/self.half1.d.next = self.d17.val().get_bits::<16>(2);/#hdl_pulse_stage#high_time_equals_the_model#STEP pulse a quarter period"
-  "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 1\)/(self.count.q.val() == 2)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
+  "4#ip/src/hdl/step_gen.rs#s/\(self.count.q.val\(\) == 2\)/(self.count.q.val() == 3)/#hdl_step_gen#short_segments_both_axes#every edge one tick early"
   "5#ip/src/hdl/step_gen.rs#s/self.under.d.next = true;/self.under.d.next = false;/#hdl_step_gen#starved_fifo_flags_underrun#underrun never flagged"
   "6#ip/src/hdl/step_gen.rs#s/if self.abort.val\(\) \{/if self.abort.val() & self.reset.val() {/#system#interrupts_random_traffic_and_abort#abort ignored by the step generators"
   "7#ip/src/hdl/exmc.rs#s/if !self.nwe2.q.val\(\) & !self.nwe3.q.val\(\) & !self.ne2.q.val\(\) & !self.ne3.q.val\(\) \{/if !self.nwe2.q.val() & !self.ne2.q.val() {/#system#bad_input_through_the_bus#bus write captured on a single sample"
@@ -74,6 +74,7 @@ mutants=(
   "41#ip/src/hdl/regfile.rs#s/self.rd_data.next = self.g_data.val\(\);/self.rd_data.next = self.a_data.val();/#hdl_regfile#commands_pass#a global register reads as the read axis's value (0)"
   "42#ip/src/hdl/ram_fifo.rs#s/self.count_delta.next = self.minus_one.val\(\);/self.count_delta.next = 1.into();/#hdl_step_gen#full_flag_follows#the period FIFO counts a pop as a push"
   "43#ip/src/hdl/core.rs#s/self.nn.next = 0.into\(\);/self.nn.next = self.nm.q.val() + 1;/#hdl_core#t_calc_is_what_the_constant_says#axis m + 2 never wraps to 0 (the registered next axis runs past the last)"
+  "44#ip/src/hdl/step_gen.rs#s/self.one.d.next = self.head.val\(\).get_bit\(51\);/self.one.d.next = false;/#hdl_step_gen#one_tick_entries#a one-tick entry loaded without its flag (it runs 2^32 ticks)"
 )
 
 only=("$@")

@@ -151,7 +151,8 @@ fn high_time_equals_the_model_three_ways() {
         let ticks = entry as u32;
         let high = timing.high_ticks(ticks) as u128;
         assert_eq!(out[2] & ((1 << 35) - 1), entry as u128 & ((1 << 35) - 1), "row {r}: entry fields changed");
-        assert_eq!(out[2] >> 35, high, "row {r}: high time for Δ = {ticks}, {timing:?}");
+        assert_eq!((out[2] >> 35) & 0xFFFF, high, "row {r}: high time for Δ = {ticks}, {timing:?}");
+        assert_eq!(out[2] >> 51, (ticks == 1) as u128, "row {r}: the one-tick flag for Δ = {ticks}");
         assert_eq!((reference[r + 1][3], reference[r + 1][4]), (1, axis as u128), "row {r}: stage 0 flags");
         if !flushes.contains(&r) {
             assert_eq!((out[5], out[6]), (1, axis as u128), "row {r}: stage 1 flags");
@@ -176,7 +177,7 @@ fn a_zero_high_minimum_acts_as_one() {
         &rows,
         |u, c| u.clock.next = Clock::from(c),
         drive,
-        |u| vec![u.push_out.val() as u128, u.entry_out.val().to_u64() as u128 >> 35],
+        |u| vec![u.push_out.val() as u128, (u.entry_out.val().to_u64() as u128 >> 35) & 0xFFFF],
     );
     let highs: Vec<u128> = out.iter().filter(|o| o[0] == 1).map(|o| o[1]).collect();
     assert_eq!(highs, vec![1, 1, 1], "Δ = 1, 2, 3 with Hm = Lm = 0");

@@ -262,6 +262,54 @@ fn starved_fifo_flags_underrun_and_loses_no_step() {
     check_trace("step_starved", &entries, &edges, position, &sc, &trace, true, &PulseTiming::default());
 }
 
+/// One-tick entries (a dwell of T = 1, a first step one tick after its segment starts)
+/// next to two- and three-tick ones: the generator ends a one-tick entry at the edge
+/// after its load (the entry's one-tick flag, bit 51), also right after the release,
+/// after another one-tick entry and after an underrun's wait. Every edge, fall and DIR
+/// change equals the model.
+#[test]
+fn one_tick_entries_end_after_one_tick() {
+    // (ticks, step, reverse, last): steps at least two ticks apart, as the period rule
+    // guarantees; a direction change after a dwell (its step's entry two ticks, so DIR
+    // is set up a tick before the edge: a one-tick entry leaves it none).
+    let plan: [(u32, bool, bool, bool); 12] = [
+        (1, true, false, false),
+        (1, false, false, false),
+        (1, true, false, true),
+        (1, false, false, true),
+        (1, false, false, true),
+        (2, true, false, false),
+        (1, false, false, true),
+        (2, true, true, false),
+        (3, true, true, false),
+        (2, true, true, true),
+        (1, false, false, true),
+        (1, false, false, true),
+    ];
+    let timing = PulseTiming::default();
+    let entries: Vec<Entry> = plan
+        .iter()
+        .map(|&(ticks, step, reverse, last)| Entry { ticks, step, reverse, last, high: timing.high_ticks(ticks) as u16 })
+        .collect();
+    let mut t = 0u64;
+    let mut edges = Vec::new();
+    let mut position = 0i64;
+    for e in &entries {
+        t += e.ticks as u64;
+        if e.step {
+            edges.push(t);
+            position += if e.reverse { -1 } else { 1 };
+        }
+    }
+    let sc = scenario(&entries, None, None);
+    let trace = simulate_all("step_one_tick", &sc.rows);
+    check_trace("step_one_tick", &entries, &edges, position, &sc, &trace, false, &timing);
+    // Starved after the fourth entry (a one-tick dwell loads after the wait).
+    let sc = scenario(&entries, Some((4, 5)), None);
+    let trace = simulate_all("step_one_tick_starved", &sc.rows);
+    check_trace("step_one_tick_starved", &entries, &edges, position, &sc, &trace, true, &timing);
+}
+
 /// Abort mid-move, once with STEP low and once just after an edge: no edge rises
 /// after the abort, a pulse already high keeps its full high time, the position is
 /// exactly the edges emitted, and the FIFO is empty.

@@ -13,7 +13,8 @@
 //! Pipeline (latency 2 cycles, one entry per cycle):
 //! * stage 0 registers the scheduler's entry and its axis (`push_in`, `axis_in`,
 //!   `entry_in`, whose bits 50..35 are ignored);
-//! * stage 1 registers ⌊Δ/2⌋ and Δ − Lm (clamped to 0), both capped for Δ ≥ 2^17;
+//! * stage 1 registers ⌊Δ/2⌋ and Δ − Lm (clamped to 0), both capped for Δ ≥ 2^17,
+//!   and whether Δ = 1 (the entry's bit 51, which the step generator reads at a load);
 //! * the output (`push_out`, `axis_out`, `entry_out`) takes the minimum and the maximum
 //!   with Hm from three parallel compares of stage 1's registers.
 //!
@@ -47,6 +48,8 @@ pub struct PulseStage {
     v1: DFF<Bit>,
     a1: DFF<Bits<8>>,
     e1: DFF<Bits<ENTRY_BITS>>,
+    /// Stage 1: Δ = 1.
+    one1: DFF<Bit>,
     half1: DFF<Bits<16>>,
     lo1: DFF<Bits<17>>,
     d17: Signal<Local, Bits<17>>,
@@ -62,7 +65,7 @@ pub struct PulseStage {
 impl Logic for PulseStage {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, v0, a0, e0, v1, a1, e1, half1, lo1);
+        dff_setup!(self, clock, v0, a0, e0, v1, a1, e1, one1, half1, lo1);
         // Stage 0.
         self.v0.d.next = self.push_in.val();
         self.a0.d.next = self.axis_in.val();
@@ -74,6 +77,7 @@ impl Logic for PulseStage {
         self.v1.d.next = self.v0.q.val();
         self.a1.d.next = self.a0.q.val();
         self.e1.d.next = self.e0.q.val();
+        self.one1.d.next = self.e0.q.val().get_bits::<32>(0) == 1;
         self.half1.d.next = self.d17.val().get_bits::<16>(1);
         if self.d17.val() < self.low17.val() {
             self.lo1.d.next = 0.into();
@@ -107,7 +111,8 @@ impl Logic for PulseStage {
         self.push_out.next = self.v1.q.val();
         self.axis_out.next = self.a1.q.val();
         self.entry_out.next = bit_cast::<ENTRY_BITS, 35>(self.e1.q.val().get_bits::<35>(0))
-            | (bit_cast::<ENTRY_BITS, 16>(self.high.val()) << 35);
+            | (bit_cast::<ENTRY_BITS, 16>(self.high.val()) << 35)
+            | (bit_cast::<ENTRY_BITS, 1>(self.one1.q.val().into()) << 51);
         self.p0_valid.next = self.v0.q.val();
         self.p0_axis.next = self.a0.q.val();
         self.p1_valid.next = self.v1.q.val();

@@ -11,7 +11,8 @@
 //! last (the entry ends its segment; the step generator counts segments done on it),
 //! bits 50..35 the STEP high time of a pulse that rises at the entry's start (or at
 //! its end, for the last entry of a move), as [`crate::model::PulseTiming::high_ticks`]
-//! computes it.
+//! computes it, bit 51 one (the entry is one tick long, ticks = 1: the step generator
+//! then ends it at the edge after its load without a compare of its count).
 //! `push` is ignored when full and `pop` when empty; both in one cycle is allowed.
 //! `reset` (synchronous) empties it. `level` is the number of entries held. Latency:
 //! an entry pushed at an edge is on `head` from that edge when the FIFO was empty.
@@ -25,13 +26,13 @@ use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
 /// Width of a period entry.
-pub const ENTRY_BITS: usize = 51;
+pub const ENTRY_BITS: usize = 52;
 /// Address bits of the RAM behind every FIFO: 32 words.
 const ADDR_BITS: usize = 5;
 
 /// Packs an entry as the FIFO stores it.
 pub fn pack_entry(ticks: u32, step: bool, reverse: bool, last: bool, high: u16) -> u64 {
-    ticks as u64 | (step as u64) << 32 | (reverse as u64) << 33 | (last as u64) << 34 | (high as u64) << 35
+    ticks as u64 | (step as u64) << 32 | (reverse as u64) << 33 | (last as u64) << 34 | (high as u64) << 35 | ((ticks == 1) as u64) << 51
 }
 
 /// The per-axis period FIFO.

@@ -70,6 +70,9 @@ pub struct StepGen {
     pos: DFF<Bits<32>>,
     under: DFF<Bit>,
     cur_last: DFF<Bit>,
+    /// The count is 1 (the current entry ends at this edge), registered: set from the
+    /// head's one-tick flag (bit 51) at a load, else when a running count is at 2.
+    one: DFF<Bit>,
     done_cnt: DFF<Bits<8>>,
     under_cnt: DFF<Bits<8>>,
     head_ticks: Signal<Local, Bits<32>>,
@@ -113,6 +116,7 @@ impl Default for StepGen {
             pos: Default::default(),
             under: Default::default(),
             cur_last: Default::default(),
+            one: Default::default(),
             done_cnt: Default::default(),
             under_cnt: Default::default(),
             head_ticks: Default::default(),
@@ -132,11 +136,13 @@ impl Logic for StepGen {
     fn update(&mut self) {
         dff_setup!(
             self, clock, running, waiting, count, cur_high, cur_step, cur_rev, high, step_q, dir_q, pos, under, cur_last,
-            done_cnt, under_cnt
+            one, done_cnt, under_cnt
         );
         self.head_ticks.next = self.head.val().get_bits::<32>(0);
         self.head_high.next = self.head.val().get_bits::<16>(35);
-        self.ends.next = self.running.q.val() & !self.waiting.q.val() & (self.count.q.val() == 1);
+        // The entry ends at this edge: its count is 1, a flag registered a cycle ahead
+        // (no compare of the count in front of the load and the pop).
+        self.ends.next = self.running.q.val() & !self.waiting.q.val() & self.one.q.val();
         // The head entry becomes the current one: at the end of an entry, at the end of
         // an underrun's wait, or at the release. One load for every case, so each
         // register has one data path from the head.
@@ -177,6 +183,13 @@ impl Logic for StepGen {
             self.count.d.next = self.head_ticks.val();
         } else if self.running.q.val() & !self.waiting.q.val() {
             self.count.d.next = self.count.q.val() - 1;
+        }
+        // `one` follows the count: 1 after this edge when the head loads with ticks = 1,
+        // or a running count moves from 2 (no load can come with a count of 2).
+        if self.load.val() {
+            self.one.d.next = self.head.val().get_bit(51);
+        } else {
+            self.one.d.next = self.running.q.val() & !self.waiting.q.val() & (self.count.q.val() == 2);
         }
         if self.load.val() {
             self.cur_high.d.next = self.head_high.val();
@@ -223,6 +236,7 @@ impl Logic for StepGen {
             self.running.d.next = false;
             self.waiting.d.next = false;
             self.count.d.next = 0.into();
+            self.one.d.next = false;
         }
         // A pulse still to run its high time (or held by an underrun) survives a reset;
         // written as if/else so that an unknown (X) state at power-up takes the clearing
@@ -236,6 +250,7 @@ impl Logic for StepGen {
             self.pos.d.next = 0.into();
             self.under.d.next = false;
             self.count.d.next = 0.into();
+            self.one.d.next = false;
             if self.pulse_alive.val() {
                 self.high.d.next = self.high.q.val() - 1;
             } else {
