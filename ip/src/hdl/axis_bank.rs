@@ -5,8 +5,8 @@
 //!
 //! Ports and latency:
 //! * **Entries** (`push`, `push_axis`, `entry`): the scheduler's period entry, bits
-//!   50..35 ignored. It goes through the [`PulseStage`] (which writes the STEP high time
-//!   from `high_min` and `low_min`) and is written into axis `push_axis`'s FIFO 2
+//!   51..35 ignored. It goes through the [`PulseStage`] (which writes the STEP high time
+//!   from `high_min` and `low_min`, and the one-tick flag) and is written into axis `push_axis`'s FIFO 2
 //!   cycles later.
 //! * **Coming** (`pending`, bit i): axis i has work the scheduler has not yet turned
 //!   into entries (a segment in progress, set up, or queued). An axis's `more` (the

@@ -12,7 +12,7 @@
 //!
 //! Pipeline (latency 2 cycles, one entry per cycle):
 //! * stage 0 registers the scheduler's entry and its axis (`push_in`, `axis_in`,
-//!   `entry_in`, whose bits 50..35 are ignored);
+//!   `entry_in`, whose bits 51..35 are ignored);
 //! * stage 1 registers ⌊Δ/2⌋ and Δ − Lm (clamped to 0), both capped for Δ ≥ 2^17,
 //!   and whether Δ = 1 (the entry's bit 51, which the step generator reads at a load);
 //! * the output (`push_out`, `axis_out`, `entry_out`) takes the minimum and the maximum

@@ -9,8 +9,10 @@
 //! Pipeline (one command in flight; latency 4 cycles):
 //! * edge 0 registers the command (`in_valid`, `in_data`, layout
 //!   [`super::regfile::CMD_BITS`]) and v0 + RMAX (the latter every cycle, from
-//!   `in_data`'s low 32 bits whether or not `in_valid` is 1: the owner may offer a
-//!   push's v0 there early, ahead of its decision to write);
+//!   `in_v0`, the push's v0 on a port of its own, whether or not `in_valid` is 1: the
+//!   owner offers it ahead of its decision to write and of the START/ABORT select that
+//!   forms `in_data`, so the adder follows only the staging memory's read; it is read
+//!   only for a push);
 //! * cycle 1: the two 32×32 products v0·T and (v0 + RMAX)·T go into two [`MulReg`]s;
 //!   the range codes (T = 0, T, |θ|, v0 above their maxima), n·2^33 and the two
 //!   start-rate limits are registered;
@@ -41,6 +43,9 @@ pub struct PushCheck {
     pub reset: Signal<In, Bit>,
     pub in_valid: Signal<In, Bit>,
     pub in_data: Signal<In, Bits<CMD_BITS>>,
+    /// The v0 of the push on offer (equal to `in_data`'s low 32 bits whenever a push
+    /// is offered; read every cycle, for v0 + RMAX).
+    pub in_v0: Signal<In, Bits<32>>,
     pub busy: Signal<Out, Bit>,
     pub out_valid: Signal<Out, Bit>,
     pub out_data: Signal<Out, Bits<CMD_BITS>>,
@@ -95,6 +100,7 @@ impl PushCheck {
             reset: Default::default(),
             in_valid: Default::default(),
             in_data: Default::default(),
+            in_v0: Default::default(),
             busy: Default::default(),
             out_valid: Default::default(),
             out_data: Default::default(),
@@ -152,9 +158,10 @@ impl Logic for PushCheck {
         if self.in_valid.val() {
             self.cmd.d.next = self.in_data.val();
         }
-        // v0 + RMAX every cycle (read only in cycle 1): no enable behind the owner's
-        // decision to write, so the adder follows only v0's own path.
-        self.vr.d.next = self.in_data.val().get_bits::<32>(0) + self.c_rmax.val();
+        // v0 + RMAX every cycle (read only in cycle 1, for a push): no enable behind the
+        // owner's decision to write and no command select in front, so the adder
+        // follows only v0's own path.
+        self.vr.d.next = self.in_v0.val() + self.c_rmax.val();
         self.busy.next = self.s1.q.val() | self.s2.q.val() | self.s3.q.val();
 
         // Cycle 1: the products in, the range checks and 2n·2^32 registered.

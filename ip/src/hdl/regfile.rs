@@ -742,8 +742,8 @@ impl<const K: usize> Logic for RegFile<K> {
         // counts it (below).
         self.ev_err.next = self.ev_err.val() | self.rej_onehot.val();
         // The command's data is the push's unless the write address is START's or
-        // ABORT's, whether or not a command is written: the check's v0 + RMAX adder then
-        // follows the staging memory and the address, not the decision to write.
+        // ABORT's, whether or not a command is written (the check's v0 + RMAX adder
+        // takes the push's v0 on a port of its own, `in_v0`, before this select).
         self.c_data.next = bit_cast::<CMD_BITS, 32>(self.x_v0.val())
             | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
             | (bit_cast::<CMD_BITS, 32>(self.x_steps.val()) << 64)
@@ -942,6 +942,8 @@ impl<const K: usize> Logic for RegFile<K> {
         // Every command goes through the check (its writes above are all made).
         self.chk.in_valid.next = self.c_write.val();
         self.chk.in_data.next = self.c_data.val();
+        // The push's v0 on its own port: v0 + RMAX does not wait for the START/ABORT select.
+        self.chk.in_v0.next = self.x_v0.val();
         self.irq_q.d.next = ((self.irq_done.q.val() & self.mask_done.q.val())
             | (self.irq_qlow.q.val() & self.mask_qlow.q.val())
             | (self.irq_err.q.val() & self.mask_err.q.val()))

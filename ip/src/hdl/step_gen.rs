@@ -34,7 +34,10 @@
 //!
 //! Structure (area, since there is one per axis): the three loads of the head entry
 //! (an entry's end, an underrun's end, the release) are one `load`, and the position
-//! moves by one adder (+1 or −1 selected ahead of the carry chain), not two.
+//! moves by one adder (+1 or −1 selected ahead of the carry chain), not two. An entry
+//! ends on a flip-flop, `one` (the count is 1), set a cycle ahead from a running count
+//! of 2 or, at a load, from the entry's one-tick flag (bit 51, written by the pulse
+//! stage), so no compare of the 32-bit count lies in front of `load` and the pop.
 
 use super::ram_fifo::ENTRY_BITS;
 use rust_hdl::prelude::*;
