@@ -291,16 +291,10 @@ fn one_tick_entries_end_after_one_tick() {
         .iter()
         .map(|&(ticks, step, reverse, last)| Entry { ticks, step, reverse, last, high: timing.high_ticks(ticks) as u16 })
         .collect();
-    let mut t = 0u64;
-    let mut edges = Vec::new();
-    let mut position = 0i64;
-    for e in &entries {
-        t += e.ticks as u64;
-        if e.step {
-            edges.push(t);
-            position += if e.reverse { -1 } else { 1 };
-        }
-    }
+    // The edges from the pins model, the position from the steps' directions.
+    let fifo: Vec<FifoEntry> = entries.iter().map(|e| FifoEntry { ticks: e.ticks, step: e.step, reverse: e.reverse }).collect();
+    let edges = pulse::pins(&fifo, &timing).rises;
+    let position: i64 = entries.iter().filter(|e| e.step).map(|e| if e.reverse { -1 } else { 1 }).sum();
     let sc = scenario(&entries, None, None);
     let trace = simulate_all("step_one_tick", &sc.rows);
     check_trace("step_one_tick", &entries, &edges, position, &sc, &trace, false, &timing);
