@@ -1,6 +1,7 @@
 //! FIFO in LUT RAM, `DEPTH` entries of `W` bits (DEPTH ≤ 32), show-ahead (the head
 //! entry is on `head` whenever `empty` is low). The per-axis period FIFO
-//! ([`PeriodFifo`]) and the per-axis segment queues are instances.
+//! ([`PeriodFifo`]) is its instance (the segment queues share one RAM, in
+//! [`super::seg_queue::SegQueue`]).
 //!
 //! The entries live in a 32-word [`LutRam`] (asynchronous read at the read pointer),
 //! so a deeper FIFO costs memory bits, not flip-flops and a DEPTH:1 multiplexer; only
