@@ -178,6 +178,11 @@ fn simulate_all(name: &str, rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
 
 /// Checks a trace against the reference edges and the timing rules.
 #[allow(clippy::too_many_arguments)]
+/// The entries as the pins model takes them (`pulse::pins`).
+fn model_entries(entries: &[Entry]) -> Vec<FifoEntry> {
+    entries.iter().map(|e| FifoEntry { ticks: e.ticks, step: e.step, reverse: e.reverse }).collect()
+}
+
 fn check_trace(
     name: &str,
     entries: &[Entry],
@@ -209,9 +214,7 @@ fn check_trace(
     assert_eq!(trace.last().unwrap()[7], underruns, "{name}: underrun count");
     // Falling edges and DIR changes: the pins model, row = release + 1 + tick.
     if !starved {
-        let fifo: Vec<FifoEntry> =
-            entries.iter().map(|e| FifoEntry { ticks: e.ticks, step: e.step, reverse: e.reverse }).collect();
-        let pins = pulse::pins(&fifo, timing);
+        let pins = pulse::pins(&model_entries(entries), timing);
         let row = |t: u64| sc.release_row + 1 + t as usize;
         let falls: Vec<usize> = (1..trace.len()).filter(|&r| trace[r][0] == 0 && trace[r - 1][0] == 1).collect();
         assert_eq!(falls, pins.falls.iter().map(|&t| row(t)).collect::<Vec<_>>(), "{name}: falling edges");
@@ -292,8 +295,7 @@ fn one_tick_entries_end_after_one_tick() {
         .map(|&(ticks, step, reverse, last)| Entry { ticks, step, reverse, last, high: timing.high_ticks(ticks) as u16 })
         .collect();
     // The edges from the pins model, the position from the steps' directions.
-    let fifo: Vec<FifoEntry> = entries.iter().map(|e| FifoEntry { ticks: e.ticks, step: e.step, reverse: e.reverse }).collect();
-    let edges = pulse::pins(&fifo, &timing).rises;
+    let edges = pulse::pins(&model_entries(&entries), &timing).rises;
     let position: i64 = entries.iter().filter(|e| e.step).map(|e| if e.reverse { -1 } else { 1 }).sum();
     let sc = scenario(&entries, None, None);
     let trace = simulate_all("step_one_tick", &sc.rows);
