@@ -75,6 +75,10 @@ mutants=(
   "42#ip/src/hdl/ram_fifo.rs#s/self.count_delta.next = self.minus_one.val\(\);/self.count_delta.next = 1.into();/#hdl_step_gen#full_flag_follows#the period FIFO counts a pop as a push"
   "43#ip/src/hdl/core.rs#s/self.nn.next = 0.into\(\);/self.nn.next = self.nm.q.val() + 1;/#hdl_core#t_calc_is_what_the_constant_says#axis m + 2 never wraps to 0 (the registered next axis runs past the last)"
   "44#ip/src/hdl/step_gen.rs#s/self.one.d.next = self.head.val\(\).get_bit\(51\);/self.one.d.next = false;/#hdl_step_gen#one_tick_entries#a one-tick entry loaded without its flag (it runs 2^32 ticks)"
+  "45#ip/src/hdl/input_filter.rs#s/\(self.count.q.val\(\) >= self.samples.val\(\)\);/(self.count.q.val() > self.samples.val());/#hdl_machine_io#input_filter_equals#the filter takes one sample more than n + 1"
+  "46#ip/src/hdl/machine_io.rs#s/self.latched.d.next = self.estop_f.active.val\(\) \| /self.latched.d.next = /#hdl_machine_io#estop_starts_latched#a re-arm clears the e-stop latch while the e-stop is still active"
+  "47#ip/src/hdl/machine_io.rs#s/\(self.wd_timeout.val\(\) == 0\) \| self.wd_feed.val\(\) \| /(self.wd_timeout.val() == 0) | /#hdl_machine_io#the_watchdog_trips#a feed does not restart the watchdog"
+  "48#ip/src/hdl/machine_io.rs#s/if self.edges.val\(\).get_bit\(0\) \{/if self.edges.val().get_bit(1) {/#hdl_machine_io#latch_strobes_follow#the home latch follows the probe's edge choice"
 )
 
 only=("$@")

@@ -24,6 +24,8 @@
 //! | status handshake, core clock to bus clock, one axis per copy | `status_sync.rs` | ~3 + 3 cycles per axis |
 //! | push check: every command to the core, a push validated with the model's rules (bus clock) | `push_check.rs` | 4 cycles |
 //! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
+//! | one machine input: synchroniser, polarity, filter | `input_filter.rs` | 2 + n samples (pin to level) |
+//! | machine I/O and safety: input filters, e-stop latch, watchdog, hard-stop request, driver enables, latch strobes | `machine_io.rs` | as its filters; `hard_stop` 2 + n ticks from the e-stop pin |
 //! | the whole IP core, `tdm_stepper` (and its baseline form) | `top.rs` | — |
 //!
 //! Timing conventions, latencies, sizes and what each test proves: docs/architecture.md.
@@ -70,10 +72,12 @@ pub mod context_ram;
 pub mod core;
 pub mod divider;
 pub mod exmc;
+pub mod input_filter;
 pub mod iterate;
 pub mod mul_seq;
 pub mod mul_wide;
 pub mod lut_ram;
+pub mod machine_io;
 pub mod pulse_stage;
 pub mod push_check;
 pub mod ram_fifo;

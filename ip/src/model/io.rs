@@ -1,0 +1,263 @@
+//! Machine inputs and safety, clock by clock: the model of `hdl::input_filter` and
+//! `hdl::machine_io` (plain Rust, no HDL).
+//!
+//! **An input** (limit, home, alarm, e-stop, probe) goes through two synchroniser
+//! flip-flops, then its group's polarity (`invert`: 1 = active low at the pin), then a
+//! digital filter: the filtered level takes a new value once the synchronised,
+//! polarity-corrected input has differed from it at `n + 1` consecutive filter samples
+//! (`n` = 0..=[`FILTER_MAX_SAMPLES`], 0 = no filter). Filter samples come from one
+//! prescaler shared by every input: a sample every `prescale + 1` clk ticks
+//! (`prescale` = 0: every tick). With `prescale` = 0 a pin change sampled at clk edge
+//! e0 reaches the filtered level at edge e0 + 2 + n ([`pin_to_level_ticks`]). A pulse
+//! (or a bounce) is taken only when it is seen at n + 1 consecutive samples; a
+//! shorter one is ignored.
+//!
+//! A reset puts the e-stop, limit and alarm levels active and the home and probe levels
+//! inactive: an input that stops motion counts as active until its filter has seen it
+//! inactive, and no latch fires on the way out of a reset.
+//!
+//! **The block** ([`MachineIoModel`]) keeps the e-stop latch (set after reset and
+//! whenever the filtered e-stop is active; cleared only by a re-arm while it is
+//! inactive), the watchdog (trips [`WATCHDOG_UNIT_TICKS`]·timeout ticks after the
+//! last feed or re-arm; sticky until a re-arm), the hard-stop request and the
+//! drivers' enables, and says in which cycle the home and probe latches take the
+//! positions (the cycle before their filtered level changes, so a latch and the
+//! level change on the same clock edge).
+
+/// Largest filter length, in filter samples (the 4-bit field of each group).
+pub const FILTER_MAX_SAMPLES: u8 = 15;
+/// Filter groups, in the order of the polarity bits and filter fields.
+pub const GROUPS: [&str; 6] = ["estop", "probe", "limit_neg", "limit_pos", "home", "alarm"];
+pub const G_ESTOP: usize = 0;
+pub const G_PROBE: usize = 1;
+pub const G_LIMIT_NEG: usize = 2;
+pub const G_LIMIT_POS: usize = 3;
+pub const G_HOME: usize = 4;
+pub const G_ALARM: usize = 5;
+/// The watchdog's timeout unit, clk ticks.
+pub const WATCHDOG_UNIT_BITS: u32 = 10;
+pub const WATCHDOG_UNIT_TICKS: u64 = 1 << WATCHDOG_UNIT_BITS;
+
+/// Clk edges from the edge that first samples a pin change to the edge on which the
+/// filtered level changes, with the prescaler at 0 (a sample every tick) and `n`
+/// samples of filter: two synchroniser stages, then n + 1 samples, the first of which
+/// is the second stage's.
+pub const fn pin_to_level_ticks(n: u8) -> u64 {
+    2 + n as u64
+}
+
+/// One input's synchroniser and filter. `Default` is an input whose level resets
+/// inactive; [`InputModel::new`] chooses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct InputModel {
+    s1: bool,
+    s2: bool,
+    /// The filtered level, active high.
+    pub level: bool,
+    count: u8,
+    /// The level a reset gives: active for the inputs that stop motion (e-stop,
+    /// limits, alarm), so nothing moves until the filter has seen them inactive.
+    reset_active: bool,
+}
+
+impl InputModel {
+    pub fn new(reset_active: bool) -> Self {
+        InputModel { level: reset_active, reset_active, ..Default::default() }
+    }
+
+    /// Whether the level changes at the coming clock edge.
+    pub fn changes(&self, invert: bool, sample: bool, n: u8) -> bool {
+        (self.s2 ^ invert) != self.level && sample && self.count >= n
+    }
+
+    /// One clock edge. `reset` clears the filter (the level to its reset value), not the
+    /// synchroniser.
+    pub fn clock(&mut self, pin: bool, invert: bool, sample: bool, n: u8, reset: bool) {
+        let x = self.s2 ^ invert;
+        if reset {
+            self.level = self.reset_active;
+            self.count = 0;
+        } else if x == self.level {
+            self.count = 0;
+        } else if sample {
+            if self.count >= n {
+                self.level = x;
+                self.count = 0;
+            } else {
+                self.count += 1;
+            }
+        }
+        self.s2 = self.s1;
+        self.s1 = pin;
+    }
+}
+
+/// The block's configuration (quasi-static: it changes only between moves).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IoConfig {
+    /// Bit g inverts group g's pin ([`GROUPS`]): 1 = active low.
+    pub polarity: u8,
+    /// Filter length of each group, samples (0..=15).
+    pub filter: [u8; 6],
+    /// A filter sample every `prescale + 1` ticks.
+    pub prescale: u16,
+    /// Bit 0: home latches when its input becomes inactive (else active); bit 1: probe.
+    pub edges: u8,
+    /// Watchdog timeout in units of [`WATCHDOG_UNIT_TICKS`]; 0 = off.
+    pub wd_timeout: u16,
+}
+
+impl IoConfig {
+    /// `filter` packed as the HDL's port: group g in bits 4g + 3..4g.
+    pub fn filter_word(&self) -> u32 {
+        self.filter.iter().enumerate().map(|(g, &n)| (n as u32 & 0xF) << (4 * g)).sum()
+    }
+}
+
+/// The pins in one cycle: e-stop (`estop_n`), probe, and per axis (bit a) the limits,
+/// home and alarm.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IoPins {
+    pub estop_n: bool,
+    pub probe: bool,
+    pub limit_neg: u32,
+    pub limit_pos: u32,
+    pub home: u32,
+    pub alarm: u32,
+}
+
+/// One-cycle commands from the host (already in clk).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IoCommands {
+    pub estop_rearm: bool,
+    pub wd_feed: bool,
+    pub wd_rearm: bool,
+}
+
+/// What the block shows in one cycle (before the clock edge).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct IoOutputs {
+    pub hard_stop: bool,
+    pub estop_latched: bool,
+    pub estop_active: bool,
+    pub probe_active: bool,
+    pub wd_tripped: bool,
+    pub drv_enable: u32,
+    pub limit_neg: u32,
+    pub limit_pos: u32,
+    pub home: u32,
+    pub alarm: u32,
+    /// Bit a: axis a's home latch takes its position at the coming edge.
+    pub home_latch: u32,
+    /// Every axis's probe latch takes its position at the coming edge.
+    pub probe_latch: bool,
+}
+
+/// The machine I/O block of `axes` axes.
+#[derive(Clone, Debug)]
+pub struct MachineIoModel {
+    pub axes: usize,
+    prescaler: u16,
+    estop: InputModel,
+    probe: InputModel,
+    /// Per axis: limit_neg, limit_pos, home, alarm.
+    axis_inputs: Vec<[InputModel; 4]>,
+    estop_latched: bool,
+    wd_count: u32,
+    wd_tripped: bool,
+    drv_enable: u32,
+}
+
+impl MachineIoModel {
+    /// The block as it is after reset.
+    pub fn new(axes: usize) -> Self {
+        assert!((1..=16).contains(&axes));
+        MachineIoModel {
+            axes,
+            prescaler: 0,
+            estop: InputModel::new(true),
+            probe: InputModel::new(false),
+            axis_inputs: vec![[InputModel::new(true), InputModel::new(true), InputModel::new(false), InputModel::new(true)]; axes],
+            estop_latched: true,
+            wd_count: 1,
+            wd_tripped: false,
+            drv_enable: 0,
+        }
+    }
+
+    fn sample(&self, cfg: &IoConfig) -> bool {
+        self.prescaler >= cfg.prescale
+    }
+
+    fn bits(&self, f: impl Fn(usize) -> bool) -> u32 {
+        (0..self.axes).filter(|&a| f(a)).map(|a| 1 << a).sum()
+    }
+
+    /// The outputs in this cycle, for these inputs.
+    pub fn outputs(&self, cfg: &IoConfig) -> IoOutputs {
+        let s = self.sample(cfg);
+        let inv = |g: usize| cfg.polarity >> g & 1 == 1;
+        let level = |j: usize| self.bits(|a| self.axis_inputs[a][j].level);
+        let home_to = cfg.edges & 1 == 0;
+        let home_latch = self.bits(|a| {
+            let h = &self.axis_inputs[a][2];
+            h.changes(inv(G_HOME), s, cfg.filter[G_HOME]) && h.level != home_to
+        });
+        let probe_to = cfg.edges >> 1 & 1 == 0;
+        IoOutputs {
+            hard_stop: self.estop_latched || self.estop.level || self.wd_tripped,
+            estop_latched: self.estop_latched,
+            estop_active: self.estop.level,
+            probe_active: self.probe.level,
+            wd_tripped: self.wd_tripped,
+            drv_enable: self.drv_enable,
+            limit_neg: level(0),
+            limit_pos: level(1),
+            home: level(2),
+            alarm: level(3),
+            home_latch,
+            probe_latch: self.probe.changes(inv(G_PROBE), s, cfg.filter[G_PROBE]) && self.probe.level != probe_to,
+        }
+    }
+
+    /// One clock edge with these pins, commands and `run` (the core is enabled).
+    pub fn clock(&mut self, cfg: &IoConfig, pins: &IoPins, cmd: &IoCommands, run: bool, reset: bool) {
+        let s = self.sample(cfg);
+        let inv = |g: usize| cfg.polarity >> g & 1 == 1;
+        let hard = self.estop_latched || self.estop.level || self.wd_tripped;
+        // Registered enables: the state of this cycle.
+        self.drv_enable = self.bits(|a| run && !hard && !self.axis_inputs[a][3].level);
+        let estop_active = self.estop.level;
+        self.estop_latched = estop_active || (self.estop_latched && !cmd.estop_rearm);
+        let unit_end = (cfg.wd_timeout as u32) << WATCHDOG_UNIT_BITS;
+        if cmd.wd_rearm {
+            self.wd_tripped = false;
+            self.wd_count = 1;
+        } else if cfg.wd_timeout == 0 || cmd.wd_feed || self.wd_tripped {
+            self.wd_count = 1;
+        } else {
+            if self.wd_count >= unit_end {
+                self.wd_tripped = true;
+            }
+            self.wd_count = (self.wd_count + 1) & ((1 << 26) - 1);
+        }
+        self.prescaler = if s { 0 } else { self.prescaler.wrapping_add(1) };
+        self.estop.clock(pins.estop_n, inv(G_ESTOP), s, cfg.filter[G_ESTOP], reset);
+        self.probe.clock(pins.probe, inv(G_PROBE), s, cfg.filter[G_PROBE], reset);
+        for a in 0..self.axes {
+            let pin = |w: u32| w >> a & 1 == 1;
+            let groups = [G_LIMIT_NEG, G_LIMIT_POS, G_HOME, G_ALARM];
+            let p = [pin(pins.limit_neg), pin(pins.limit_pos), pin(pins.home), pin(pins.alarm)];
+            for j in 0..4 {
+                self.axis_inputs[a][j].clock(p[j], inv(groups[j]), s, cfg.filter[groups[j]], reset);
+            }
+        }
+        if reset {
+            self.prescaler = 0;
+            self.estop_latched = true;
+            self.wd_count = 1;
+            self.wd_tripped = false;
+            self.drv_enable = 0;
+        }
+    }
+}
