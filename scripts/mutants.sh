@@ -79,6 +79,8 @@ mutants=(
   "46#ip/src/hdl/machine_io.rs#s/self.latched.d.next = self.estop_f.active.val\(\) \| /self.latched.d.next = /#hdl_machine_io#estop_starts_latched#a re-arm clears the e-stop latch while the e-stop is still active"
   "47#ip/src/hdl/machine_io.rs#s/\(self.wd_timeout.val\(\) == 0\) \| self.wd_feed.val\(\) \| /(self.wd_timeout.val() == 0) | /#hdl_machine_io#the_watchdog_trips#a feed does not restart the watchdog"
   "48#ip/src/hdl/machine_io.rs#s/if self.edges.val\(\).get_bit\(0\) \{/if self.edges.val().get_bit(1) {/#hdl_machine_io#latch_strobes_follow#the home latch follows the probe's edge choice"
+  "49#ip/src/hdl/top.rs#s/self.core.abort.next = self.c_abort.q.val\(\) \| \(self.\\\$io.hard_stop.val\(\) & !self.c_push.q.val\(\)\);/self.core.abort.next = self.c_abort.q.val();/#system#estop_through_the_bus#the machine I/O's hard stop does not reach the core"
+  "50#ip/src/hdl/top.rs#s/\(self.\\\$io.hard_stop.val\(\) & !self.c_push.q.val\(\)\)/self.\\\$io.hard_stop.val()/#system#estop_through_the_bus#the hard stop's abort meets a push in the same cycle (the push is dropped uncounted)"
 )
 
 only=("$@")

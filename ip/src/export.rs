@@ -10,7 +10,7 @@
 //! The segment queue holds [`QUEUE_DEPTH`] segments per axis.
 
 use crate::hdl::core::t_calc_sqrt;
-use crate::hdl::top::{BaselineStepper, TdmStepper};
+use crate::hdl::top::{BaselineStepper, TdmStepper, TdmStepperIo};
 use crate::model::Limits;
 use crate::regs::{self, CoreParams};
 use rust_hdl::prelude::*;
@@ -144,11 +144,51 @@ pub struct ExportOptions {
     /// The minimum period the core enforces, ticks (`--min-period`); `None` is the
     /// sustainable period ([`ExportOptions::sustainable_period_ticks`]).
     pub min_period: Option<u32>,
+    /// The machine I/O (`--io all`): its ports, blocks and registers.
+    pub io: bool,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { name: ModuleName::default(), axes: 2, arch: Arch::Tdm, clock_hz: 50_000_000, fifo_depth: FIFO_DEPTH, min_period: None }
+        ExportOptions {
+            name: ModuleName::default(),
+            axes: 2,
+            arch: Arch::Tdm,
+            clock_hz: 50_000_000,
+            fifo_depth: FIFO_DEPTH,
+            min_period: None,
+            io: false,
+        }
+    }
+}
+
+/// The machine I/O's input groups, as `--io` names them.
+pub const IO_GROUPS: [&str; 6] = ["estop", "probe", "limits", "home", "alarm", "watchdog"];
+
+/// `--io GROUPS`: `all`, `none`, or a comma-separated list of [`IO_GROUPS`]. Every group
+/// is one block today, so a list must name all six (or be `all`); a strict subset is
+/// refused with a message rather than exported with groups the user did not ask for.
+pub fn parse_io(s: &str) -> Result<bool, String> {
+    match s {
+        "all" => return Ok(true),
+        "none" => return Ok(false),
+        _ => {}
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for g in s.split(',').map(str::trim) {
+        if !IO_GROUPS.contains(&g) {
+            return Err(format!("--io {s:?}: unknown group {g:?}; groups are {} (or all, none)", IO_GROUPS.join(", ")));
+        }
+        seen.insert(g);
+    }
+    if seen.len() == IO_GROUPS.len() {
+        Ok(true)
+    } else {
+        let missing: Vec<&str> = IO_GROUPS.iter().copied().filter(|g| !seen.contains(g)).collect();
+        Err(format!(
+            "--io {s:?}: exporting some machine I/O groups without the others ({} left out) is not built yet; use --io all",
+            missing.join(", ")
+        ))
     }
 }
 
@@ -175,6 +215,9 @@ impl ExportOptions {
         if !FIFO_DEPTHS.contains(&self.fifo_depth) {
             return Err(format!("--fifo-depth {}: supported period FIFO depths are {FIFO_DEPTHS:?}", self.fifo_depth));
         }
+        if self.io && self.arch == Arch::Baseline {
+            return Err("--io with --arch baseline: the machine I/O is built for the TDM core only".into());
+        }
         if let Some(m) = self.min_period {
             let floor = crate::model::segment::MIN_PERIOD_FLOOR_TICKS;
             if !(floor..=MAX_MIN_PERIOD_TICKS).contains(&m) {
@@ -197,6 +240,7 @@ impl ExportOptions {
             fifo_depth: self.fifo_depth,
             t_calc: t_calc_sqrt(RADIX_BITS),
             min_period: self.min_period_ticks() as u32,
+            io: self.io,
         }
     }
 
@@ -237,11 +281,13 @@ macro_rules! stepper_fn {
 }
 stepper_fn!(tdm_verilog, TdmStepper);
 stepper_fn!(baseline_verilog, BaselineStepper);
+stepper_fn!(tdm_io_verilog, TdmStepperIo);
 
 macro_rules! dispatch {
     ($opts:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
         let o = $opts;
         match o.arch {
+            Arch::Tdm if o.io => match o.axes { $($k => tdm_io_verilog::<$k>($params),)* _ => unreachable!() },
             Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($params),)* _ => unreachable!() },
             Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($params),)* _ => unreachable!() },
         }
@@ -339,10 +385,11 @@ pub struct PortDoc {
     pub description: &'static str,
 }
 
-/// The ports of `tdm_stepper` for K axes (a test holds this list to the Verilog).
-pub fn ports(axes: usize) -> Vec<PortDoc> {
+/// The ports of `tdm_stepper` for K axes, with the machine I/O's if `io` (a test
+/// holds this list to the Verilog).
+pub fn ports(axes: usize, io: bool) -> Vec<PortDoc> {
     let p = |name, direction, width, clock, description| PortDoc { name, direction, width, clock, description };
-    vec![
+    let mut v = vec![
         p("clk", "input", 1, "-", "core clock: every step period is counted in its ticks"),
         p("bus_clk", "input", 1, "-", "samples the EXMC pins; may be unrelated to clk"),
         p("reset", "input", 1, "async", "active high, synchronised into each clock; hold ≥ 4 cycles of the slower clock"),
@@ -357,7 +404,19 @@ pub fn ports(axes: usize) -> Vec<PortDoc> {
         p("dir", "output", axes, "clk", "DIR of axis a in bit a: 1 = negative steps; changes while STEP is low or as it falls, DIR_SETUP before and DIR_HOLD after a rising edge"),
         p("irq", "output", 1, "bus_clk", "interrupt, active high: IRQ_* status under IRQ_MASK_*"),
         p("fsm_state", "output", crate::hdl::core::STATE_BITS, "clk", "scheduler state (Gray code), for waveforms; leave open"),
-    ]
+    ];
+    if io {
+        v.extend([
+            p("estop_n", "input", 1, "async", "emergency stop, active low by default (IO_POLARITY.ESTOP); synchronised and filtered: a hard stop of every axis, latched until IO_CMD.ESTOP_REARM"),
+            p("probe", "input", 1, "async", "probe input, synchronised and filtered (IO_POLARITY, IO_FILTER_LO)"),
+            p("limit_neg", "input", axes, "async", "limit switch at the negative end of axis a, bit a; synchronised and filtered, read in IO_AXIS"),
+            p("limit_pos", "input", axes, "async", "limit switch at the positive end of axis a, bit a; synchronised and filtered, read in IO_AXIS"),
+            p("home", "input", axes, "async", "home switch of axis a, bit a; synchronised and filtered, read in IO_AXIS"),
+            p("alarm", "input", axes, "async", "driver alarm of axis a, bit a; synchronised and filtered: while active, drv_enable of the axis is low"),
+            p("drv_enable", "output", axes, "clk", "driver enable of axis a, bit a, registered: high only while the core runs, no hard stop holds (e-stop latch, watchdog) and the axis's alarm is inactive"),
+        ]);
+    }
+    v
 }
 
 #[derive(Serialize)]
@@ -377,6 +436,8 @@ struct Manifest {
     max_rate_q32: u32,
     max_step_rate_hz: f64,
     register_map_version: String,
+    /// The machine I/O is in this core (`--io all`).
+    io: bool,
     ports: Vec<PortDoc>,
     tools: Tools,
 }
@@ -404,7 +465,8 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         max_rate_q32: opts.limits().max_rate(),
         max_step_rate_hz: opts.max_step_rate_hz(),
         register_map_version: format!("{}.{}", regs::VERSION >> 8, regs::VERSION & 0xFF),
-        ports: ports(opts.axes),
+        io: opts.io,
+        ports: ports(opts.axes, opts.io),
         tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },
     }
 }

@@ -44,6 +44,11 @@ enum Command {
         /// cores exported under different names coexist in one design.
         #[arg(long, default_value = export::TOP_MODULE)]
         name: export::ModuleName,
+        /// Machine I/O and safety: `all` adds the input pins (estop_n, probe, and per
+        /// axis limit_neg, limit_pos, home, alarm), drv_enable, the e-stop latch, the
+        /// watchdog and their registers; `none` (the default) leaves them out at no cost.
+        #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
+        io: bool,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -119,6 +124,10 @@ enum Command {
         /// Run no tool: collect the finished runs in the work folder.
         #[arg(long)]
         cached_only: bool,
+        /// Export every point with the machine I/O (`all`; TDM only, no --fmax yet):
+        /// the option's cost is the difference from a sweep without it.
+        #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
+        io: bool,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -136,14 +145,15 @@ enum Command {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, out } => {
-            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period };
+        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, out } => {
+            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = export::export(&opts, &out)?;
             println!(
-                "exported {} core, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
+                "exported {} core{}, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
                 arch.name(),
+                if io { " with machine I/O" } else { "" },
                 opts.params().t_calc,
                 opts.min_period_ticks(),
                 opts.max_step_rate_hz(),
@@ -193,7 +203,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 .into());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only } => {
+        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
@@ -217,6 +227,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 work,
                 clock_hz: 50_000_000,
                 cached_only,
+                io,
             };
             let repo = std::env::current_dir().map_err(|e| e.to_string())?;
             let (s, files) = sweep::run(&opts, &repo)?;

@@ -45,7 +45,7 @@ fn mhz(hz: u32) -> String {
 /// and commented (direction, width, clock domain, meaning).
 pub fn instantiation_template(opts: &ExportOptions) -> String {
     let top = opts.name.as_str();
-    let ps = ports(opts.axes);
+    let ps = ports(opts.axes, opts.io);
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -129,6 +129,11 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let _ = writeln!(t, "set_max_delay{dp} 8.000 -from [get_ports {{ne noe}}] -to [get_ports data_oe]");
     let _ = writeln!(t, "# step, dir, irq: registers for motor drivers and the MCU, not timed against an external clock.");
     let _ = writeln!(t, "set_false_path -to [get_ports {{step[*] dir[*] irq fsm_state[*]}}]");
+    if opts.io {
+        let _ = writeln!(t, "# Machine I/O: the input pins enter through two flip-flops in clk; drv_enable is a clk register.");
+        let _ = writeln!(t, "set_false_path -from [get_ports {{estop_n probe limit_neg[*] limit_pos[*] home[*] alarm[*]}}]");
+        let _ = writeln!(t, "set_false_path -to [get_ports {{drv_enable[*]}}]");
+    }
     t
 }
 

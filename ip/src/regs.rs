@@ -90,6 +90,15 @@ pub enum Reset {
     MaxRateHi,
 }
 
+/// The export option a register belongs to: every core has the base registers; the
+/// others exist only in a core exported with their option (`export --io`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Feature {
+    Base,
+    /// Machine I/O and safety (`export --io all`).
+    Io,
+}
+
 /// One 16-bit register. `per_axis` registers repeat in every axis block at
 /// `AXIS_BASE + AXIS_STRIDE·a + offset`; global ones sit at `offset`.
 #[derive(Clone, Debug)]
@@ -100,6 +109,7 @@ pub struct Register {
     pub reset: Reset,
     pub fields: Vec<Field>,
     pub doc: &'static str,
+    pub feature: Feature,
 }
 
 /// The parameters of one exported core that the identity registers report.
@@ -112,9 +122,19 @@ pub struct CoreParams {
     pub t_calc: usize,
     /// The minimum period the core enforces, ticks (the export's `--min-period`).
     pub min_period: u32,
+    /// The core has the machine I/O (`export --io all`): its ports, blocks and registers.
+    pub io: bool,
 }
 
 impl CoreParams {
+    /// Whether a core with these parameters has `feature`'s registers.
+    pub fn has(&self, feature: Feature) -> bool {
+        match feature {
+            Feature::Base => true,
+            Feature::Io => self.io,
+        }
+    }
+
     /// RMAX, the largest start or end rate (Q0.32) a segment may have.
     pub fn max_rate(&self) -> u32 {
         crate::model::Limits { min_period_ticks: self.min_period }.max_rate()
@@ -169,8 +189,20 @@ fn f(name: &'static str, lsb: u32, width: u32, access: Access, doc: &'static str
 }
 
 fn reg(name: &'static str, offset: u16, per_axis: bool, reset: Reset, fields: Vec<Field>, doc: &'static str) -> Register {
-    Register { name, offset, per_axis, reset, fields, doc }
+    Register { name, offset, per_axis, reset, fields, doc, feature: Feature::Base }
 }
+
+fn io_reg(name: &'static str, offset: u16, per_axis: bool, reset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
+    Register { name, offset, per_axis, reset: Reset::Value(reset), fields, doc, feature: Feature::Io }
+}
+
+/// The registers of a core with `p`: the base table and those of its options.
+pub fn table_for(p: &CoreParams) -> Vec<Register> {
+    table().into_iter().filter(|r| p.has(r.feature)).collect()
+}
+
+/// Written only while the core is held in reset, like the output timing.
+const IO_CONFIG_RULE: &str = "Machine I/O configuration: written only while CTRL.ENABLE = 0 and the core is held in reset (else refused: IO_STATUS.REFUSED).";
 
 /// The register table.
 pub fn table() -> Vec<Register> {
@@ -248,6 +280,84 @@ pub fn table() -> Vec<Register> {
         reg("POS_LO", 0x7, true, Reset::Value(0), vec![f("VALUE", 0, 16, Ro, "position bits 15:0; reading it latches bits 31:16 for POS_HI")], "Signed position in steps, low half."),
         reg("POS_HI", 0x8, true, Reset::Value(0), vec![f("VALUE", 0, 16, Ro, "position bits 31:16 as latched by the last POS_LO read")], "Position, high half (read POS_LO first)."),
         reg("DONE_COUNT", 0x9, true, Reset::Value(0), vec![f("COUNT", 0, 8, Ro, "segments finished, wrapping at 256")], "Segments done."),
+        // Machine I/O (export --io all).
+        io_reg(
+            "IO_POLARITY", 0x20, false, 0x0001,
+            vec![
+                f("ESTOP", 0, 1, Rw, "1: estop_n is active low (the reset value: the e-stop is active when the pin is low)"),
+                f("PROBE", 1, 1, Rw, "1: probe is active low"),
+                f("LIMIT_NEG", 2, 1, Rw, "1: every axis's limit_neg is active low"),
+                f("LIMIT_POS", 3, 1, Rw, "1: every axis's limit_pos is active low"),
+                f("HOME", 4, 1, Rw, "1: every axis's home is active low"),
+                f("ALARM", 5, 1, Rw, "1: every axis's alarm is active low"),
+            ],
+            IO_CONFIG_RULE,
+        ),
+        io_reg(
+            "IO_FILTER_LO", 0x21, false, 0,
+            vec![
+                f("ESTOP", 0, 4, Rw, "e-stop filter, samples (0..15, 0 = off): a new level is taken once seen at n + 1 consecutive samples"),
+                f("PROBE", 4, 4, Rw, "probe filter, samples"),
+                f("LIMIT_NEG", 8, 4, Rw, "limit_neg filter, samples"),
+                f("LIMIT_POS", 12, 4, Rw, "limit_pos filter, samples"),
+            ],
+            IO_CONFIG_RULE,
+        ),
+        io_reg(
+            "IO_FILTER_HI", 0x22, false, 0,
+            vec![f("HOME", 0, 4, Rw, "home filter, samples"), f("ALARM", 4, 4, Rw, "alarm filter, samples")],
+            IO_CONFIG_RULE,
+        ),
+        io_reg("IO_PRESCALE", 0x23, false, 0, vec![f("TICKS", 0, 16, Rw, "the filters take a sample every TICKS + 1 clk ticks (0: every tick)")], IO_CONFIG_RULE),
+        io_reg(
+            "IO_EDGES", 0x24, false, 0,
+            vec![
+                f("HOME_RELEASE", 0, 1, Rw, "1: the home latch takes the position when home becomes inactive (0: when it becomes active)"),
+                f("PROBE_RELEASE", 1, 1, Rw, "1: the probe latch takes the positions when probe becomes inactive"),
+            ],
+            IO_CONFIG_RULE,
+        ),
+        io_reg("WD_TIMEOUT", 0x25, false, 0, vec![f("UNITS", 0, 16, Rw, "watchdog timeout in units of 1,024 clk ticks; 0 = off")], IO_CONFIG_RULE),
+        io_reg(
+            "IO_CMD", 0x26, false, 0,
+            vec![
+                f("ESTOP_REARM", 0, 1, Wo, "write 1: clear the e-stop latch, if the filtered e-stop is inactive when the command reaches clk (else nothing)"),
+                f("WD_FEED", 1, 1, Wo, "write 1: restart the watchdog's count (a feed does not clear a trip)"),
+                f("WD_REARM", 2, 1, Wo, "write 1: clear a watchdog trip and restart its count"),
+            ],
+            "Machine I/O commands; each reaches clk 2 to 3 clk ticks after the write commits.",
+        ),
+        io_reg(
+            "IO_STATUS", 0x27, false, 0,
+            vec![
+                f("ESTOP", 0, 1, Ro, "the e-stop latch is set: every axis is held in a hard stop and drv_enable is low. Set by reset, CTRL.ENABLE = 0 and the filtered e-stop; cleared only by IO_CMD.ESTOP_REARM while the e-stop is inactive"),
+                f("ESTOP_IN", 1, 1, Ro, "the filtered e-stop input is active"),
+                f("WATCHDOG", 2, 1, Ro, "the watchdog has tripped: every axis is held in a hard stop; cleared by IO_CMD.WD_REARM"),
+                f("PROBE_IN", 3, 1, Ro, "the filtered probe input is active"),
+                f("REFUSED", 4, 1, W1c, "a machine I/O configuration write was refused (the core was enabled)"),
+            ],
+            "Machine I/O status, about 3 bus clocks behind clk.",
+        ),
+        io_reg(
+            "IRQ_IO", 0x28, false, 0,
+            vec![
+                f("ESTOP", 0, 1, W1c, "the filtered e-stop became active"),
+                f("WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
+            ],
+            "Machine I/O events; under IRQ_MASK_IO they raise the irq line.",
+        ),
+        io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 2, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
+        io_reg(
+            "IO_AXIS", 0xA, true, 0,
+            vec![
+                f("LIMIT_NEG", 0, 1, Ro, "the filtered limit_neg input is active"),
+                f("LIMIT_POS", 1, 1, Ro, "the filtered limit_pos input is active"),
+                f("HOME", 2, 1, Ro, "the filtered home input is active"),
+                f("ALARM", 3, 1, Ro, "the filtered alarm input is active (drv_enable of the axis is low)"),
+                f("DRV_ENABLE", 4, 1, Ro, "the axis's drv_enable output"),
+            ],
+            "Machine I/O inputs of the axis, filtered, about 3 bus clocks behind clk. The e-stop, limit and alarm inputs read active from a reset until their filters have seen them inactive.",
+        ),
     ]
 }
 
@@ -321,7 +431,7 @@ pub fn c_header(p: &CoreParams) -> String {
     let _ = writeln!(h, "#define TDM_VERSION 0x{VERSION:04X}u\n");
     let _ = writeln!(h, "#define TDM_AXIS_BASE 0x{:03X}u /* byte offset of axis 0's block */", 2 * AXIS_BASE);
     let _ = writeln!(h, "#define TDM_AXIS_STRIDE 0x{:02X}u /* bytes per axis block */\n", 2 * AXIS_STRIDE);
-    for r in table() {
+    for r in table_for(p) {
         let _ = writeln!(h, "/* {}: {} */", r.name, r.doc);
         if r.per_axis {
             let _ = writeln!(h, "#define TDM_{}(axis) (TDM_AXIS_BASE + (axis) * TDM_AXIS_STRIDE + 0x{:02X}u)", r.name, 2 * r.offset);
@@ -373,7 +483,7 @@ pub fn markdown(p: &CoreParams) -> String {
     m.push_str("\n## Register map\n\n");
     m.push_str("Word address on `A[8:0]`; byte offset from the bank base is twice that. Per-axis registers repeat for axis `a` at word `0x100 + 0x10·a + offset`. Unknown addresses read 0 and ignore writes.\n\n");
     m.push_str("| word | byte | name | access | reset | description |\n|---|---|---|---|---|---|\n");
-    for r in table() {
+    for r in table_for(p) {
         let (word, byte) = if r.per_axis {
             (format!("0x100 + 0x10·a + 0x{:X}", r.offset), format!("0x200 + 0x20·a + 0x{:02X}", 2 * r.offset))
         } else {
@@ -382,7 +492,7 @@ pub fn markdown(p: &CoreParams) -> String {
         let _ = writeln!(m, "| {word} | {byte} | {} | {} | 0x{:04X} | {} |", r.name, r.access_name(), r.reset_value(p), r.doc);
     }
     m.push_str("\n## Fields\n\n| register | field | bits | access | meaning |\n|---|---|---|---|---|\n");
-    for r in table() {
+    for r in table_for(p) {
         for fl in &r.fields {
             let _ = writeln!(m, "| {} | {} | {} | {} | {} |", r.name, fl.name, bits(fl), fl.access.name(), fl.doc);
         }

@@ -132,7 +132,8 @@ fn readme_worked_example_runs_as_written() {
 fn readme_port_table_matches_the_export() {
     let text = readme();
     let k = 3;
-    for p in tdm_stepper::export::ports(k) {
+    // The base ports' table and the machine I/O's ("Machine I/O"), row for row.
+    for p in tdm_stepper::export::ports(k, true) {
         let width = if p.width == k { "K".to_string() } else { p.width.to_string() };
         let row = format!("| `{}` | {} | {} | {} | {} |", p.name, p.direction, width, p.clock, p.description);
         assert!(text.contains(&row), "README lacks the port row {row}");
@@ -348,6 +349,27 @@ fn readme_fpga_example_runs_as_written() {
     assert!(printed[1].contains("PASS: ID_MAGIC 5453, ID_AXES 3"), "smoke: {}", printed[1]);
     assert_eq!(printed[2].trim(), "", "yosys: {}", printed[2]);
     assert!(readme().contains("the smoke test prints `PASS: ID_MAGIC 5453, ID_AXES 3`"));
+}
+
+#[test]
+fn readme_io_example_runs_as_written() {
+    let cmds = commands_under("**Machine I/O worked example** (run as written, from the repository root, by a test)");
+    assert_eq!(cmds.len(), 2, "{cmds:?}");
+    let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readme_io_example");
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(&work).unwrap();
+    let export = cmds[0].strip_prefix("cargo run --release -- ").expect("the export first");
+    let out = bin().current_dir(&work).args(export.split_whitespace()).output().unwrap();
+    assert!(out.status.success(), "{}: {}", cmds[0], String::from_utf8_lossy(&out.stderr));
+    let out = Command::new("sh").current_dir(&work).args(["-c", &cmds[1]]).output().unwrap();
+    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && text.trim().is_empty(), "{}: {text}", cmds[1]);
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(work.join("build/io/manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["io"], true);
+    let names: Vec<&str> = m["ports"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap()).collect();
+    for n in ["estop_n", "probe", "limit_neg", "limit_pos", "home", "alarm", "drv_enable"] {
+        assert!(names.contains(&n), "manifest lacks {n}");
+    }
 }
 
 /// The Verilator build is cached by what it is built from (the exported Verilog, the

@@ -60,7 +60,7 @@ fn default_export_writes_the_ip_and_the_committed_docs_are_current() {
     assert_eq!(m["max_rate_q32"], rmax);
     assert!((m["max_step_rate_hz"].as_f64().unwrap() - 50e6 * rmax as f64 / 2f64.powi(32)).abs() < 1e-6);
     assert_eq!(m["tools"]["rust_hdl"], "0.46.0");
-    assert_eq!(m["ports"].as_array().unwrap().len(), export::ports(2).len());
+    assert_eq!(m["ports"].as_array().unwrap().len(), export::ports(2, false).len());
     regs::check_table().unwrap();
 }
 
@@ -91,11 +91,12 @@ fn verilog_ports(v: &str) -> Vec<(String, String, usize)> {
 
 #[test]
 fn exported_verilog_lints_clean_and_has_the_documented_ports() {
-    for (k, arch) in [(1, "tdm"), (2, "tdm"), (8, "tdm"), (16, "tdm"), (2, "baseline")] {
-        let dir = export_to(&["--axes", &k.to_string(), "--arch", arch], &format!("export_lint_{arch}_{k}"));
+    let cases = [(1, "tdm", "none"), (2, "tdm", "none"), (8, "tdm", "none"), (16, "tdm", "none"), (2, "baseline", "none"), (1, "tdm", "all"), (3, "tdm", "all")];
+    for (k, arch, io) in cases {
+        let dir = export_to(&["--axes", &k.to_string(), "--arch", arch, "--io", io], &format!("export_lint_{arch}_{k}_{io}"));
         let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
         let want: Vec<(String, String, usize)> =
-            export::ports(k).iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
+            export::ports(k, io == "all").iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
         assert_eq!(verilog_ports(&v), want, "K = {k} {arch}: ports differ from export::ports (and the manifest)");
         // No system tasks or delays. (rust-hdl's flip-flops carry `initial q = 0`
         // blocks: power-up values, which FPGA synthesis honours.)
@@ -124,44 +125,73 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         assert!(out.status.success(), "K = {k} {arch}: verilator -Wall:\n{}", String::from_utf8_lossy(&out.stderr));
     }
     // No true combinational loop (the waived UNOPTFLAT are block-level only).
-    let dir = sim_dir("export_lint_tdm_2", Simulator::Verilator);
-    let out = Command::new("yosys")
-        .current_dir(&dir)
-        .args(["-q", "-p", "read_verilog tdm_stepper.v; hierarchy -top tdm_stepper; proc; flatten; check -assert"])
-        .output()
-        .expect("yosys is installed");
-    assert!(out.status.success(), "yosys check found a problem:\n{}", String::from_utf8_lossy(&out.stderr));
+    for case in ["export_lint_tdm_2_none", "export_lint_tdm_3_all"] {
+        let dir = sim_dir(case, Simulator::Verilator);
+        let out = Command::new("yosys")
+            .current_dir(&dir)
+            .args(["-q", "-p", "read_verilog tdm_stepper.v; hierarchy -top tdm_stepper; proc; flatten; check -assert"])
+            .output()
+            .expect("yosys is installed");
+        assert!(out.status.success(), "{case}: yosys check found a problem:\n{}", String::from_utf8_lossy(&out.stderr));
+    }
+}
+
+/// `--io` takes `all`, `none` or the full list of groups; a partial list or an unknown
+/// group is refused with a message naming the groups, and the baseline has no I/O.
+#[test]
+fn io_option_refuses_what_is_not_built() {
+    for (args, says) in [
+        (&["--io", "estop,limits"][..], "is not built yet"),
+        (&["--io", "brakes"][..], "unknown group"),
+        (&["--io", "all", "--arch", "baseline"][..], "TDM core only"),
+    ] {
+        let dir = sim_dir("export_io_refused", Simulator::Verilator);
+        let out = bin().args(["export", "--out"]).arg(&dir).args(args).output().unwrap();
+        assert!(!out.status.success(), "{args:?} exited 0");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    let dir = export_to(&["--io", "estop,probe,limits,home,alarm,watchdog"], "export_io_list");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["io"], true, "every group listed is --io all");
+    assert!(m["ports"].as_array().unwrap().iter().any(|p| p["name"] == "drv_enable"));
 }
 
 #[test]
 fn c_header_compiles_with_gcc_and_matches_the_table() {
-    let dir = export_to(&[], "export_header");
-    let mut c = String::from("#include <assert.h>\n#include \"tdm_stepper_regs.h\"\nint main(void) {\n");
-    // Every register's byte offset, for axes 0 and K-1, from the table.
-    for r in regs::table() {
-        if r.per_axis {
-            for a in [0usize, 1] {
-                c += &format!("    assert(TDM_{}({a}) == 0x{:X}u);\n", r.name, 2 * r.address(a));
+    // The default export, and one with the machine I/O: each header has its own registers.
+    for (args, io) in [(&[][..], false), (&["--io", "all"][..], true)] {
+        let dir = export_to(args, if io { "export_header_io" } else { "export_header" });
+        let params = tdm_stepper::export::ExportOptions { io, ..Default::default() }.params();
+        let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
+        assert_eq!(header.contains("TDM_IO_STATUS"), io, "the machine I/O's registers follow --io");
+        let mut c = String::from("#include <assert.h>\n#include \"tdm_stepper_regs.h\"\nint main(void) {\n");
+        // Every register's byte offset, for axes 0 and K-1, from the table.
+        for r in regs::table_for(&params) {
+            if r.per_axis {
+                for a in [0usize, 1] {
+                    c += &format!("    assert(TDM_{}({a}) == 0x{:X}u);\n", r.name, 2 * r.address(a));
+                }
+            } else {
+                c += &format!("    assert(TDM_{} == 0x{:X}u);\n", r.name, 2 * r.address(0));
             }
-        } else {
-            c += &format!("    assert(TDM_{} == 0x{:X}u);\n", r.name, 2 * r.address(0));
+            for f in r.fields.iter().filter(|f| f.name != "VALUE") {
+                c += &format!("    assert(TDM_{}_{}_MASK == 0x{:X}u);\n", r.name, f.name, ((1u32 << f.width) - 1) << f.lsb);
+            }
         }
-        for f in r.fields.iter().filter(|f| f.name != "VALUE") {
-            c += &format!("    assert(TDM_{}_{}_MASK == 0x{:X}u);\n", r.name, f.name, ((1u32 << f.width) - 1) << f.lsb);
-        }
+        // A few by hand, as an MCU engineer reads them in docs/registers.md.
+        c += "    assert(TDM_CTRL == 0x10u);\n    assert(TDM_STATUS(1) == 0x22Cu);\n    assert(TDM_POS_LO(0) == 0x20Eu);\n";
+        c += "    assert(TDM_AXES == 2u && TDM_MAGIC == 0x5453u);\n    return 0;\n}\n";
+        std::fs::write(dir.join("check.c"), c).unwrap();
+        let out = Command::new("gcc")
+            .current_dir(&dir)
+            .args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-o", "check", "check.c"])
+            .output()
+            .expect("gcc is installed");
+        assert!(out.status.success(), "gcc:\n{}", String::from_utf8_lossy(&out.stderr));
+        let run = Command::new(dir.join("check")).output().unwrap();
+        assert!(run.status.success(), "header values differ from the table:\n{}", String::from_utf8_lossy(&run.stderr));
     }
-    // A few by hand, as an MCU engineer reads them in docs/registers.md.
-    c += "    assert(TDM_CTRL == 0x10u);\n    assert(TDM_STATUS(1) == 0x22Cu);\n    assert(TDM_POS_LO(0) == 0x20Eu);\n";
-    c += "    assert(TDM_AXES == 2u && TDM_MAGIC == 0x5453u);\n    return 0;\n}\n";
-    std::fs::write(dir.join("check.c"), c).unwrap();
-    let out = Command::new("gcc")
-        .current_dir(&dir)
-        .args(["-std=c11", "-Wall", "-Wextra", "-Werror", "-o", "check", "check.c"])
-        .output()
-        .expect("gcc is installed");
-    assert!(out.status.success(), "gcc:\n{}", String::from_utf8_lossy(&out.stderr));
-    let run = Command::new(dir.join("check")).output().unwrap();
-    assert!(run.status.success(), "header values differ from the table:\n{}", String::from_utf8_lossy(&run.stderr));
 }
 
 #[test]
@@ -228,7 +258,7 @@ fn export_package_works_from_the_folder_alone() {
     use tdm_stepper::package as pkg;
     let dir = export_to(&["--axes", "3", "--clock-hz", "40000000"], "export_package");
     let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
-    let ports = export::ports(3);
+    let ports = export::ports(3, false);
 
     // Smoke testbench in Icarus.
     let out = Command::new("iverilog")
@@ -385,7 +415,7 @@ fn two_named_exports_live_in_one_design() {
     // One wrapper per core around its template, and a top with both.
     let mut v = String::new();
     for (dir, tag, k) in [(&a, "a", 2), (&b, "b", 3)] {
-        let ports = export::ports(k);
+        let ports = export::ports(k, false);
         let decl: Vec<String> = ports
             .iter()
             .filter(|p| p.name != "fsm_state")

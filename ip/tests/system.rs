@@ -14,7 +14,7 @@ use tdm_stepper::model::{pulse, AxisRun, Limits, PulseTiming, Segment};
 use tdm_stepper::regs::{self, CoreParams};
 use tdm_stepper::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming};
 use tdm_stepper::verify::system::{run_system, run_system_with, Clocks, RunOptions, SystemTrace};
-use tdm_stepper::verify::Simulator;
+use tdm_stepper::verify::{Port, Simulator};
 
 // The export's configuration.
 const R: usize = tdm_stepper::export::RADIX_BITS;
@@ -25,7 +25,7 @@ const CLOCKS: Clocks = Clocks { clk_half_ps: 10_002, bus_half_ps: 5_001 };
 const MCU_HALF_PS: u64 = 2_976;
 
 fn params<const K: usize>() -> CoreParams {
-    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks }
+    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false }
 }
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
@@ -1111,4 +1111,221 @@ fn a_bad_push_is_reported_at_the_bus_within_the_documented_bound() {
     check_edges(trace, &[good.clone(), vec![]], "bad pushes between good ones");
     assert!(rises(trace, 1).is_empty(), "axis 1 moved");
     assert_eq!(traces[0].1.changes, traces[1].1.changes, "Verilator and rust-hdl pins differ");
+}
+
+// ---- machine I/O (export --io all) ------------------------------------------------
+
+/// The exported core with the machine I/O in Verilator: the bus events with the pins
+/// beside them (`pins`: from time 0, then each change), watching step, dir, irq and
+/// drv_enable.
+fn verilator_io<const K: usize>(name: &str, b: &BusModel, cycles: u64, initial: &[u128], pins: &[(u64, Vec<u128>)]) -> SystemTrace {
+    let opts = tdm_stepper::export::ExportOptions { axes: K, io: true, ..Default::default() };
+    let verilog = tdm_stepper::export::verilog(&opts).unwrap();
+    let mut watch = stepper_watch(K);
+    watch.push(Port::new("drv_enable", K));
+    let mut spec = system_spec(tdm_stepper::export::TOP_MODULE, watch);
+    for (n, w) in [("estop_n", 1), ("probe", 1), ("limit_neg", K), ("limit_pos", K), ("home", K), ("alarm", K)] {
+        spec.inputs.push(Port::new(n, w));
+    }
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), initial, pins);
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
+    // Samples back to the bus model's event numbers.
+    for s in tr.samples.iter_mut() {
+        s.0 = index.iter().position(|&i| i == s.0).expect("a sample at a pin event");
+    }
+    tr
+}
+
+/// Pins: estop_n, probe, limit_neg, limit_pos, home, alarm (every input inactive, the
+/// e-stop released, with the reset polarities).
+fn io_pins(estop_n: bool) -> Vec<u128> {
+    vec![estop_n as u128, 0, 0, 0, 0, 0]
+}
+
+/// E-stop through the bus, on a move of both axes: the hard stop comes within the
+/// documented latency of the pin (no STEP rising edge after clk edge e0 + 3 + n, e0 the
+/// first edge that samples the pin; e0 + 2 + n unless a push reaches the core in that
+/// cycle), no pulse is cut below STEP_HIGH, the
+/// positions read back equal the edges emitted, the queues are empty, drv_enable drops
+/// (at e0 + 3 + n),
+/// IO_STATUS and IRQ_IO say so; a release alone restarts nothing (a push and a START
+/// while latched move nothing, and LEVEL counts the flushed push as taken); only
+/// IO_CMD.ESTOP_REARM, written while the e-stop is released, lets the next move run.
+/// A machine I/O configuration write while enabled is refused.
+#[test]
+fn estop_through_the_bus_stops_every_axis_exactly() {
+    use tdm_stepper::model::io::pin_to_level_ticks;
+    const K: usize = 2;
+    const N: u8 = 2; // the e-stop's filter, samples
+    const HIGH: u16 = 5;
+    let mut b = bus();
+    b.write_reg("IO_FILTER_LO", 0, N as u16);
+    b.write_reg("STEP_HIGH", 0, HIGH);
+    b.enable(ENABLE_WAIT);
+    let refused = {
+        b.write_reg("IO_FILTER_LO", 0, 7); // while enabled: refused
+        (b.read_reg("IO_FILTER_LO", 0), b.read_reg("IO_STATUS", 0))
+    };
+    b.write_reg("IO_STATUS", 0, 1 << 4);
+    let before_rearm = b.read_reg("IO_STATUS", 0);
+    b.write_reg("IO_CMD", 0, 1);
+    b.idle(50);
+    let armed = (b.read_reg("IO_STATUS", 0), b.read_reg("IO_AXIS", 0), b.read_reg("IO_AXIS", 1));
+    b.write_reg("IRQ_MASK_IO", 0, 1);
+    let rate = |steps_per_tick: f64| (steps_per_tick * 4_294_967_296.0).round() as u32;
+    let moves = [
+        [Segment { v0_rate: 0, t_ticks: 100_000, steps: 500 }, Segment { v0_rate: rate(0.01), t_ticks: 200_000, steps: 2_000 }],
+        [Segment { v0_rate: 0, t_ticks: 100_000, steps: -300 }, Segment { v0_rate: rate(0.006), t_ticks: 200_000, steps: -1_200 }],
+    ];
+    for (a, segs) in moves.iter().enumerate() {
+        for s in segs {
+            b.push_segment(a, s);
+        }
+    }
+    b.write_reg("START", 0, 0b11);
+    // The e-stop 150,000 ticks (3 ms) into the move: both axes are stepping.
+    let t_estop = b.now_ps() + 150_000 * 2 * CLOCKS.clk_half_ps;
+    b.idle_until_ps(t_estop + 50_000 * 2 * CLOCKS.clk_half_ps);
+    let stopped_pos = [b.read_position(0), b.read_position(1)];
+    let stopped = (b.read_reg("IO_STATUS", 0), b.read_reg("IRQ_IO", 0), b.read_reg("BUSY", 0), b.read_reg("STATUS", 0), b.read_reg("STATUS", 1));
+    // Released: still latched; a push and a START move nothing.
+    let t_release = b.now_ps() + 1_000 * 2 * CLOCKS.clk_half_ps;
+    b.idle_until_ps(t_release + 10_000 * 2 * CLOCKS.clk_half_ps);
+    let released = b.read_reg("IO_STATUS", 0);
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 50_000, steps: 200 });
+    b.write_reg("START", 0, 0b01);
+    b.idle(60_000);
+    let latched_after = (b.read_reg("STATUS", 0), b.read_reg("BUSY", 0), b.read_position(0));
+    // Re-armed while released: the next move runs.
+    let t_rearm = b.now_ps();
+    b.write_reg("IO_CMD", 0, 1);
+    b.idle(50);
+    let rearmed = b.read_reg("IO_STATUS", 0);
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 50_000, steps: 200 });
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + 60_000 * 2 * CLOCKS.clk_half_ps);
+    let final_pos = b.read_position(0);
+    let cycles = cycles_after(&b, 100);
+    let tr = verilator_io::<K>("io_estop", &b, cycles, &io_pins(true), &[(t_estop, io_pins(false)), (t_release, io_pins(true))]);
+    let v = |id| b.value(&tr, id).expect("read returned x");
+
+    assert_eq!((v(refused.0), v(refused.1) >> 4 & 1), (N as u16, 1), "a configuration write while enabled is refused");
+    assert_eq!(v(before_rearm) & 0b11, 0b01, "the e-stop latch is set after enable, the input released");
+    assert_eq!(v(armed.0) & 0b111, 0, "re-armed: IO_STATUS clear");
+    assert_eq!((v(armed.1) >> 4 & 1, v(armed.2) >> 4 & 1), (1, 1), "IO_AXIS.DRV_ENABLE");
+
+    // The pin is first sampled by the clk edge after t_estop (rising edges at 2·HC·j).
+    let e0 = t_estop.div_ceil(2 * CLOCKS.clk_half_ps);
+    let last_allowed = e0 + pin_to_level_ticks(N) + 1;
+    let resume = clk_cycle_at(t_rearm);
+    for a in 0..K {
+        let r = rises(&tr, a);
+        let (falls, _) = falls_and_dir(&tr, a);
+        let before: Vec<u64> = r.iter().copied().filter(|&c| c < resume).collect();
+        assert!(before.iter().any(|&c| c + 500 > e0), "axis {a}: not stepping when the e-stop came");
+        let last = *before.last().unwrap();
+        assert!(last <= last_allowed, "axis {a}: a STEP edge at clk {last}, {} after the pin was first sampled (bound {})", last - e0, pin_to_level_ticks(N));
+        // Every pulse keeps its high time, the one the e-stop caught included.
+        for &c in &before {
+            let f = falls.iter().find(|&&f| f > c).expect("a pulse never fell");
+            assert!(f - c >= HIGH as u64, "axis {a}: a pulse of {} ticks at clk {c}", f - c);
+        }
+        let pos = position(&b, &tr, stopped_pos[a]).unwrap();
+        let sign = if moves[a][0].steps < 0 { -1 } else { 1 };
+        assert_eq!(pos, sign * before.len() as i32, "axis {a}: position against the edges emitted");
+        assert!((before.len() as i64) < moves[a].iter().map(|s| s.steps.abs() as i64).sum::<i64>(), "axis {a}: the move finished before the e-stop");
+    }
+    // drv_enable drops one tick after the hard stop, and stays low until the re-arm.
+    let drv_low = tr.changes.iter().find(|(c, v)| *c > e0 && v[3] == Some(0)).expect("drv_enable never dropped").0;
+    assert!(drv_low <= e0 + pin_to_level_ticks(N) + 2, "drv_enable low at clk {drv_low}, {} after the pin", drv_low - e0);
+    assert!(tr.changes.iter().filter(|(c, _)| *c > drv_low && *c < resume).all(|(_, v)| v[3] == Some(0)), "drv_enable rose while latched");
+    let (st, irq, busy, s0, s1) = stopped;
+    assert_eq!(v(st) & 0b111, 0b011, "IO_STATUS: ESTOP and ESTOP_IN");
+    assert_eq!(v(irq) & 1, 1, "IRQ_IO.ESTOP");
+    assert_eq!(v(busy), 0, "BUSY after the hard stop");
+    assert_eq!((v(s0) & 0x1F, v(s1) & 0x1F), (0, 0), "LEVEL after the hard stop: the queues were flushed");
+    assert!(irq_edges(&tr).0.iter().any(|&c| c > e0 && c < e0 + 200), "the irq line rose for IRQ_IO.ESTOP");
+    assert_eq!(v(released) & 0b111, 0b001, "released: ESTOP still latched, ESTOP_IN clear");
+    let (st0, busy0, pos0) = latched_after;
+    assert_eq!((v(st0) & 0x1F, v(busy0)), (0, 0), "a push while latched is flushed and counted");
+    assert_eq!(position(&b, &tr, pos0).unwrap(), position(&b, &tr, stopped_pos[0]).unwrap(), "nothing moved while latched");
+    assert_eq!(v(rearmed) & 0b111, 0, "re-armed");
+    let after: Vec<u64> = rises(&tr, 0).into_iter().filter(|&c| c >= resume).collect();
+    assert_eq!(after.len(), 200, "the move after the re-arm");
+    assert_eq!(position(&b, &tr, final_pos).unwrap(), position(&b, &tr, stopped_pos[0]).unwrap() + 200);
+}
+
+/// The watchdog through the bus: while IO_CMD.WD_FEED comes often enough the move runs;
+/// once the feeds stop, every axis stops within WD_TIMEOUT·1024 ticks (plus the
+/// command's crossing) of the last feed, IO_STATUS.WATCHDOG and IRQ_IO.WATCHDOG are
+/// set, and only IO_CMD.WD_REARM clears the trip.
+#[test]
+fn the_watchdog_stops_a_move_when_the_host_stops_feeding_it() {
+    use tdm_stepper::model::io::WATCHDOG_UNIT_TICKS;
+    const K: usize = 2;
+    let mut b = bus();
+    b.write_reg("WD_TIMEOUT", 0, 2); // 2,048 ticks
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 0b101); // re-arm the e-stop and the watchdog
+    b.idle(50);
+    let fresh = b.read_reg("IO_STATUS", 0);
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 400_000, steps: 4_000 });
+    b.write_reg("START", 0, 0b01);
+    // Feed every 1,000 ticks for 100,000 ticks, then stop.
+    let tick_ps = 2 * CLOCKS.clk_half_ps;
+    let mut last_feed = 0;
+    for _ in 0..100 {
+        b.idle_until_ps(b.now_ps() + 1_000 * tick_ps);
+        b.write_reg("IO_CMD", 0, 0b010);
+        last_feed = b.now_ps();
+    }
+    b.idle_until_ps(last_feed + 20_000 * tick_ps);
+    let tripped = (b.read_reg("IO_STATUS", 0), b.read_reg("IRQ_IO", 0));
+    b.write_reg("IO_CMD", 0, 0b010); // a feed does not clear a trip
+    b.idle(50);
+    let fed = b.read_reg("IO_STATUS", 0);
+    b.write_reg("IO_CMD", 0, 0b100);
+    b.idle(50);
+    let rearmed = b.read_reg("IO_STATUS", 0);
+    let cycles = cycles_after(&b, 100);
+    let tr = verilator_io::<K>("io_watchdog", &b, cycles, &io_pins(true), &[]);
+    let v = |id| b.value(&tr, id).expect("read returned x");
+    assert_eq!(v(fresh) & 0b111, 0, "armed");
+    let r = rises(&tr, 0);
+    let fed_until = clk_cycle_at(last_feed);
+    let while_fed = r.iter().filter(|&&c| c + 10_000 > fed_until && c < fed_until).count();
+    assert!(while_fed > 20, "stepping while fed: {while_fed} edges in the last 10,000 ticks");
+    let last = *r.last().unwrap();
+    let limit = 2 * WATCHDOG_UNIT_TICKS;
+    assert!(last > fed_until && last <= fed_until + limit + 8, "last edge {} ticks after the last feed's write (timeout {limit})", last as i64 - fed_until as i64);
+    assert!(r.len() < 4_000, "the move finished");
+    assert_eq!(v(tripped.0) & 0b100, 0b100, "IO_STATUS.WATCHDOG");
+    assert_eq!(v(tripped.1) & 0b10, 0b10, "IRQ_IO.WATCHDOG");
+    assert_eq!(v(fed) & 0b100, 0b100, "a feed does not clear a trip");
+    assert_eq!(v(rearmed) & 0b100, 0, "WD_REARM clears it");
+}
+
+/// The filtered inputs read back per axis, and an alarm drops that axis's drv_enable.
+#[test]
+fn io_axis_reads_the_filtered_inputs_and_an_alarm_drops_the_enable() {
+    const K: usize = 2;
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 1);
+    b.idle(50);
+    let t_pins = b.now_ps();
+    b.idle(200);
+    let reads: Vec<_> = (0..K).map(|a| b.read_reg("IO_AXIS", a)).collect();
+    let st = b.read_reg("IO_STATUS", 0);
+    let cycles = cycles_after(&b, 100);
+    // Axis 0: limit_pos and alarm; axis 1: limit_neg and home; the probe.
+    let pins = vec![1, 1, 0b10, 0b01, 0b10, 0b01];
+    let tr = verilator_io::<K>("io_axis", &b, cycles, &io_pins(true), &[(t_pins, pins)]);
+    let v = |id| b.value(&tr, id).expect("read returned x");
+    assert_eq!(v(reads[0]) & 0x1F, 0b01010, "axis 0: LIMIT_POS, ALARM, drv_enable low");
+    assert_eq!(v(reads[1]) & 0x1F, 0b10101, "axis 1: LIMIT_NEG, HOME, drv_enable high");
+    assert_eq!(v(st) & 0b1000, 0b1000, "IO_STATUS.PROBE_IN");
+    let drv = tr.changes.last().unwrap().1[3];
+    assert_eq!(drv, Some(0b10), "drv_enable: axis 0 low (alarm), axis 1 high");
 }

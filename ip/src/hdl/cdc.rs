@@ -5,6 +5,8 @@
 //! metastable; the second has a cycle to settle). Used for resets, the enable and the
 //! handshake flags.
 //!
+//! [`BitsSync`]: the same for a bus of independent flags.
+//!
 //! [`AsyncFifo`]: `W`-bit entries, 4 deep, written in `wclock`, read in `rclock`
 //! (unrelated clocks). Show-ahead: `data_out` is the head entry whenever `empty` is
 //! low; `read` pops it. `write` is ignored while `full`. `almost_full` (registered)
@@ -33,6 +35,28 @@ pub struct BitSync {
 }
 
 impl Logic for BitSync {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, s1, s2);
+        self.s1.d.next = self.sig_in.val();
+        self.s2.d.next = self.s1.q.val();
+        self.sig_out.next = self.s2.q.val();
+    }
+}
+
+/// A two-flip-flop synchroniser per bit of a `W`-bit bus, for independent levels
+/// (flags): each bit arrives two `clock` edges after it changes, but bits that change
+/// together may arrive a cycle apart, so it is not for a word.
+#[derive(LogicBlock, Default)]
+pub struct BitsSync<const W: usize> {
+    pub clock: Signal<In, Clock>,
+    pub sig_in: Signal<In, Bits<W>>,
+    pub sig_out: Signal<Out, Bits<W>>,
+    s1: DFF<Bits<W>>,
+    s2: DFF<Bits<W>>,
+}
+
+impl<const W: usize> Logic for BitsSync<W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, s1, s2);

@@ -73,6 +73,7 @@ pub mod core;
 pub mod divider;
 pub mod exmc;
 pub mod input_filter;
+pub mod io_regs;
 pub mod iterate;
 pub mod mul_seq;
 pub mod mul_wide;

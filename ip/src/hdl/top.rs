@@ -21,6 +21,15 @@
 //! through a synchroniser), the core is held in reset and commands are drained and
 //! dropped. The status word of the axis the handshake selects is assembled here.
 //!
+//! **Machine I/O** ([`TdmStepperIo`], `export --io all`): the input pins `estop_n`,
+//! `probe`, `limit_neg`, `limit_pos`, `home`, `alarm` and the output `drv_enable` (K
+//! bits), the [`MachineIo`] block in clk (held in reset with the core) and its
+//! registers ([`IoRegs`]) beside the register file; the read buses are ORed (each
+//! reads 0 outside its addresses) and so are the IRQs. Its `hard_stop` holds the
+//! core's `abort` high: queues and FIFOs flushed every cycle it lasts, no new STEP edge,
+//! a pulse already high keeps its high time, positions exact (a push arriving during
+//! it is flushed and counted as taken).
+//!
 //! `Core` is [`TdmCore`] or the non-TDM [`Baseline`]: both have the same ports, so the
 //! same top (`TdmStepper` / `BaselineStepper`) is generated for each by a macro.
 
@@ -28,13 +37,15 @@ use super::baseline::Baseline;
 use super::cdc::{AsyncFifo, BitSync};
 use super::core::{TdmCore, STATE_BITS};
 use super::exmc::ExmcSlave;
+use super::io_regs::IoRegs;
+use super::machine_io::MachineIo;
 use super::regfile::{RegFile, CMD_BITS};
 use super::status_sync::{StatusSync, STATUS_BITS};
 use crate::regs::{CoreParams, ADDR_BITS};
 use rust_hdl::prelude::*;
 
 macro_rules! stepper_top {
-    ($name:ident, $core:ident, $doc:expr) => {
+    ($name:ident, $core:ident, $doc:expr $(, $io:ident)?) => {
         #[doc = $doc]
         #[derive(LogicBlock)]
         pub struct $name<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
@@ -70,6 +81,19 @@ macro_rules! stepper_top {
             c_start: DFF<Bit>,
             c_abort: DFF<Bit>,
             c_word: DFF<Bits<104>>,
+            $(
+                /// Machine I/O (`export --io all`): the input pins, per axis (bit a = axis a)
+                /// and global, and the drivers' enables.
+                pub estop_n: Signal<In, Bit>,
+                pub probe: Signal<In, Bit>,
+                pub limit_neg: Signal<In, Bits<K>>,
+                pub limit_pos: Signal<In, Bits<K>>,
+                pub home: Signal<In, Bits<K>>,
+                pub alarm: Signal<In, Bits<K>>,
+                pub drv_enable: Signal<Out, Bits<K>>,
+                pub $io: MachineIo<K>,
+                pub io_regs: IoRegs<K>,
+            )?
         }
 
         impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> $name<K, R, DEPTH, QDEPTH> {
@@ -108,6 +132,17 @@ macro_rules! stepper_top {
                     c_start: Default::default(),
                     c_abort: Default::default(),
                     c_word: Default::default(),
+                    $(
+                        estop_n: Default::default(),
+                        probe: Default::default(),
+                        limit_neg: Default::default(),
+                        limit_pos: Default::default(),
+                        home: Default::default(),
+                        alarm: Default::default(),
+                        drv_enable: Default::default(),
+                        $io: Default::default(),
+                        io_regs: Default::default(),
+                    )?
                 }
             }
 
@@ -122,6 +157,15 @@ macro_rules! stepper_top {
                 self.nwe.connect();
                 self.addr.connect();
                 self.data_in.connect();
+                $(
+                    let _ = stringify!($io);
+                    self.estop_n.connect();
+                    self.probe.connect();
+                    self.limit_neg.connect();
+                    self.limit_pos.connect();
+                    self.home.connect();
+                    self.alarm.connect();
+                )?
                 self.connect_all();
             }
         }
@@ -232,6 +276,57 @@ macro_rules! stepper_top {
                 self.regs.st_valid.next = self.status.valid.val();
                 self.regs.st_axis.next = self.status.axis.val();
                 self.regs.st_word.next = self.status.word.val();
+
+                $(
+                    // Machine I/O: its registers beside the register file (the read buses
+                    // ORed: each reads 0 outside its addresses), its block in clk, held in
+                    // reset with the core; its hard stop holds the core's abort.
+                    self.$io.clock.next = self.clk.val();
+                    self.$io.reset.next = self.core_reset.val();
+                    self.$io.run.next = !self.core_reset.val();
+                    self.$io.estop_n.next = self.estop_n.val();
+                    self.$io.probe.next = self.probe.val();
+                    self.$io.limit_neg.next = self.limit_neg.val();
+                    self.$io.limit_pos.next = self.limit_pos.val();
+                    self.$io.home.next = self.home.val();
+                    self.$io.alarm.next = self.alarm.val();
+                    self.$io.polarity.next = self.io_regs.polarity.val();
+                    self.$io.filter.next = self.io_regs.filter.val();
+                    self.$io.prescale.next = self.io_regs.prescale.val();
+                    self.$io.edges.next = self.io_regs.edges.val();
+                    self.$io.wd_timeout.next = self.io_regs.wd_timeout.val();
+                    self.$io.estop_rearm.next = self.io_regs.estop_rearm.val();
+                    self.$io.wd_feed.next = self.io_regs.wd_feed.val();
+                    self.$io.wd_rearm.next = self.io_regs.wd_rearm.val();
+                    self.drv_enable.next = self.$io.drv_enable.val();
+                    self.io_regs.bus_clock.next = self.bus_clk.val();
+                    self.io_regs.bus_reset.next = self.rst_bus.sig_out.val();
+                    self.io_regs.wr.next = self.exmc.wr.val();
+                    self.io_regs.wr_addr.next = self.exmc.wr_addr.val();
+                    self.io_regs.wr_data.next = self.exmc.wr_data.val();
+                    self.io_regs.rd_addr.next = self.exmc.rd_addr.val();
+                    self.io_regs.enable.next = self.regs.enable.val();
+                    self.io_regs.clock.next = self.clk.val();
+                    self.io_regs.running.next = !self.core_reset.val();
+                    self.io_regs.estop_latched.next = self.$io.estop_latched.val();
+                    self.io_regs.estop_active.next = self.$io.estop_active.val();
+                    self.io_regs.wd_tripped.next = self.$io.wd_tripped.val();
+                    self.io_regs.probe_active.next = self.$io.probe_active.val();
+                    self.io_regs.limit_neg.next = self.$io.limit_neg_active.val();
+                    self.io_regs.limit_pos.next = self.$io.limit_pos_active.val();
+                    self.io_regs.home.next = self.$io.home_active.val();
+                    self.io_regs.alarm.next = self.$io.alarm_active.val();
+                    self.io_regs.drv_enable.next = self.$io.drv_enable.val();
+                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val();
+                    self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
+                    // The hard stop holds the abort, except in a cycle that brings a push:
+                    // the queue takes it then and the next cycle's abort flushes it and
+                    // counts it as taken (an abort and a push in one cycle would drop the
+                    // push uncounted, and LEVEL would never come back to 0). A START does
+                    // nothing while the hard stop holds.
+                    self.core.abort.next = self.c_abort.q.val() | (self.$io.hard_stop.val() & !self.c_push.q.val());
+                    self.core.start.next = self.c_start.q.val() & !self.$io.hard_stop.val();
+                )?
             }
         }
     };
@@ -239,3 +334,9 @@ macro_rules! stepper_top {
 
 stepper_top!(TdmStepper, TdmCore, "The exported IP core around the TDM core (module `tdm_stepper`).");
 stepper_top!(BaselineStepper, Baseline, "The same IP core around the non-TDM baseline, for the sweep.");
+stepper_top!(
+    TdmStepperIo,
+    TdmCore,
+    "The exported IP core with the machine I/O (`export --io all`): `TdmStepper` plus the input pins, `drv_enable`, the `MachineIo` block (`io`) and its registers (`IoRegs`).",
+    io
+);

@@ -122,12 +122,12 @@ pub fn breakdown_script(axes: usize) -> String {
 }
 
 pub(super) fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
-    let dir = opts.work.join(format!("breakdown_xc7_tdm_k{axes}"));
+    let dir = opts.work.join(format!("breakdown_xc7_tdm_k{axes}{}", if opts.io { "_io" } else { "" }));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
     let mut reused = false;
     let result = (|| -> Result<Vec<Block>, String> {
-        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, ..Default::default() })?;
+        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, io: opts.io, ..Default::default() })?;
         breakdown_blocks(&yosys_stat(&dir, &v, &breakdown_script(axes), opts, &mut reused)?, "tdm_stepper", Family::Xc7)
     })();
     let seconds = t0.elapsed().as_secs_f64();

@@ -91,6 +91,8 @@ pub struct SweepOptions {
     pub clock_hz: u32,
     /// Only collect finished runs from the work folder; run no tool.
     pub cached_only: bool,
+    /// Export every point with the machine I/O (`--io all`; TDM only, no Fmax yet).
+    pub io: bool,
 }
 
 /// Resources of one synthesis run, by kind.
@@ -195,6 +197,8 @@ pub struct Breakdown {
 /// The whole result.
 #[derive(Clone, Debug, Serialize)]
 pub struct Sweep {
+    /// The points were exported with the machine I/O (`--io all`).
+    pub io: bool,
     pub yosys: String,
     pub t_calc_cycles: usize,
     pub points: Vec<Point>,
@@ -324,11 +328,14 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     };
     for &k in &opts.axes {
         for &a in &opts.archs {
-            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, ..Default::default() }.check()?;
+            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, ..Default::default() }.check()?;
         }
     }
     for &k in opts.fmax_axes.iter().chain(&opts.breakdown_axes) {
         ExportOptions { axes: k, clock_hz: opts.clock_hz, ..Default::default() }.check()?;
+    }
+    if opts.io && !opts.fmax_axes.is_empty() {
+        return Err("--io with --fmax: the Fmax wrapper does not drive the machine I/O pins yet; sweep --io without --fmax".into());
     }
     let nextpnr = nextpnr_command(repo);
     if !opts.fmax_axes.is_empty() && !nextpnr.exists() {
@@ -435,7 +442,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     fmax.iter_mut().for_each(|p| rel(&mut p.log));
     breakdown.iter_mut().for_each(|p| rel(&mut p.log));
     let capacity = opts.axes.iter().map(|&k| capacity(k, fmax.iter().find(|f| f.axes == k).and_then(|f| f.fmax_clk_mhz))).collect();
-    let sweep = Sweep { yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
+    let sweep = Sweep { io: opts.io, yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
     let files = write_outputs(&sweep, &opts.out).map_err(|e| format!("cannot write into {}: {e}", opts.out.display()))?;
     Ok((sweep, files))
 }

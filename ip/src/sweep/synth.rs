@@ -95,12 +95,12 @@ pub(super) fn yosys_stat(dir: &Path, verilog: &str, script: &str, opts: &SweepOp
 }
 
 pub(super) fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> Point {
-    let dir = opts.work.join(format!("{}_{}_k{axes}", family.name(), arch.name()));
+    let dir = opts.work.join(format!("{}_{}_k{axes}{}", family.name(), arch.name(), if opts.io { "_io" } else { "" }));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
     let mut reused = false;
     let result = (|| -> Result<Resources, String> {
-        let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, ..Default::default() })?;
+        let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, io: opts.io, ..Default::default() })?;
         let script = format!("read_verilog tdm_stepper.v; {}; tee -q -o stat.json stat -json", family.synth());
         parse_stat(&yosys_stat(&dir, &v, &script, opts, &mut reused)?, family)
     })();

@@ -265,3 +265,46 @@ pub fn position(bus: &BusModel, trace: &SystemTrace, ids: (ReadId, ReadId)) -> O
     let hi = bus.value(trace, ids.1)? as u32;
     Some((hi << 16 | lo) as i32)
 }
+
+/// `events` with more input columns (pins beside the bus, e.g. the machine I/O's):
+/// `initial` before the first change, then each `(time_ps, values)` of `changes` (in
+/// increasing time) from that time on. A change that falls within 3 ps of a bus event
+/// is applied with that event; any other becomes an event of its own at the next time
+/// ≡ 2 (mod 3), with the bus pins as they were. Returns the events and, for each of
+/// `events`, its index among them (a trace's samples name events by index: map them
+/// back with it before [`BusModel::value`]).
+pub fn with_extra_inputs(events: &[BusEvent], initial: &[u128], changes: &[(u64, Vec<u128>)]) -> (Vec<BusEvent>, Vec<usize>) {
+    assert!(changes.windows(2).all(|w| w[0].0 < w[1].0), "pin changes must be in increasing time");
+    assert!(changes.iter().all(|c| c.1.len() == initial.len()), "pin change width");
+    let mut out: Vec<BusEvent> = Vec::with_capacity(events.len() + changes.len());
+    let mut extra = initial.to_vec();
+    let bus_width = events[0].inputs.len();
+    let mut k = 0;
+    let mut emit_changes_before = |out: &mut Vec<BusEvent>, extra: &mut Vec<u128>, limit: u64| {
+        while k < changes.len() && changes[k].0 < limit {
+            let t = changes[k].0 + (2 + 3 - changes[k].0 % 3) % 3;
+            *extra = changes[k].1.clone();
+            k += 1;
+            let last = out.last_mut().expect("the first bus event comes first");
+            if t <= last.time_ps + 3 {
+                // With the event just emitted.
+                last.inputs.truncate(bus_width);
+                last.inputs.extend(extra.iter().copied());
+            } else if t + 3 < limit {
+                let bus: Vec<u128> = last.inputs[..bus_width].to_vec();
+                out.push(BusEvent { time_ps: t, inputs: bus.into_iter().chain(extra.iter().copied()).collect(), sample: false });
+            }
+            // Else it goes with the next bus event, which takes `extra` as it stands.
+        }
+    };
+    let mut index = Vec::with_capacity(events.len());
+    for e in events {
+        if !out.is_empty() {
+            emit_changes_before(&mut out, &mut extra, e.time_ps);
+        }
+        index.push(out.len());
+        out.push(BusEvent { time_ps: e.time_ps, inputs: e.inputs.iter().chain(extra.iter()).copied().collect(), sample: e.sample });
+    }
+    emit_changes_before(&mut out, &mut extra, u64::MAX);
+    (out, index)
+}

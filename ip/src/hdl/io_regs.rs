@@ -1,0 +1,415 @@
+//! The machine I/O registers (`regs::Feature::Io`), in the bus clock, and their
+//! crossings to and from [`super::machine_io::MachineIo`] in `clk`. A block beside the
+//! register file, not in it: its reads return 0 outside its own addresses, so the top
+//! ORs the two read buses, and it decodes its own writes.
+//!
+//! Ports:
+//! * bus side (`bus_clock`, `bus_reset`): `wr`, `wr_addr`, `wr_data` (the EXMC slave's
+//!   commit, one cycle), `rd_addr` → `rd_data` (combinational, like the register file's),
+//!   `enable` (CTRL.ENABLE), `irq` (IRQ_IO under IRQ_MASK_IO, registered);
+//! * configuration to `clk` (`polarity`, `filter`, `prescale`, `edges`, `wd_timeout`):
+//!   bus-clock registers written only while CTRL.ENABLE = 0 and the core is held in
+//!   reset (seen through `running`), so they are static whenever the machine I/O, held
+//!   in reset with the core, uses them; a write at any other time is refused
+//!   (IO_STATUS.REFUSED) and changes nothing;
+//! * commands to `clk` (`clock`): IO_CMD's bits toggle a flip-flop each; the toggles
+//!   cross through two flip-flops and leave as one-cycle pulses (`estop_rearm`,
+//!   `wd_feed`, `wd_rearm`) 2 to 3 `clk` edges after the write commits;
+//! * status from `clk`: `running` (the core is out of reset), the e-stop latch and
+//!   input, the watchdog trip, the probe input, and per axis the filtered inputs and
+//!   `drv_enable`, each level through its own two flip-flops (independent flags).
+//!
+//! Events: IRQ_IO.ESTOP when the synchronised filtered e-stop rises, IRQ_IO.WATCHDOG
+//! when the synchronised trip rises, both only while CTRL.ENABLE = 1 and the core
+//! runs (a reset puts the e-stop input active, which is no event); cleared while
+//! CTRL.ENABLE = 0, as the register file clears its own.
+
+use super::bit_insert::BitPick;
+use super::cdc::BitsSync;
+use crate::regs::{self, ADDR_BITS};
+use rust_hdl::prelude::*;
+
+fn c9(name: &str) -> Constant<Bits<ADDR_BITS>> {
+    Constant::new((regs::addr(name) as u64).into())
+}
+
+#[derive(LogicBlock)]
+pub struct IoRegs<const K: usize> {
+    pub bus_clock: Signal<In, Clock>,
+    pub bus_reset: Signal<In, Bit>,
+    pub wr: Signal<In, Bit>,
+    pub wr_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub wr_data: Signal<In, Bits<16>>,
+    pub rd_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub rd_data: Signal<Out, Bits<16>>,
+    pub enable: Signal<In, Bit>,
+    pub irq: Signal<Out, Bit>,
+    pub clock: Signal<In, Clock>,
+    pub polarity: Signal<Out, Bits<6>>,
+    pub filter: Signal<Out, Bits<24>>,
+    pub prescale: Signal<Out, Bits<16>>,
+    pub edges: Signal<Out, Bits<2>>,
+    pub wd_timeout: Signal<Out, Bits<16>>,
+    pub estop_rearm: Signal<Out, Bit>,
+    pub wd_feed: Signal<Out, Bit>,
+    pub wd_rearm: Signal<Out, Bit>,
+    pub running: Signal<In, Bit>,
+    pub estop_latched: Signal<In, Bit>,
+    pub estop_active: Signal<In, Bit>,
+    pub wd_tripped: Signal<In, Bit>,
+    pub probe_active: Signal<In, Bit>,
+    pub limit_neg: Signal<In, Bits<K>>,
+    pub limit_pos: Signal<In, Bits<K>>,
+    pub home: Signal<In, Bits<K>>,
+    pub alarm: Signal<In, Bits<K>>,
+    pub drv_enable: Signal<In, Bits<K>>,
+    // Bus clock: configuration, flags, events, command toggles.
+    pol: DFF<Bits<6>>,
+    filt_lo: DFF<Bits<16>>,
+    filt_hi: DFF<Bits<8>>,
+    pre: DFF<Bits<16>>,
+    edg: DFF<Bits<2>>,
+    wdt: DFF<Bits<16>>,
+    refused: DFF<Bit>,
+    events: DFF<Bits<2>>,
+    mask: DFF<Bits<2>>,
+    toggles: DFF<Bits<3>>,
+    prev: DFF<Bits<2>>,
+    irq_q: DFF<Bit>,
+    g_sync: BitsSync<5>,
+    lneg_s: BitsSync<K>,
+    lpos_s: BitsSync<K>,
+    home_s: BitsSync<K>,
+    alarm_s: BitsSync<K>,
+    drv_s: BitsSync<K>,
+    lneg_p: [BitPick<K>; K],
+    lpos_p: [BitPick<K>; K],
+    home_p: [BitPick<K>; K],
+    alarm_p: [BitPick<K>; K],
+    drv_p: [BitPick<K>; K],
+    // Core clock: the commands' toggles, synchronised, and their last values.
+    cmd_sync: BitsSync<3>,
+    cmd_prev: DFF<Bits<3>>,
+    // Addresses.
+    a_pol: Constant<Bits<ADDR_BITS>>,
+    a_flo: Constant<Bits<ADDR_BITS>>,
+    a_fhi: Constant<Bits<ADDR_BITS>>,
+    a_pre: Constant<Bits<ADDR_BITS>>,
+    a_edg: Constant<Bits<ADDR_BITS>>,
+    a_wdt: Constant<Bits<ADDR_BITS>>,
+    a_cmd: Constant<Bits<ADDR_BITS>>,
+    a_st: Constant<Bits<ADDR_BITS>>,
+    a_irq: Constant<Bits<ADDR_BITS>>,
+    a_mask: Constant<Bits<ADDR_BITS>>,
+    /// IO_AXIS's offset in an axis block.
+    o_axis: Constant<Bits<4>>,
+    pol_reset: Constant<Bits<6>>,
+    /// The synchronised global flags: running, e-stop latch, e-stop input, trip, probe.
+    g: Signal<Local, Bits<5>>,
+    may_config: Signal<Local, Bit>,
+    rd_axis_reg: Signal<Local, Bit>,
+    /// The e-stop input (bit 0) and the trip (bit 1), synchronised.
+    now: Signal<Local, Bits<2>>,
+    /// The commands' toggles that changed (clk).
+    pulses: Signal<Local, Bits<3>>,
+    /// IO_AXIS of the read's axis, bit by bit.
+    r_hit: Signal<Local, Bit>,
+    r_lneg: Signal<Local, Bit>,
+    r_lpos: Signal<Local, Bit>,
+    r_home: Signal<Local, Bit>,
+    r_alarm: Signal<Local, Bit>,
+    r_drv: Signal<Local, Bit>,
+}
+
+impl<const K: usize> Default for IoRegs<K> {
+    fn default() -> Self {
+        let r = regs::register("IO_AXIS");
+        assert!(r.per_axis);
+        IoRegs {
+            bus_clock: Default::default(),
+            bus_reset: Default::default(),
+            wr: Default::default(),
+            wr_addr: Default::default(),
+            wr_data: Default::default(),
+            rd_addr: Default::default(),
+            rd_data: Default::default(),
+            enable: Default::default(),
+            irq: Default::default(),
+            clock: Default::default(),
+            polarity: Default::default(),
+            filter: Default::default(),
+            prescale: Default::default(),
+            edges: Default::default(),
+            wd_timeout: Default::default(),
+            estop_rearm: Default::default(),
+            wd_feed: Default::default(),
+            wd_rearm: Default::default(),
+            running: Default::default(),
+            estop_latched: Default::default(),
+            estop_active: Default::default(),
+            wd_tripped: Default::default(),
+            probe_active: Default::default(),
+            limit_neg: Default::default(),
+            limit_pos: Default::default(),
+            home: Default::default(),
+            alarm: Default::default(),
+            drv_enable: Default::default(),
+            pol: Default::default(),
+            filt_lo: Default::default(),
+            filt_hi: Default::default(),
+            pre: Default::default(),
+            edg: Default::default(),
+            wdt: Default::default(),
+            refused: Default::default(),
+            events: Default::default(),
+            mask: Default::default(),
+            toggles: Default::default(),
+            prev: Default::default(),
+            irq_q: Default::default(),
+            g_sync: Default::default(),
+            lneg_s: Default::default(),
+            lpos_s: Default::default(),
+            home_s: Default::default(),
+            alarm_s: Default::default(),
+            drv_s: Default::default(),
+            lneg_p: std::array::from_fn(BitPick::new),
+            lpos_p: std::array::from_fn(BitPick::new),
+            home_p: std::array::from_fn(BitPick::new),
+            alarm_p: std::array::from_fn(BitPick::new),
+            drv_p: std::array::from_fn(BitPick::new),
+            cmd_sync: Default::default(),
+            cmd_prev: Default::default(),
+            a_pol: c9("IO_POLARITY"),
+            a_flo: c9("IO_FILTER_LO"),
+            a_fhi: c9("IO_FILTER_HI"),
+            a_pre: c9("IO_PRESCALE"),
+            a_edg: c9("IO_EDGES"),
+            a_wdt: c9("WD_TIMEOUT"),
+            a_cmd: c9("IO_CMD"),
+            a_st: c9("IO_STATUS"),
+            a_irq: c9("IRQ_IO"),
+            a_mask: c9("IRQ_MASK_IO"),
+            o_axis: Constant::new((r.offset as u64).into()),
+            pol_reset: Constant::new((regs::register("IO_POLARITY").reset_value(&IO_PARAMS) as u64).into()),
+            g: Default::default(),
+            may_config: Default::default(),
+            rd_axis_reg: Default::default(),
+            now: Default::default(),
+            pulses: Default::default(),
+            r_hit: Default::default(),
+            r_lneg: Default::default(),
+            r_lpos: Default::default(),
+            r_home: Default::default(),
+            r_alarm: Default::default(),
+            r_drv: Default::default(),
+        }
+    }
+}
+
+/// Reset values of the I/O registers do not depend on the core's parameters.
+const IO_PARAMS: regs::CoreParams =
+    regs::CoreParams { axes: 1, clock_hz: 1, queue_depth: 2, fifo_depth: 2, t_calc: 1, min_period: 2, io: true };
+
+impl<const K: usize> IoRegs<K> {
+    /// Marks the inputs as driven from outside and connects the block (tests).
+    pub fn connect_ports(&mut self) {
+        self.bus_clock.connect();
+        self.bus_reset.connect();
+        self.wr.connect();
+        self.wr_addr.connect();
+        self.wr_data.connect();
+        self.rd_addr.connect();
+        self.enable.connect();
+        self.clock.connect();
+        self.running.connect();
+        self.estop_latched.connect();
+        self.estop_active.connect();
+        self.wd_tripped.connect();
+        self.probe_active.connect();
+        self.limit_neg.connect();
+        self.limit_pos.connect();
+        self.home.connect();
+        self.alarm.connect();
+        self.drv_enable.connect();
+        self.connect_all();
+    }
+}
+
+impl<const K: usize> Logic for IoRegs<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, bus_clock, pol, filt_lo, filt_hi, pre, edg, wdt, refused, events, mask, toggles, prev, irq_q);
+        dff_setup!(self, clock, cmd_prev);
+        // Status into the bus clock.
+        self.g_sync.clock.next = self.bus_clock.val();
+        self.g_sync.sig_in.next = bit_cast::<5, 1>(self.running.val().into())
+            | (bit_cast::<5, 1>(self.estop_latched.val().into()) << 1)
+            | (bit_cast::<5, 1>(self.estop_active.val().into()) << 2)
+            | (bit_cast::<5, 1>(self.wd_tripped.val().into()) << 3)
+            | (bit_cast::<5, 1>(self.probe_active.val().into()) << 4);
+        self.g.next = self.g_sync.sig_out.val();
+        self.lneg_s.clock.next = self.bus_clock.val();
+        self.lneg_s.sig_in.next = self.limit_neg.val();
+        self.lpos_s.clock.next = self.bus_clock.val();
+        self.lpos_s.sig_in.next = self.limit_pos.val();
+        self.home_s.clock.next = self.bus_clock.val();
+        self.home_s.sig_in.next = self.home.val();
+        self.alarm_s.clock.next = self.bus_clock.val();
+        self.alarm_s.sig_in.next = self.alarm.val();
+        self.drv_s.clock.next = self.bus_clock.val();
+        self.drv_s.sig_in.next = self.drv_enable.val();
+
+        // Configuration out (static while used: see the module comment).
+        self.polarity.next = self.pol.q.val();
+        self.filter.next = bit_cast::<24, 16>(self.filt_lo.q.val()) | (bit_cast::<24, 8>(self.filt_hi.q.val()) << 16);
+        self.prescale.next = self.pre.q.val();
+        self.edges.next = self.edg.q.val();
+        self.wd_timeout.next = self.wdt.q.val();
+
+        // Commands: toggles across, pulses out.
+        self.cmd_sync.clock.next = self.clock.val();
+        self.cmd_sync.sig_in.next = self.toggles.q.val();
+        self.cmd_prev.d.next = self.cmd_sync.sig_out.val();
+        // (A bit of an expression would be `(a ^ b)[0]` in the Verilog, which is not
+        // Verilog: select from a signal.)
+        self.pulses.next = self.cmd_sync.sig_out.val() ^ self.cmd_prev.q.val();
+        self.estop_rearm.next = self.pulses.val().get_bit(0);
+        self.wd_feed.next = self.pulses.val().get_bit(1);
+        self.wd_rearm.next = self.pulses.val().get_bit(2);
+
+        // Writes.
+        self.may_config.next = !self.enable.val() & !self.g.val().get_bit(0);
+        if self.wr.val() {
+            if (self.wr_addr.val() == self.a_pol.val())
+                | (self.wr_addr.val() == self.a_flo.val())
+                | (self.wr_addr.val() == self.a_fhi.val())
+                | (self.wr_addr.val() == self.a_pre.val())
+                | (self.wr_addr.val() == self.a_edg.val())
+                | (self.wr_addr.val() == self.a_wdt.val())
+            {
+                if !self.may_config.val() {
+                    self.refused.d.next = true;
+                }
+            }
+            if self.may_config.val() {
+                if self.wr_addr.val() == self.a_pol.val() {
+                    self.pol.d.next = self.wr_data.val().get_bits::<6>(0);
+                }
+                if self.wr_addr.val() == self.a_flo.val() {
+                    self.filt_lo.d.next = self.wr_data.val();
+                }
+                if self.wr_addr.val() == self.a_fhi.val() {
+                    self.filt_hi.d.next = self.wr_data.val().get_bits::<8>(0);
+                }
+                if self.wr_addr.val() == self.a_pre.val() {
+                    self.pre.d.next = self.wr_data.val();
+                }
+                if self.wr_addr.val() == self.a_edg.val() {
+                    self.edg.d.next = self.wr_data.val().get_bits::<2>(0);
+                }
+                if self.wr_addr.val() == self.a_wdt.val() {
+                    self.wdt.d.next = self.wr_data.val();
+                }
+            }
+            if self.wr_addr.val() == self.a_cmd.val() {
+                self.toggles.d.next = self.toggles.q.val() ^ self.wr_data.val().get_bits::<3>(0);
+            }
+            if (self.wr_addr.val() == self.a_st.val()) & self.wr_data.val().get_bit(4) {
+                self.refused.d.next = false;
+            }
+            if self.wr_addr.val() == self.a_mask.val() {
+                self.mask.d.next = self.wr_data.val().get_bits::<2>(0);
+            }
+        }
+
+        // Events: the e-stop input and the trip rising, while the core runs.
+        self.now.next = bit_cast::<2, 1>(self.g.val().get_bit(2).into()) | (bit_cast::<2, 1>(self.g.val().get_bit(3).into()) << 1);
+        self.prev.d.next = self.now.val();
+        self.events.d.next = self.events.q.val() | (self.now.val() & !self.prev.q.val());
+        if self.wr.val() & (self.wr_addr.val() == self.a_irq.val()) {
+            self.events.d.next = (self.events.q.val() & !self.wr_data.val().get_bits::<2>(0)) | (self.now.val() & !self.prev.q.val());
+        }
+        if !self.enable.val() | !self.g.val().get_bit(0) {
+            self.events.d.next = 0.into();
+        }
+        self.irq_q.d.next = (self.events.q.val() & self.mask.q.val()).any();
+        self.irq.next = self.irq_q.q.val();
+
+        // Reads: 0 outside this block's addresses.
+        self.rd_data.next = 0.into();
+        if self.rd_addr.val() == self.a_pol.val() {
+            self.rd_data.next = bit_cast::<16, 6>(self.pol.q.val());
+        }
+        if self.rd_addr.val() == self.a_flo.val() {
+            self.rd_data.next = self.filt_lo.q.val();
+        }
+        if self.rd_addr.val() == self.a_fhi.val() {
+            self.rd_data.next = bit_cast::<16, 8>(self.filt_hi.q.val());
+        }
+        if self.rd_addr.val() == self.a_pre.val() {
+            self.rd_data.next = self.pre.q.val();
+        }
+        if self.rd_addr.val() == self.a_edg.val() {
+            self.rd_data.next = bit_cast::<16, 2>(self.edg.q.val());
+        }
+        if self.rd_addr.val() == self.a_wdt.val() {
+            self.rd_data.next = self.wdt.q.val();
+        }
+        if self.rd_addr.val() == self.a_st.val() {
+            self.rd_data.next = bit_cast::<16, 1>(self.g.val().get_bit(1).into())
+                | (bit_cast::<16, 1>(self.g.val().get_bit(2).into()) << 1)
+                | (bit_cast::<16, 1>(self.g.val().get_bit(3).into()) << 2)
+                | (bit_cast::<16, 1>(self.g.val().get_bit(4).into()) << 3)
+                | (bit_cast::<16, 1>(self.refused.q.val().into()) << 4);
+        }
+        if self.rd_addr.val() == self.a_irq.val() {
+            self.rd_data.next = bit_cast::<16, 2>(self.events.q.val());
+        }
+        if self.rd_addr.val() == self.a_mask.val() {
+            self.rd_data.next = bit_cast::<16, 2>(self.mask.q.val());
+        }
+        self.r_hit.next = false;
+        self.r_lneg.next = false;
+        self.r_lpos.next = false;
+        self.r_home.next = false;
+        self.r_alarm.next = false;
+        self.r_drv.next = false;
+        self.rd_axis_reg.next = self.rd_addr.val().get_bit(8) & (self.rd_addr.val().get_bits::<4>(0) == self.o_axis.val());
+        for i in 0..K {
+            self.lneg_p[i].bus.next = self.lneg_s.sig_out.val();
+            self.lpos_p[i].bus.next = self.lpos_s.sig_out.val();
+            self.home_p[i].bus.next = self.home_s.sig_out.val();
+            self.alarm_p[i].bus.next = self.alarm_s.sig_out.val();
+            self.drv_p[i].bus.next = self.drv_s.sig_out.val();
+            if self.rd_axis_reg.val() & (self.rd_addr.val().get_bits::<4>(4).index() == i) {
+                self.r_hit.next = true;
+                self.r_lneg.next = self.lneg_p[i].value.val();
+                self.r_lpos.next = self.lpos_p[i].value.val();
+                self.r_home.next = self.home_p[i].value.val();
+                self.r_alarm.next = self.alarm_p[i].value.val();
+                self.r_drv.next = self.drv_p[i].value.val();
+            }
+        }
+        if self.r_hit.val() {
+            self.rd_data.next = bit_cast::<16, 1>(self.r_lneg.val().into())
+                | (bit_cast::<16, 1>(self.r_lpos.val().into()) << 1)
+                | (bit_cast::<16, 1>(self.r_home.val().into()) << 2)
+                | (bit_cast::<16, 1>(self.r_alarm.val().into()) << 3)
+                | (bit_cast::<16, 1>(self.r_drv.val().into()) << 4);
+        }
+
+        if self.bus_reset.val() {
+            self.pol.d.next = self.pol_reset.val();
+            self.filt_lo.d.next = 0.into();
+            self.filt_hi.d.next = 0.into();
+            self.pre.d.next = 0.into();
+            self.edg.d.next = 0.into();
+            self.wdt.d.next = 0.into();
+            self.refused.d.next = false;
+            self.events.d.next = 0.into();
+            self.mask.d.next = 0.into();
+            self.toggles.d.next = 0.into();
+            self.irq_q.d.next = false;
+        }
+    }
+}
