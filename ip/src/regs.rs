@@ -344,7 +344,7 @@ pub fn table() -> Vec<Register> {
                 f("ESTOP", 0, 1, W1c, "the filtered e-stop became active"),
                 f("WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
             ],
-            "Machine I/O events; under IRQ_MASK_IO they raise the irq line.",
+            "Machine I/O events; under IRQ_MASK_IO they raise the irq line (GSTATUS.IRQ shows the other events' part of it only).",
         ),
         io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 2, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
         io_reg(
@@ -598,6 +598,24 @@ fn contract(m: &mut String, p: &CoreParams) {
          positions, queues and flags; a STEP pulse already high finishes its high time first, so \
          no pulse shorter than STEP_HIGH ever reaches a driver.\n",
     );
+    if p.io {
+        m.push_str(
+            "* **Machine I/O: hard stop.** While the e-stop latch (IO_STATUS.ESTOP) or the watchdog's \
+             trip (IO_STATUS.WATCHDOG) holds, every axis is stopped as by ABORT, continuously: \
+             queues and period FIFOs flushed, no new STEP edge (a pulse already high keeps its \
+             high time), positions exact, drv_enable low. A segment pushed meanwhile is flushed \
+             and counted as taken (LEVEL returns to 0); a START does nothing. From the first clk \
+             edge that samples estop_n active, no STEP rising edge comes after 3 + n ticks \
+             (n: the e-stop's filter, with IO_PRESCALE = 0).\n",
+        );
+        m.push_str(
+            "* **Machine I/O: arming.** The e-stop latch is set by reset and CTRL.ENABLE = 0. After \
+             ENABLE, wait for IO_STATUS.ESTOP_IN = 0, write IO_CMD.ESTOP_REARM (and WD_REARM), and \
+             check IO_STATUS.ESTOP = 0 before a move. A release of the e-stop alone never clears \
+             the latch. With WD_TIMEOUT set, feed (IO_CMD.WD_FEED) more often than \
+             WD_TIMEOUT·1,024 clk ticks.\n",
+        );
+    }
 }
 
 const BUS_TEXT: &str = r#"## The bus

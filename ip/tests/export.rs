@@ -165,6 +165,8 @@ fn c_header_compiles_with_gcc_and_matches_the_table() {
         let params = tdm_stepper::export::ExportOptions { io, ..Default::default() }.params();
         let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
         assert_eq!(header.contains("TDM_IO_STATUS"), io, "the machine I/O's registers follow --io");
+        let doc = std::fs::read_to_string(dir.join("registers.md")).unwrap();
+        assert_eq!(doc.contains("| IO_STATUS |") && doc.contains("Machine I/O: hard stop"), io, "registers.md follows --io");
         let mut c = String::from("#include <assert.h>\n#include \"tdm_stepper_regs.h\"\nint main(void) {\n");
         // Every register's byte offset, for axes 0 and K-1, from the table.
         for r in regs::table_for(&params) {

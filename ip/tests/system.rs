@@ -9,7 +9,7 @@ use common::*;
 use rust_hdl::prelude::*;
 use tdm_stepper::vectors::paper_experiment_segments;
 use tdm_stepper::hdl::core::t_calc_sqrt;
-use tdm_stepper::hdl::top::TdmStepper;
+use tdm_stepper::hdl::top::{TdmStepper, TdmStepperIo};
 use tdm_stepper::model::{pulse, AxisRun, Limits, PulseTiming, Segment};
 use tdm_stepper::regs::{self, CoreParams};
 use tdm_stepper::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming};
@@ -1307,10 +1307,14 @@ fn the_watchdog_stops_a_move_when_the_host_stops_feeding_it() {
 }
 
 /// The filtered inputs read back per axis, and an alarm drops that axis's drv_enable.
+/// The same run in rust-hdl gives the Verilator trace (the machine I/O's top, registers
+/// and crossings three ways with the block tests).
 #[test]
 fn io_axis_reads_the_filtered_inputs_and_an_alarm_drops_the_enable() {
     const K: usize = 2;
     let mut b = bus();
+    b.write_reg("IO_FILTER_HI", 0, 0x21);
+    let filt = b.read_reg("IO_FILTER_HI", 0);
     b.enable(ENABLE_WAIT);
     b.write_reg("IO_CMD", 0, 1);
     b.idle(50);
@@ -1321,11 +1325,51 @@ fn io_axis_reads_the_filtered_inputs_and_an_alarm_drops_the_enable() {
     let cycles = cycles_after(&b, 100);
     // Axis 0: limit_pos and alarm; axis 1: limit_neg and home; the probe.
     let pins = vec![1, 1, 0b10, 0b01, 0b10, 0b01];
-    let tr = verilator_io::<K>("io_axis", &b, cycles, &io_pins(true), &[(t_pins, pins)]);
+    let tr = verilator_io::<K>("io_axis", &b, cycles, &io_pins(true), &[(t_pins, pins.clone())]);
     let v = |id| b.value(&tr, id).expect("read returned x");
     assert_eq!(v(reads[0]) & 0x1F, 0b01010, "axis 0: LIMIT_POS, ALARM, drv_enable low");
     assert_eq!(v(reads[1]) & 0x1F, 0b10101, "axis 1: LIMIT_NEG, HOME, drv_enable high");
     assert_eq!(v(st) & 0b1000, 0b1000, "IO_STATUS.PROBE_IN");
     let drv = tr.changes.last().unwrap().1[3];
     assert_eq!(drv, Some(0b10), "drv_enable: axis 0 low (alarm), axis 1 high");
+    assert_eq!(v(filt), 0x21, "IO_FILTER_HI written while disabled");
+
+    // rust-hdl on the same events.
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &[(t_pins, pins)]);
+    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
+    u.connect_ports();
+    let mut rh = tdm_stepper::verify::system::run_system_rust_hdl(
+        &mut u,
+        &CLOCKS,
+        &events,
+        cycles,
+        &[],
+        false,
+        |u, c, bc| {
+            u.clk.next = Clock::from(c);
+            u.bus_clk.next = Clock::from(bc);
+        },
+        |u, p| {
+            u.reset.next = p[0] == 1;
+            u.ne.next = p[1] == 1;
+            u.noe.next = p[2] == 1;
+            u.nwe.next = p[3] == 1;
+            u.addr.next = (p[4] as u64).into();
+            u.data_in.next = (p[5] as u64).into();
+            u.estop_n.next = p[6] == 1;
+            u.probe.next = p[7] == 1;
+            u.limit_neg.next = (p[8] as u64).into();
+            u.limit_pos.next = (p[9] as u64).into();
+            u.home.next = (p[10] as u64).into();
+            u.alarm.next = (p[11] as u64).into();
+        },
+        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128, u.drv_enable.val().to_u64() as u128],
+        |u| u.data_out.val().to_u64() as u128,
+    );
+    for s in rh.samples.iter_mut() {
+        s.0 = index.iter().position(|&i| i == s.0).expect("a sample at a pin event");
+    }
+    let defined = |t: &SystemTrace| t.changes.iter().skip_while(|c| c.0 < 10).cloned().collect::<Vec<_>>();
+    assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
+    assert_eq!(rh.samples, tr.samples, "rust-hdl and Verilator differ (bus reads)");
 }
