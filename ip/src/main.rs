@@ -124,7 +124,7 @@ enum Command {
         /// Run no tool: collect the finished runs in the work folder.
         #[arg(long)]
         cached_only: bool,
-        /// Export every point with the machine I/O (`all`; TDM only, no --fmax yet):
+        /// Export every point with the machine I/O (`all`; TDM only):
         /// the option's cost is the difference from a sweep without it.
         #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
         io: bool,

@@ -325,3 +325,28 @@ fn readme_quotes_the_committed_sweep() {
         }
     }
 }
+
+/// The Fmax wrapper connects every port of the core it wraps (yosys `hierarchy -check`
+/// on the wrapper and the export, with and without the machine I/O), and without it is
+/// the text earlier sweeps placed (so their cached runs and figures stay comparable).
+#[test]
+fn fmax_wrapper_connects_every_port_with_and_without_io() {
+    for io in [false, true] {
+        let dir = std::env::temp_dir().join(format!("tdm-fmax-wrapper-{}-{io}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let v = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: 3, io, ..Default::default() }).unwrap();
+        std::fs::write(dir.join("tdm_stepper.v"), v).unwrap();
+        std::fs::write(dir.join("fmax_top.v"), tdm_stepper::sweep::io_wrapper(3, io)).unwrap();
+        let out = std::process::Command::new("yosys")
+            .current_dir(&dir)
+            .args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; hierarchy -check -top fmax_top; proc; opt_clean; check -assert"])
+            .output()
+            .expect("yosys is installed");
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(out.status.success(), "io {io}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let plain = tdm_stepper::sweep::io_wrapper(2, false);
+    assert!(plain.contains("    .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));\n"), "{plain}");
+    assert!(plain.contains("begin step_x <= ^step; dir_x"), "{plain}");
+    assert!(!plain.contains("estop_n") && tdm_stepper::sweep::io_wrapper(2, true).contains(".estop_n(pins[0])"));
+}

@@ -91,7 +91,7 @@ pub struct SweepOptions {
     pub clock_hz: u32,
     /// Only collect finished runs from the work folder; run no tool.
     pub cached_only: bool,
-    /// Export every point with the machine I/O (`--io all`; TDM only, no Fmax yet).
+    /// Export every point with the machine I/O (`--io all`; TDM only).
     pub io: bool,
 }
 
@@ -332,10 +332,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
         }
     }
     for &k in opts.fmax_axes.iter().chain(&opts.breakdown_axes) {
-        ExportOptions { axes: k, clock_hz: opts.clock_hz, ..Default::default() }.check()?;
-    }
-    if opts.io && !opts.fmax_axes.is_empty() {
-        return Err("--io with --fmax: the Fmax wrapper does not drive the machine I/O pins yet; sweep --io without --fmax".into());
+        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, ..Default::default() }.check()?;
     }
     let nextpnr = nextpnr_command(repo);
     if !opts.fmax_axes.is_empty() && !nextpnr.exists() {
