@@ -12,7 +12,9 @@ use tdm_stepper::hdl::core::t_calc_sqrt;
 use tdm_stepper::hdl::top::{TdmStepper, TdmStepperIo};
 use tdm_stepper::model::{pulse, AxisRun, Limits, PulseTiming, Segment};
 use tdm_stepper::regs::{self, CoreParams};
-use tdm_stepper::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming};
+use tdm_stepper::verify::bus::{
+    position, run_stepper_io_rust_hdl, run_stepper_rust_hdl, samples_to_bus_events, stepper_watch, system_spec, BusModel, BusTiming,
+};
 use tdm_stepper::verify::system::{run_system, run_system_with, Clocks, RunOptions, SystemTrace};
 use tdm_stepper::verify::{Port, Simulator};
 
@@ -1130,10 +1132,7 @@ fn verilator_io<const K: usize>(name: &str, b: &BusModel, cycles: u64, initial: 
     let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), initial, pins);
     let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
     let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
-    // Samples back to the bus model's event numbers.
-    for s in tr.samples.iter_mut() {
-        s.0 = index.iter().position(|&i| i == s.0).expect("a sample at a pin event");
-    }
+    samples_to_bus_events(&mut tr, &index);
     tr
 }
 
@@ -1338,37 +1337,8 @@ fn io_axis_reads_the_filtered_inputs_and_an_alarm_drops_the_enable() {
     let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &[(t_pins, pins)]);
     let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
     u.connect_ports();
-    let mut rh = tdm_stepper::verify::system::run_system_rust_hdl(
-        &mut u,
-        &CLOCKS,
-        &events,
-        cycles,
-        &[],
-        false,
-        |u, c, bc| {
-            u.clk.next = Clock::from(c);
-            u.bus_clk.next = Clock::from(bc);
-        },
-        |u, p| {
-            u.reset.next = p[0] == 1;
-            u.ne.next = p[1] == 1;
-            u.noe.next = p[2] == 1;
-            u.nwe.next = p[3] == 1;
-            u.addr.next = (p[4] as u64).into();
-            u.data_in.next = (p[5] as u64).into();
-            u.estop_n.next = p[6] == 1;
-            u.probe.next = p[7] == 1;
-            u.limit_neg.next = (p[8] as u64).into();
-            u.limit_pos.next = (p[9] as u64).into();
-            u.home.next = (p[10] as u64).into();
-            u.alarm.next = (p[11] as u64).into();
-        },
-        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128, u.drv_enable.val().to_u64() as u128],
-        |u| u.data_out.val().to_u64() as u128,
-    );
-    for s in rh.samples.iter_mut() {
-        s.0 = index.iter().position(|&i| i == s.0).expect("a sample at a pin event");
-    }
+    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
+    samples_to_bus_events(&mut rh, &index);
     let defined = |t: &SystemTrace| t.changes.iter().skip_while(|c| c.0 < 10).cloned().collect::<Vec<_>>();
     assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
     assert_eq!(rh.samples, tr.samples, "rust-hdl and Verilator differ (bus reads)");

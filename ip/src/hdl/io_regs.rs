@@ -26,12 +26,9 @@
 
 use super::bit_insert::BitPick;
 use super::cdc::BitsSync;
+use super::regfile::c9;
 use crate::regs::{self, ADDR_BITS};
 use rust_hdl::prelude::*;
-
-fn c9(name: &str) -> Constant<Bits<ADDR_BITS>> {
-    Constant::new((regs::addr(name) as u64).into())
-}
 
 #[derive(LogicBlock)]
 pub struct IoRegs<const K: usize> {

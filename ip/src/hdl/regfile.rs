@@ -65,7 +65,8 @@ pub const W_ENABLED: usize = 57;
 // (The decoder below writes these offsets as literals: rust-hdl would print a Rust
 // constant's name into the Verilog. tests/system.rs reads every field back.)
 
-fn c9(name: &str) -> Constant<Bits<ADDR_BITS>> {
+/// The word address of register `name` (axis 0's for a per-axis one), as a constant.
+pub(super) fn c9(name: &str) -> Constant<Bits<ADDR_BITS>> {
     Constant::new((regs::addr(name) as u64).into())
 }
 

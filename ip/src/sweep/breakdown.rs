@@ -122,7 +122,7 @@ pub fn breakdown_script(axes: usize) -> String {
 }
 
 pub(super) fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
-    let dir = opts.work.join(format!("breakdown_xc7_tdm_k{axes}{}", if opts.io { "_io" } else { "" }));
+    let dir = opts.work.join(format!("breakdown_xc7_tdm_k{axes}{}", opts.io_suffix()));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
     let mut reused = false;

@@ -109,7 +109,7 @@ pub fn combine_seeds(mut runs: Vec<FmaxPoint>) -> FmaxPoint {
 /// and yosys's time (None when reused).
 fn fmax_netlist(axes: usize, v: &str, opts: &SweepOptions, lock: &Mutex<()>) -> Result<(PathBuf, Option<f64>), String> {
     let _only_one = lock.lock().map_err(|_| "a synthesis thread panicked".to_string())?;
-    let dir = opts.work.join(format!("fmax_k{axes}{}_synth", if opts.io { "_io" } else { "" }));
+    let dir = opts.work.join(format!("fmax_k{axes}{}_synth", opts.io_suffix()));
     let json = dir.join("synth.json");
     if fmax_inputs_match(&dir, v, axes, opts.io) && json.is_file() {
         return Ok((json, None));
@@ -130,7 +130,7 @@ fn fmax_netlist(axes: usize, v: &str, opts: &SweepOptions, lock: &Mutex<()>) -> 
 /// plus yosys's for the seed that synthesised the shared netlist.
 pub(super) fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &Path, synth_lock: &Mutex<()>) -> FmaxPoint {
     // Seed 1 keeps the folder name of single-seed sweeps (its cached run stays valid).
-    let io = if opts.io { "_io" } else { "" };
+    let io = opts.io_suffix();
     let dir = opts.work.join(if seed == 1 { format!("fmax_k{axes}{io}") } else { format!("fmax_k{axes}{io}_s{seed}") });
     let log = dir.join("pnr.log");
     let t0 = Instant::now();

@@ -95,6 +95,18 @@ pub struct SweepOptions {
     pub io: bool,
 }
 
+impl SweepOptions {
+    /// Appended to the work folder of each point: runs with and without the machine I/O
+    /// keep their own folders (and cached results).
+    pub(crate) fn io_suffix(&self) -> &'static str {
+        if self.io {
+            "_io"
+        } else {
+            ""
+        }
+    }
+}
+
 /// Resources of one synthesis run, by kind.
 #[derive(Clone, Debug, Default, Serialize, PartialEq)]
 pub struct Resources {

@@ -95,7 +95,7 @@ pub(super) fn yosys_stat(dir: &Path, verilog: &str, script: &str, opts: &SweepOp
 }
 
 pub(super) fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepOptions) -> Point {
-    let dir = opts.work.join(format!("{}_{}_k{axes}{}", family.name(), arch.name(), if opts.io { "_io" } else { "" }));
+    let dir = opts.work.join(format!("{}_{}_k{axes}{}", family.name(), arch.name(), opts.io_suffix()));
     let log = dir.join("yosys.log");
     let t0 = Instant::now();
     let mut reused = false;

@@ -10,7 +10,7 @@
 //! `nwe`, `addr`, `data_in`.
 
 use super::system::{run_system_rust_hdl, BusEvent, Clocks, SystemSpec, SystemTrace};
-use crate::hdl::top::TdmStepper;
+use crate::hdl::top::{TdmStepper, TdmStepperIo};
 use rust_hdl::prelude::*;
 use super::tb::Port;
 use crate::model::Segment;
@@ -69,6 +69,26 @@ pub fn stepper_watch(axes: usize) -> Vec<Port> {
     vec![Port::new("step", axes), Port::new("dir", axes), Port::new("irq", 1)]
 }
 
+/// The two clocks of a whole IP (`TdmStepper` or `TdmStepperIo`) in rust-hdl.
+macro_rules! clock_stepper {
+    ($u:expr, $c:expr, $bc:expr) => {{
+        $u.clk.next = Clock::from($c);
+        $u.bus_clk.next = Clock::from($bc);
+    }};
+}
+
+/// The pins of [`system_spec`] (reset and the EXMC pins, in its order) into a whole IP.
+macro_rules! drive_bus_pins {
+    ($u:expr, $p:expr) => {{
+        $u.reset.next = $p[0] == 1;
+        $u.ne.next = $p[1] == 1;
+        $u.noe.next = $p[2] == 1;
+        $u.nwe.next = $p[3] == 1;
+        $u.addr.next = ($p[4] as u64).into();
+        $u.data_in.next = ($p[5] as u64).into();
+    }};
+}
+
 /// Runs bus `events` into a rust-hdl [`TdmStepper`] (connected with `connect_ports`):
 /// clk and bus_clk from `clocks`, the pins as [`system_spec`] lists them, the outputs
 /// of [`stepper_watch`] watched and `data_out` sampled, as the Verilator run does.
@@ -87,19 +107,40 @@ pub fn run_stepper_rust_hdl<const K: usize, const R: usize, const D: usize, cons
         cycles,
         pauses,
         progress,
-        |u, c, bc| {
-            u.clk.next = Clock::from(c);
-            u.bus_clk.next = Clock::from(bc);
-        },
-        |u, p| {
-            u.reset.next = p[0] == 1;
-            u.ne.next = p[1] == 1;
-            u.noe.next = p[2] == 1;
-            u.nwe.next = p[3] == 1;
-            u.addr.next = (p[4] as u64).into();
-            u.data_in.next = (p[5] as u64).into();
-        },
+        |u, c, bc| clock_stepper!(u, c, bc),
+        |u, p| drive_bus_pins!(u, p),
         |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128],
+        |u| u.data_out.val().to_u64() as u128,
+    )
+}
+
+/// [`run_stepper_rust_hdl`] for the core with the machine I/O: each event holds the
+/// bus pins, then estop_n, probe, limit_neg, limit_pos, home and alarm (as
+/// [`with_extra_inputs`] adds them), and `drv_enable` is watched after `irq`.
+pub fn run_stepper_io_rust_hdl<const K: usize, const R: usize, const D: usize, const Q: usize>(
+    u: &mut TdmStepperIo<K, R, D, Q>,
+    clocks: &Clocks,
+    events: &[BusEvent],
+    cycles: u64,
+) -> SystemTrace {
+    run_system_rust_hdl(
+        u,
+        clocks,
+        events,
+        cycles,
+        &[],
+        false,
+        |u, c, bc| clock_stepper!(u, c, bc),
+        |u, p| {
+            drive_bus_pins!(u, p);
+            u.estop_n.next = p[6] == 1;
+            u.probe.next = p[7] == 1;
+            u.limit_neg.next = (p[8] as u64).into();
+            u.limit_pos.next = (p[9] as u64).into();
+            u.home.next = (p[10] as u64).into();
+            u.alarm.next = (p[11] as u64).into();
+        },
+        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128, u.drv_enable.val().to_u64() as u128],
         |u| u.data_out.val().to_u64() as u128,
     )
 }
@@ -307,4 +348,12 @@ pub fn with_extra_inputs(events: &[BusEvent], initial: &[u128], changes: &[(u64,
     }
     emit_changes_before(&mut out, &mut extra, u64::MAX);
     (out, index)
+}
+
+/// Renames a trace's samples from the events of [`with_extra_inputs`] back to the bus
+/// model's own event numbers (`index` as it returned), for [`BusModel::value`].
+pub fn samples_to_bus_events(trace: &mut SystemTrace, index: &[usize]) {
+    for s in trace.samples.iter_mut() {
+        s.0 = index.iter().position(|&i| i == s.0).expect("a sample at a pin event");
+    }
 }
