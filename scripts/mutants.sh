@@ -81,6 +81,8 @@ mutants=(
   "48#ip/src/hdl/machine_io.rs#s/if self.edges.val\(\).get_bit\(0\) \{/if self.edges.val().get_bit(1) {/#hdl_machine_io#latch_strobes_follow#the home latch follows the probe's edge choice"
   "49#ip/src/hdl/top.rs#s/self.core.abort.next = self.c_abort.q.val\(\) \| \(self.\\\$io.hard_stop.val\(\) & !self.c_push.q.val\(\)\);/self.core.abort.next = self.c_abort.q.val();/#system#estop_through_the_bus#the machine I/O's hard stop does not reach the core"
   "50#ip/src/hdl/top.rs#s/\(self.\\\$io.hard_stop.val\(\) & !self.c_push.q.val\(\)\)/self.\\\$io.hard_stop.val()/#system#estop_through_the_bus#the hard stop's abort meets a push in the same cycle (the push is dropped uncounted)"
+  "51#ip/src/hdl/axis_bank.rs#s/if self.probe_latch.val\(\) \{/if self.hl_pick[i].value.val() {/#hdl_axis_bank#axes_released_together#the probe latches take the position on the axis's home strobe"
+  "52#ip/src/hdl/io_regs.rs#s/\(self.l_hbits.val\(\) \^ self.htog_b.q.val\(\)\) & self.l_onehot.val\(\)/self.l_hbits.val() ^ self.htog_b.q.val()/#system#home_and_probe_latch#a latch word's home toggle is compared with every axis's (home events on axes that did not latch)"
 )
 
 only=("$@")

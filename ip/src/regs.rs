@@ -343,10 +343,12 @@ pub fn table() -> Vec<Register> {
             vec![
                 f("ESTOP", 0, 1, W1c, "the filtered e-stop became active"),
                 f("WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
+                f("PROBE", 2, 1, W1c, "the probe latch took every axis's position (PROBE_POS)"),
+                f("HOME", 3, 1, W1c, "an axis's home latch took its position (IO_AXIS.HOME_LATCHED says which); writing 1 also clears every HOME_LATCHED"),
             ],
             "Machine I/O events; under IRQ_MASK_IO they raise the irq line (GSTATUS.IRQ shows the other events' part of it only).",
         ),
-        io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 2, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
+        io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 4, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
         io_reg(
             "IO_AXIS", 0xA, true, 0,
             vec![
@@ -355,9 +357,22 @@ pub fn table() -> Vec<Register> {
                 f("HOME", 2, 1, Ro, "the filtered home input is active"),
                 f("ALARM", 3, 1, Ro, "the filtered alarm input is active (drv_enable of the axis is low)"),
                 f("DRV_ENABLE", 4, 1, Ro, "the axis's drv_enable output"),
+                f("HOME_LATCHED", 5, 1, Ro, "the axis's home latch took its position since IRQ_IO.HOME was last cleared"),
             ],
             "Machine I/O inputs of the axis, filtered, about 3 bus clocks behind clk. The e-stop, limit and alarm inputs read active from a reset until their filters have seen them inactive.",
         ),
+        io_reg(
+            "HOME_POS_LO", 0xB, true, 0,
+            vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the position the home latch took; reading it latches bits 31:16 for HOME_POS_HI")],
+            "Home latch: the axis's position (STEP rising edges, signed) when its filtered home input changed in the IO_EDGES direction; 0 after reset.",
+        ),
+        io_reg("HOME_POS_HI", 0xC, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last HOME_POS_LO or PROBE_POS_LO read")], "Home latch, high half (read HOME_POS_LO first)."),
+        io_reg(
+            "PROBE_POS_LO", 0xD, true, 0,
+            vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the position the probe latch took; reading it latches bits 31:16 for PROBE_POS_HI")],
+            "Probe latch: the axis's position when the filtered probe input changed in the IO_EDGES direction (every axis in the same tick); 0 after reset.",
+        ),
+        io_reg("PROBE_POS_HI", 0xE, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PROBE_POS_LO or HOME_POS_LO read")], "Probe latch, high half (read PROBE_POS_LO first)."),
     ]
 }
 

@@ -13,6 +13,10 @@
 //!   `failed` once and releases nothing; `ext_go` releases one axis at once, and an
 //!   entry that reaches the FIFO a cycle after its predecessor ended, announced only by
 //!   the pulse stage's last register, costs a one-cycle underrun and no step.
+//! * The position latches: with home strobes of single axes and probe strobes of
+//!   every axis scattered over the run, `lsel_word` (the selected axis's latches and
+//!   toggles) equals, every row, a latch taken from the positions the STEP and DIR
+//!   outputs imply at the strobe's row.
 
 mod common;
 
@@ -56,6 +60,11 @@ const O_FIFO: usize = 10;
 const O_DONE: usize = 11;
 const O_UNDERS: usize = 12;
 const O_SBUSY: usize = 13;
+const O_LATCH: usize = 14;
+// Latch input columns (after the two timing columns).
+const I_HOME_LATCH: usize = 12;
+const I_PROBE_LATCH: usize = 13;
+const I_LSEL: usize = 14;
 
 #[derive(Clone, Copy, Debug)]
 struct Entry {
@@ -212,6 +221,9 @@ fn uut() -> AxisBank<K, DEPTH> {
     u.start_mask.connect();
     u.ext_go.connect();
     u.sel_axis.connect();
+    u.home_latch.connect();
+    u.probe_latch.connect();
+    u.lsel_axis.connect();
     u.connect_all();
     u
 }
@@ -232,6 +244,9 @@ fn spec() -> TbSpec {
             Port::new("sel_axis", 8),
             Port::new("high_min", 16),
             Port::new("low_min", 16),
+            Port::new("home_latch", K),
+            Port::new("probe_latch", 1),
+            Port::new("lsel_axis", 8),
         ],
         outputs: vec![
             Port::new("step", K),
@@ -248,12 +263,53 @@ fn spec() -> TbSpec {
             Port::new("sel_done", 8),
             Port::new("sel_underruns", 8),
             Port::new("sel_busy", 1),
+            Port::new("lsel_word", 66),
         ],
     }
 }
 
+/// The timing columns, and latch strobes scattered over the rows: a home strobe of
+/// one axis every 37 rows, a probe strobe every 53, the latch selector round robin.
 fn with_timing(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
-    rows.iter().map(|r| [r.clone(), vec![TIMING.high_min() as u128, TIMING.low_min() as u128]].concat()).collect()
+    rows.iter()
+        .enumerate()
+        .map(|(n, r)| {
+            let home = if n % 37 == 5 { 1u128 << ((n / 37) % K) } else { 0 };
+            let probe = (n % 53 == 7) as u128;
+            [r.clone(), vec![TIMING.high_min() as u128, TIMING.low_min() as u128, home, probe, (n % K) as u128]].concat()
+        })
+        .collect()
+}
+
+/// The latch words the model expects, row by row: each axis's position from its STEP
+/// rises and DIR, taken by the latches at a strobe's row and seen from the next.
+fn expected_latches(rows: &[Vec<u128>], trace: &[Vec<u128>]) -> Vec<u128> {
+    let mut pos = [0i32; K];
+    let (mut home, mut probe, mut htog, mut ptog) = ([0i32; K], [0i32; K], [0u128; K], [0u128; K]);
+    let mut out = Vec::new();
+    for (r, row) in rows.iter().enumerate() {
+        for a in 0..K {
+            if r > 0 && bit(trace[r][O_STEP], a) && !bit(trace[r - 1][O_STEP], a) {
+                pos[a] += if bit(trace[r][O_DIR], a) { -1 } else { 1 };
+            }
+        }
+        let s = row[I_LSEL] as usize;
+        out.push(home[s] as u32 as u128 | (probe[s] as u32 as u128) << 32 | htog[s] << 64 | ptog[s] << 65);
+        // The strobes of this row take this row's positions, seen from the next.
+        for a in 0..K {
+            if row[I_RESET] == 1 {
+                (pos[a], home[a], probe[a], htog[a], ptog[a]) = (0, 0, 0, 0, 0);
+                continue;
+            }
+            if bit(row[I_HOME_LATCH], a) {
+                (home[a], htog[a]) = (pos[a], htog[a] ^ 1);
+            }
+            if row[I_PROBE_LATCH] == 1 {
+                (probe[a], ptog[a]) = (pos[a], ptog[a] ^ 1);
+            }
+        }
+    }
+    out
 }
 
 fn simulate_all(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
@@ -274,6 +330,9 @@ fn simulate_all(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
             u.sel_axis.next = Bits::<8>::from(r[9] as u64);
             u.high_min.next = Bits::<16>::from(r[10] as u64);
             u.low_min.next = Bits::<16>::from(r[11] as u64);
+            u.home_latch.next = Bits::<K>::from(r[12] as u64);
+            u.probe_latch.next = r[13] == 1;
+            u.lsel_axis.next = Bits::<8>::from(r[14] as u64);
         },
         |u| {
             vec![
@@ -291,6 +350,7 @@ fn simulate_all(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
                 u.sel_done.val().to_u64() as u128,
                 u.sel_underruns.val().to_u64() as u128,
                 u.sel_busy.val() as u128,
+                tdm_stepper::hdl::bits_to_u128(u.lsel_word.val()),
             ]
         },
     );
@@ -316,6 +376,12 @@ fn axes_released_together_match_the_pins_model() {
     let rows = with_timing(&p.rows);
     let trace = simulate_all(&rows);
     let n = trace.len();
+    let latches = expected_latches(&rows, &trace);
+    let strobes = rows.iter().filter(|r| r[I_HOME_LATCH] != 0 || r[I_PROBE_LATCH] != 0).count();
+    assert!(strobes > 20 && latches.iter().filter(|&&w| w as u32 as i32 != 0 && (w >> 32) as u32 != 0).count() > 20, "the latches saw too little motion");
+    for r in RESET_ROWS..n {
+        assert_eq!(trace[r][O_LATCH], latches[r], "row {r}: lsel_word (axis {})", rows[r][I_LSEL]);
+    }
 
     // One release for all three axes: each becomes active on the same row.
     let first_active: Vec<usize> =

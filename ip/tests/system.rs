@@ -1343,3 +1343,88 @@ fn io_axis_reads_the_filtered_inputs_and_an_alarm_drops_the_enable() {
     assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
     assert_eq!(rh.samples, tr.samples, "rust-hdl and Verilator differ (bus reads)");
 }
+
+/// The home and probe position latches through the bus, exact to the tick: a first run
+/// finds the STEP rising edges of a two-axis move (the inputs do not change the
+/// motion); the second puts axis 1's home input so that its filtered level changes at
+/// the clk edge of axis 1's k-th rising edge (2 + n ticks after the edge that first
+/// samples the pin), and the probe so that its level changes one tick after axis 0's
+/// j-th. HOME_POS reads the edges emitted before that edge (−k: axis 1 moves back),
+/// PROBE_POS every axis's count one tick after, IRQ_IO.HOME and PROBE and
+/// IO_AXIS.HOME_LATCHED (axis 1 only, cleared with IRQ_IO.HOME) say so, and the irq
+/// line rises. rust-hdl gives the same trace and reads.
+#[test]
+fn home_and_probe_latch_the_exact_position() {
+    use tdm_stepper::model::io::pin_to_level_ticks;
+    const K: usize = 2;
+    const N_HOME: u8 = 1;
+    const N_PROBE: u8 = 0;
+    let mut b = bus();
+    b.write_reg("IO_FILTER_HI", 0, N_HOME as u16);
+    b.write_reg("IO_FILTER_LO", 0, (N_PROBE as u16) << 4);
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 1);
+    b.write_reg("IRQ_MASK_IO", 0, 0b1100);
+    b.idle(50);
+    let before = (b.read_reg("IRQ_IO", 0), b.read_reg("HOME_POS_LO", 1), b.read_reg("PROBE_POS_LO", 0));
+    let moves = [Segment { v0_rate: 0, t_ticks: 20_000, steps: 200 }, Segment { v0_rate: 0, t_ticks: 20_000, steps: -150 }];
+    for (a, s) in moves.iter().enumerate() {
+        b.push_segment(a, s);
+    }
+    b.write_reg("START", 0, 0b11);
+    b.idle_until_ps(b.now_ps() + 25_000 * 2 * CLOCKS.clk_half_ps);
+    let irq = b.read_reg("IRQ_IO", 0);
+    let axis = [b.read_reg("IO_AXIS", 0), b.read_reg("IO_AXIS", 1)];
+    let home = (b.read_reg("HOME_POS_LO", 1), b.read_reg("HOME_POS_HI", 1));
+    let home0 = (b.read_reg("HOME_POS_LO", 0), b.read_reg("HOME_POS_HI", 0));
+    let probe = [(b.read_reg("PROBE_POS_LO", 0), b.read_reg("PROBE_POS_HI", 0)), (b.read_reg("PROBE_POS_LO", 1), b.read_reg("PROBE_POS_HI", 1))];
+    b.write_reg("IRQ_IO", 0, 0b1100);
+    b.idle(20);
+    let cleared = (b.read_reg("IRQ_IO", 0), b.read_reg("IO_AXIS", 1));
+    let cycles = cycles_after(&b, 100);
+
+    let first = verilator_io::<K>("io_latch", &b, cycles, &io_pins(true), &[]);
+    let (r0, r1) = (rises(&first, 0), rises(&first, 1));
+    assert_eq!((r0.len(), r1.len()), (200, 150), "the move");
+    let (k, j) = (97, 123);
+    // A pin change half a tick before edge e0 is first sampled by e0.
+    let pin_time = |level_edge: u64, n: u8| (2 * (level_edge - pin_to_level_ticks(n)) - 1) * CLOCKS.clk_half_ps;
+    let t_home = pin_time(r1[k], N_HOME);
+    let t_probe = pin_time(r0[j] + 1, N_PROBE);
+    assert!(t_home != t_probe);
+    let mut pins = vec![(t_home, vec![1, 0, 0, 0, 0b10, 0]), (t_probe, vec![1, 1, 0, 0, 0, 0])];
+    pins.sort();
+    // Both stay changed: fix up whichever comes second to keep the first's change.
+    pins[1].1 = vec![1, 1, 0, 0, 0b10, 0];
+    let tr = verilator_io::<K>("io_latch", &b, cycles, &io_pins(true), &pins);
+    assert_eq!((rises(&tr, 0), rises(&tr, 1)), (r0.clone(), r1.clone()), "the inputs changed the motion");
+    let probe_edge = r0[j] + 1;
+    let expect_probe = [r0.iter().filter(|&&c| c < probe_edge).count() as i32, -(r1.iter().filter(|&&c| c < probe_edge).count() as i32)];
+
+    let check = |sim: &str, t: &SystemTrace| {
+        let v = |id| b.value(t, id).expect("read returned x");
+        assert_eq!((v(before.0), v(before.1), v(before.2)), (0, 0, 0), "{sim}: before the move");
+        assert_eq!(v(irq) & 0b1100, 0b1100, "{sim}: IRQ_IO.PROBE and HOME");
+        assert_eq!((v(axis[0]) >> 5 & 1, v(axis[1]) >> 5 & 1), (0, 1), "{sim}: IO_AXIS.HOME_LATCHED");
+        assert_eq!(position(&b, t, home), Some(-(k as i32)), "{sim}: HOME_POS of axis 1: the edges before the level changed");
+        assert_eq!(position(&b, t, home0), Some(0), "{sim}: HOME_POS of axis 0 (its home never changed)");
+        for a in 0..K {
+            assert_eq!(position(&b, t, probe[a]), Some(expect_probe[a]), "{sim}: PROBE_POS of axis {a}");
+        }
+        assert_eq!((v(cleared.0), v(cleared.1) >> 5 & 1), (0, 0), "{sim}: IRQ_IO and HOME_LATCHED cleared");
+        let (up, _) = irq_edges(t);
+        let first = r1[k].min(probe_edge);
+        assert!(up.iter().any(|&c| c > first && c < first + 200), "{sim}: the irq line rose for the first latch (clk {first}): {up:?}");
+    };
+    check("Verilator", &tr);
+    assert_eq!(expect_probe[0], j as i32 + 1, "the probe's edge counts axis 0's j-th edge");
+
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &pins);
+    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
+    u.connect_ports();
+    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
+    samples_to_bus_events(&mut rh, &index);
+    check("rust-hdl", &rh);
+    let defined = |t: &SystemTrace| t.changes.iter().skip_while(|c| c.0 < 10).cloned().collect::<Vec<_>>();
+    assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
+}

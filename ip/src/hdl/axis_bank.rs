@@ -23,9 +23,16 @@
 //!   or nothing to compute.
 //! * **Status** of axis `sel_axis` (multiplexers): position, FIFO level, segments
 //!   done, underruns begun, busy.
+//! * **Position latches** (machine I/O): at a clock edge where `home_latch` bit i (or
+//!   `probe_latch`, every axis) is high, axis i's home (probe) latch takes its position
+//!   as it was before that edge, the count of the STEP rising edges at earlier edges,
+//!   and the latch's toggle flips. `lsel_word` is axis `lsel_axis`'s latches
+//!   ([`LATCH_BITS`]: home position 31..0, probe position 63..32, home toggle 64,
+//!   probe toggle 65; a multiplexer). A core whose owner ties the strobes to 0 keeps
+//!   no latch: synthesis removes them (constant registers).
 //! * `abort` (one cycle): no further edge on any axis, the FIFOs and the pulse stage
 //!   flushed; `reset` (synchronous): the axes stop (a pulse in flight finishes) and
-//!   their counters clear.
+//!   their counters and latches clear.
 
 use super::bit_insert::{BitInsert, BitPick};
 use super::pulse_stage::PulseStage;
@@ -33,6 +40,9 @@ use super::ram_fifo::ENTRY_BITS;
 use super::step_gen::StepAxis;
 use super::sync_start::SyncStart;
 use rust_hdl::prelude::*;
+
+/// Width of a latch word (`lsel_word`): home position, probe position, their toggles.
+pub const LATCH_BITS: usize = 66;
 
 #[derive(LogicBlock)]
 pub struct AxisBank<const K: usize, const DEPTH: usize> {
@@ -63,7 +73,16 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     pub sel_done: Signal<Out, Bits<8>>,
     pub sel_underruns: Signal<Out, Bits<8>>,
     pub sel_busy: Signal<Out, Bit>,
+    pub home_latch: Signal<In, Bits<K>>,
+    pub probe_latch: Signal<In, Bit>,
+    pub lsel_axis: Signal<In, Bits<8>>,
+    pub lsel_word: Signal<Out, Bits<LATCH_BITS>>,
     axes: [StepAxis<DEPTH>; K],
+    home_q: [DFF<Bits<32>>; K],
+    probe_q: [DFF<Bits<32>>; K],
+    htog: [DFF<Bit>; K],
+    ptog: [DFF<Bit>; K],
+    hl_pick: [BitPick<K>; K],
     pulse: PulseStage,
     sync: SyncStart<K>,
     step_bus: [BitInsert<K>; K],
@@ -77,6 +96,11 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     go_pick: [BitPick<K>; K],
     pend_pick: [BitPick<K>; K],
     flush: Signal<Local, Bit>,
+    /// Axis `lsel_axis`'s latches.
+    l_home: Signal<Local, Bits<32>>,
+    l_probe: Signal<Local, Bits<32>>,
+    l_htog: Signal<Local, Bit>,
+    l_ptog: Signal<Local, Bit>,
 }
 
 impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
@@ -109,7 +133,16 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             sel_done: Default::default(),
             sel_underruns: Default::default(),
             sel_busy: Default::default(),
+            home_latch: Default::default(),
+            probe_latch: Default::default(),
+            lsel_axis: Default::default(),
+            lsel_word: Default::default(),
             axes: std::array::from_fn(|_| Default::default()),
+            home_q: std::array::from_fn(|_| Default::default()),
+            probe_q: std::array::from_fn(|_| Default::default()),
+            htog: std::array::from_fn(|_| Default::default()),
+            ptog: std::array::from_fn(|_| Default::default()),
+            hl_pick: std::array::from_fn(BitPick::new),
             pulse: Default::default(),
             sync: Default::default(),
             step_bus: std::array::from_fn(BitInsert::new),
@@ -123,6 +156,10 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             go_pick: std::array::from_fn(BitPick::new),
             pend_pick: std::array::from_fn(BitPick::new),
             flush: Default::default(),
+            l_home: Default::default(),
+            l_probe: Default::default(),
+            l_htog: Default::default(),
+            l_ptog: Default::default(),
         }
     }
 }
@@ -148,7 +185,43 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
         self.sel_done.next = 0.into();
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
+        self.l_home.next = 0.into();
+        self.l_probe.next = 0.into();
+        self.l_htog.next = false;
+        self.l_ptog.next = false;
         for i in 0..K {
+            // Position latches.
+            self.home_q[i].clock.next = self.clock.val();
+            self.probe_q[i].clock.next = self.clock.val();
+            self.htog[i].clock.next = self.clock.val();
+            self.ptog[i].clock.next = self.clock.val();
+            self.home_q[i].d.next = self.home_q[i].q.val();
+            self.probe_q[i].d.next = self.probe_q[i].q.val();
+            self.htog[i].d.next = self.htog[i].q.val();
+            self.ptog[i].d.next = self.ptog[i].q.val();
+            self.hl_pick[i].bus.next = self.home_latch.val();
+            if self.hl_pick[i].value.val() {
+                self.home_q[i].d.next = self.axes[i].position.val();
+                self.htog[i].d.next = !self.htog[i].q.val();
+            }
+            if self.probe_latch.val() {
+                self.probe_q[i].d.next = self.axes[i].position.val();
+                self.ptog[i].d.next = !self.ptog[i].q.val();
+            }
+            if self.reset.val() {
+                self.home_q[i].d.next = 0.into();
+                self.probe_q[i].d.next = 0.into();
+                self.htog[i].d.next = false;
+                self.ptog[i].d.next = false;
+            }
+            // (The loop index cannot sit inside `bit_cast`'s arguments: rust-hdl
+            // does not substitute it there.)
+            if self.lsel_axis.val().index() == i {
+                self.l_home.next = self.home_q[i].q.val();
+                self.l_probe.next = self.probe_q[i].q.val();
+                self.l_htog.next = self.htog[i].q.val();
+                self.l_ptog.next = self.ptog[i].q.val();
+            }
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
             self.axes[i].abort.next = self.abort.val();
@@ -198,6 +271,10 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
             self.full_bus[i].bus_in.next = self.full_bus[i - 1].bus_out.val();
             self.sat_bus[i].bus_in.next = self.sat_bus[i - 1].bus_out.val();
         }
+        self.lsel_word.next = bit_cast::<LATCH_BITS, 32>(self.l_home.val())
+            | (bit_cast::<LATCH_BITS, 32>(self.l_probe.val()) << 32)
+            | (bit_cast::<LATCH_BITS, 1>(self.l_htog.val().into()) << 64)
+            | (bit_cast::<LATCH_BITS, 1>(self.l_ptog.val().into()) << 65);
         // The last element of each chain holds the whole bus (last assignment wins).
         for i in 0..K {
             self.step.next = self.step_bus[i].bus_out.val();

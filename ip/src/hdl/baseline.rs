@@ -8,6 +8,7 @@
 //! `fsm_state` shows axis 0's scheduler.
 
 use super::bit_insert::{BitInsert, BitPick};
+use super::axis_bank::LATCH_BITS;
 use super::core::{TdmCore, STATE_BITS};
 use super::sync_start::SyncStart;
 use rust_hdl::prelude::*;
@@ -47,6 +48,11 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub fsm_state: Signal<Out, Bits<STATE_BITS>>,
     pub high_min: Signal<In, Bits<16>>,
     pub low_min: Signal<In, Bits<16>>,
+    /// Position latches: not in the baseline (`lsel_word` reads 0).
+    pub home_latch: Signal<In, Bits<K>>,
+    pub probe_latch: Signal<In, Bit>,
+    pub lsel_axis: Signal<In, Bits<8>>,
+    pub lsel_word: Signal<Out, Bits<LATCH_BITS>>,
     cores: [TdmCore<1, R, DEPTH, QDEPTH>; K],
     sync: SyncStart<K>,
     step_bus: [BitInsert<K>; K],
@@ -94,6 +100,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             fsm_state: Default::default(),
             high_min: Default::default(),
             low_min: Default::default(),
+            home_latch: Default::default(),
+            probe_latch: Default::default(),
+            lsel_axis: Default::default(),
+            lsel_word: Default::default(),
             start_failed: Default::default(),
             fail_tog: Default::default(),
             cores: std::array::from_fn(|_| TdmCore::new()),
@@ -136,7 +146,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.sel_done.next = 0.into();
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
+        self.lsel_word.next = 0.into();
         for i in 0..K {
+            self.cores[i].home_latch.next = 0.into();
+            self.cores[i].probe_latch.next = false;
+            self.cores[i].lsel_axis.next = 0.into();
             self.cores[i].abort.next = self.abort.val();
             self.cores[i].high_min.next = self.high_min.val();
             self.cores[i].low_min.next = self.low_min.val();

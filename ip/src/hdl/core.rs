@@ -55,7 +55,7 @@ use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::seg_queue::SegQueue;
 pub use super::seg_queue::{MAX_QUEUE_DEPTH, SEGMENT_BITS};
-use super::axis_bank::AxisBank;
+use super::axis_bank::{AxisBank, LATCH_BITS};
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
@@ -152,6 +152,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// and max(STEP_LOW, DIR_SETUP)); quasi-static, see [`super::pulse_stage::PulseStage`].
     pub high_min: Signal<In, Bits<16>>,
     pub low_min: Signal<In, Bits<16>>,
+    /// Position latches (machine I/O; tie to 0 without it): see [`AxisBank`].
+    pub home_latch: Signal<In, Bits<K>>,
+    pub probe_latch: Signal<In, Bit>,
+    pub lsel_axis: Signal<In, Bits<8>>,
+    pub lsel_word: Signal<Out, Bits<LATCH_BITS>>,
 
     /// Every axis's segment queue ([`SegQueue`]: one RAM, two counters per axis). Its
     /// registered read holds axis m's head from PICK into S_CHECK.
@@ -393,6 +398,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             fail_tog: Default::default(),
             high_min: Default::default(),
             low_min: Default::default(),
+            home_latch: Default::default(),
+            probe_latch: Default::default(),
+            lsel_axis: Default::default(),
+            lsel_word: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
             sel_queue: Default::default(),
@@ -1040,6 +1049,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.bank.start_mask.next = self.start_mask.val();
         self.bank.ext_go.next = self.ext_go.val();
         self.bank.sel_axis.next = self.sel_axis.val();
+        self.bank.home_latch.next = self.home_latch.val();
+        self.bank.probe_latch.next = self.probe_latch.val();
+        self.bank.lsel_axis.next = self.lsel_axis.val();
+        self.lsel_word.next = self.bank.lsel_word.val();
         self.step.next = self.bank.step.val();
         self.dir.next = self.bank.dir.val();
         self.underrun.next = self.bank.underrun.val();

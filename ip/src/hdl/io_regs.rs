@@ -19,13 +19,29 @@
 //!   input, the watchdog trip, the probe input, and per axis the filtered inputs and
 //!   `drv_enable`, each level through its own two flip-flops (independent flags).
 //!
+//! * position latches from `clk`: a [`WordSync`] copies one axis's latch word at a
+//!   time, round robin (`lsel` names the axis, `lword` is the core's word for it, see
+//!   [`LATCH_BITS`]), into a mirror in LUT RAM that HOME_POS and PROBE_POS read. A word
+//!   whose home toggle differs from the mirror's sets the axis's home event; the probe
+//!   event is set once every axis's word shows the new probe toggle, so the host reads
+//!   every axis's new PROBE_POS after it. Either event comes at most about one round of
+//!   copies, K·(3 clk + 3 bus clocks), after the latch, with its position. Two latches
+//!   of one input within one round are one event with the later position (a probe's
+//!   two latches within a round may be lost as a pair). Reading HOME_POS_LO or
+//!   PROBE_POS_LO latches that register's high half for the next HOME_POS_HI or
+//!   PROBE_POS_HI read (one latch for both).
+//!
 //! Events: IRQ_IO.ESTOP when the synchronised filtered e-stop rises, IRQ_IO.WATCHDOG
-//! when the synchronised trip rises, both only while CTRL.ENABLE = 1 and the core
-//! runs (a reset puts the e-stop input active, which is no event); cleared while
-//! CTRL.ENABLE = 0, as the register file clears its own.
+//! when the synchronised trip rises, IRQ_IO.PROBE and IRQ_IO.HOME (any axis; IO_AXIS.
+//! HOME_LATCHED says which) as above, all only while CTRL.ENABLE = 1 and the core runs
+//! (a reset puts the e-stop input active and clears the latches, which is no event);
+//! cleared while CTRL.ENABLE = 0, as the register file clears its own.
 
+use super::axis_bank::LATCH_BITS;
 use super::bit_insert::BitPick;
 use super::cdc::BitsSync;
+use super::lut_ram::LutRam;
+use super::status_sync::WordSync;
 use super::regfile::c9;
 use crate::regs::{self, ADDR_BITS};
 use rust_hdl::prelude::*;
@@ -60,6 +76,12 @@ pub struct IoRegs<const K: usize> {
     pub home: Signal<In, Bits<K>>,
     pub alarm: Signal<In, Bits<K>>,
     pub drv_enable: Signal<In, Bits<K>>,
+    /// `clk` side of the latch crossing: the core's reset (the top's synchronised
+    /// reset, not CTRL.ENABLE), the axis selected and its latch word.
+    pub creset: Signal<In, Bit>,
+    pub rd: Signal<In, Bit>,
+    pub lsel: Signal<Out, Bits<8>>,
+    pub lword: Signal<In, Bits<LATCH_BITS>>,
     // Bus clock: configuration, flags, events, command toggles.
     pol: DFF<Bits<6>>,
     filt_lo: DFF<Bits<16>>,
@@ -68,8 +90,8 @@ pub struct IoRegs<const K: usize> {
     edg: DFF<Bits<2>>,
     wdt: DFF<Bits<16>>,
     refused: DFF<Bit>,
-    events: DFF<Bits<2>>,
-    mask: DFF<Bits<2>>,
+    events: DFF<Bits<4>>,
+    mask: DFF<Bits<4>>,
     toggles: DFF<Bits<3>>,
     prev: DFF<Bits<2>>,
     irq_q: DFF<Bit>,
@@ -84,6 +106,39 @@ pub struct IoRegs<const K: usize> {
     home_p: [BitPick<K>; K],
     alarm_p: [BitPick<K>; K],
     drv_p: [BitPick<K>; K],
+    /// The latch crossing, its mirror (home 31..0, probe 63..32), which axes' mirror
+    /// words are written, the mirror's toggles, the probe toggle last announced, the
+    /// axes' home events and the high half latched by a LO read.
+    lsync: WordSync<K, 67>,
+    lmirror: LutRam<64, 4>,
+    lvld: DFF<Bits<K>>,
+    htog_b: DFF<Bits<K>>,
+    ptog_b: DFF<Bits<K>>,
+    pann: DFF<Bit>,
+    home_ev: DFF<Bits<K>>,
+    hi_latch: DFF<Bits<16>>,
+    lvld_p: [BitPick<K>; K],
+    home_ev_p: [BitPick<K>; K],
+    c_one: Constant<Bits<K>>,
+    c_ones: Constant<Bits<K>>,
+    l_word: Signal<Local, Bits<67>>,
+    /// The copy brings a home latch of its axis (a running core, a new toggle).
+    l_home: Signal<Local, Bit>,
+    l_onehot: Signal<Local, Bits<K>>,
+    l_hbits: Signal<Local, Bits<K>>,
+    l_pbits: Signal<Local, Bits<K>>,
+    /// The copy's axis, if its word brings a new home toggle from a running core.
+    l_hnew: Signal<Local, Bits<K>>,
+    p_new: Signal<Local, Bits<K>>,
+    /// The probe event: every axis's mirror shows a probe toggle not yet announced.
+    p_event: Signal<Local, Bit>,
+    r_lat: Signal<Local, Bits<64>>,
+    r_lvld: Signal<Local, Bit>,
+    r_hev: Signal<Local, Bit>,
+    o_hlo: Constant<Bits<4>>,
+    o_hhi: Constant<Bits<4>>,
+    o_plo: Constant<Bits<4>>,
+    o_phi: Constant<Bits<4>>,
     // Core clock: the commands' toggles, synchronised, and their last values.
     cmd_sync: BitsSync<3>,
     cmd_prev: DFF<Bits<3>>,
@@ -107,6 +162,8 @@ pub struct IoRegs<const K: usize> {
     rd_axis_reg: Signal<Local, Bit>,
     /// The e-stop input (bit 0) and the trip (bit 1), synchronised.
     now: Signal<Local, Bits<2>>,
+    /// This cycle's new events (IRQ_IO's bits).
+    new_ev: Signal<Local, Bits<4>>,
     /// The commands' toggles that changed (clk).
     pulses: Signal<Local, Bits<3>>,
     /// IO_AXIS of the read's axis, bit by bit.
@@ -122,6 +179,7 @@ impl<const K: usize> Default for IoRegs<K> {
     fn default() -> Self {
         let r = regs::register("IO_AXIS");
         assert!(r.per_axis);
+        assert!((1..=16).contains(&K), "IoRegs<{K}>: the latch mirror holds 16 axes");
         IoRegs {
             bus_clock: Default::default(),
             bus_reset: Default::default(),
@@ -151,6 +209,10 @@ impl<const K: usize> Default for IoRegs<K> {
             home: Default::default(),
             alarm: Default::default(),
             drv_enable: Default::default(),
+            creset: Default::default(),
+            rd: Default::default(),
+            lsel: Default::default(),
+            lword: Default::default(),
             pol: Default::default(),
             filt_lo: Default::default(),
             filt_hi: Default::default(),
@@ -174,6 +236,33 @@ impl<const K: usize> Default for IoRegs<K> {
             home_p: std::array::from_fn(BitPick::new),
             alarm_p: std::array::from_fn(BitPick::new),
             drv_p: std::array::from_fn(BitPick::new),
+            lsync: Default::default(),
+            lmirror: Default::default(),
+            lvld: Default::default(),
+            htog_b: Default::default(),
+            ptog_b: Default::default(),
+            pann: Default::default(),
+            home_ev: Default::default(),
+            hi_latch: Default::default(),
+            lvld_p: std::array::from_fn(BitPick::new),
+            home_ev_p: std::array::from_fn(BitPick::new),
+            c_one: Constant::new(1.into()),
+            c_ones: Constant::new(((1u64 << K) - 1).into()),
+            l_word: Default::default(),
+            l_home: Default::default(),
+            l_onehot: Default::default(),
+            l_hbits: Default::default(),
+            l_pbits: Default::default(),
+            l_hnew: Default::default(),
+            p_new: Default::default(),
+            p_event: Default::default(),
+            r_lat: Default::default(),
+            r_lvld: Default::default(),
+            r_hev: Default::default(),
+            o_hlo: o4("HOME_POS_LO"),
+            o_hhi: o4("HOME_POS_HI"),
+            o_plo: o4("PROBE_POS_LO"),
+            o_phi: o4("PROBE_POS_HI"),
             cmd_sync: Default::default(),
             cmd_prev: Default::default(),
             a_pol: c9("IO_POLARITY"),
@@ -192,6 +281,7 @@ impl<const K: usize> Default for IoRegs<K> {
             may_config: Default::default(),
             rd_axis_reg: Default::default(),
             now: Default::default(),
+            new_ev: Default::default(),
             pulses: Default::default(),
             r_hit: Default::default(),
             r_lneg: Default::default(),
@@ -201,6 +291,13 @@ impl<const K: usize> Default for IoRegs<K> {
             r_drv: Default::default(),
         }
     }
+}
+
+/// A per-axis register's offset in the axis block.
+fn o4(name: &str) -> Constant<Bits<4>> {
+    let r = regs::register(name);
+    assert!(r.per_axis, "{name} is per axis");
+    Constant::new((r.offset as u64).into())
 }
 
 /// Reset values of the I/O registers do not depend on the core's parameters.
@@ -228,6 +325,9 @@ impl<const K: usize> IoRegs<K> {
         self.home.connect();
         self.alarm.connect();
         self.drv_enable.connect();
+        self.creset.connect();
+        self.rd.connect();
+        self.lword.connect();
         self.connect_all();
     }
 }
@@ -236,6 +336,7 @@ impl<const K: usize> Logic for IoRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, bus_clock, pol, filt_lo, filt_hi, pre, edg, wdt, refused, events, mask, toggles, prev, irq_q);
+        dff_setup!(self, bus_clock, lvld, htog_b, ptog_b, pann, home_ev, hi_latch);
         dff_setup!(self, clock, cmd_prev);
         // Status into the bus clock.
         self.g_sync.clock.next = self.bus_clock.val();
@@ -315,19 +416,83 @@ impl<const K: usize> Logic for IoRegs<K> {
                 self.refused.d.next = false;
             }
             if self.wr_addr.val() == self.a_mask.val() {
-                self.mask.d.next = self.wr_data.val().get_bits::<2>(0);
+                self.mask.d.next = self.wr_data.val().get_bits::<4>(0);
             }
+        }
+
+        // Position latches: the crossing, the mirror, the toggles and their events.
+        self.lsync.cclock.next = self.clock.val();
+        self.lsync.creset.next = self.creset.val();
+        self.lsync.bclock.next = self.bus_clock.val();
+        self.lsync.breset.next = self.bus_reset.val();
+        self.lsel.next = self.lsync.sel.val();
+        self.lsync.word_in.next = bit_cast::<67, LATCH_BITS>(self.lword.val()) | (bit_cast::<67, 1>(self.running.val().into()) << 66);
+        self.l_word.next = self.lsync.word.val();
+        self.lmirror.clock.next = self.bus_clock.val();
+        self.lmirror.we.next = self.lsync.valid.val();
+        self.lmirror.waddr.next = self.lsync.axis.val().get_bits::<4>(0);
+        self.lmirror.wdata.next = self.l_word.val().get_bits::<64>(0);
+        self.lmirror.raddr.next = self.rd_addr.val().get_bits::<4>(4);
+        // (Shifts and constants, not a BitInsert chain: a chain built and read in this
+        // block is a combinational cycle to Verilator.)
+        self.l_onehot.next = 0.into();
+        if self.lsync.valid.val() {
+            self.l_onehot.next = self.c_one.val() << self.lsync.axis.val();
+        }
+        self.l_hbits.next = 0.into();
+        if self.l_word.val().get_bit(64) {
+            self.l_hbits.next = self.c_ones.val();
+        }
+        self.l_pbits.next = 0.into();
+        if self.l_word.val().get_bit(65) {
+            self.l_pbits.next = self.c_ones.val();
+        }
+        self.lvld.d.next = self.lvld.q.val() | self.l_onehot.val();
+        self.htog_b.d.next = (self.htog_b.q.val() & !self.l_onehot.val()) | (self.l_hbits.val() & self.l_onehot.val());
+        self.ptog_b.d.next = (self.ptog_b.q.val() & !self.l_onehot.val()) | (self.l_pbits.val() & self.l_onehot.val());
+        self.l_hnew.next = 0.into();
+        if self.l_word.val().get_bit(66) {
+            self.l_hnew.next = (self.l_hbits.val() ^ self.htog_b.q.val()) & self.l_onehot.val();
+        }
+        self.l_home.next = self.l_hnew.val().any();
+        self.home_ev.d.next = self.home_ev.q.val() | self.l_hnew.val();
+        // The probe event: every axis's mirror shows a toggle other than `pann`.
+        if self.pann.q.val() {
+            self.p_new.next = !self.ptog_b.q.val();
+        } else {
+            self.p_new.next = self.ptog_b.q.val();
+        }
+        self.p_event.next = self.p_new.val().all();
+        if self.p_event.val() {
+            self.pann.d.next = !self.pann.q.val();
+        }
+        // A word from a core held in reset (latches clear), or the core disabled: the
+        // toggles restart from 0 with the core's, and nothing is an event.
+        if self.lsync.valid.val() & !self.l_word.val().get_bit(66) {
+            self.pann.d.next = false;
+        }
+        if !self.enable.val() {
+            self.htog_b.d.next = 0.into();
+            self.ptog_b.d.next = 0.into();
+            self.pann.d.next = false;
         }
 
         // Events: the e-stop input and the trip rising, while the core runs.
         self.now.next = bit_cast::<2, 1>(self.g.val().get_bit(2).into()) | (bit_cast::<2, 1>(self.g.val().get_bit(3).into()) << 1);
         self.prev.d.next = self.now.val();
-        self.events.d.next = self.events.q.val() | (self.now.val() & !self.prev.q.val());
+        self.new_ev.next = bit_cast::<4, 2>(self.now.val() & !self.prev.q.val())
+            | (bit_cast::<4, 1>(self.p_event.val().into()) << 2)
+            | (bit_cast::<4, 1>(self.l_home.val().into()) << 3);
+        self.events.d.next = self.events.q.val() | self.new_ev.val();
         if self.wr.val() & (self.wr_addr.val() == self.a_irq.val()) {
-            self.events.d.next = (self.events.q.val() & !self.wr_data.val().get_bits::<2>(0)) | (self.now.val() & !self.prev.q.val());
+            self.events.d.next = (self.events.q.val() & !self.wr_data.val().get_bits::<4>(0)) | self.new_ev.val();
+            if self.wr_data.val().get_bit(3) {
+                self.home_ev.d.next = self.l_hnew.val();
+            }
         }
         if !self.enable.val() | !self.g.val().get_bit(0) {
             self.events.d.next = 0.into();
+            self.home_ev.d.next = 0.into();
         }
         self.irq_q.d.next = (self.events.q.val() & self.mask.q.val()).any();
         self.irq.next = self.irq_q.q.val();
@@ -360,10 +525,10 @@ impl<const K: usize> Logic for IoRegs<K> {
                 | (bit_cast::<16, 1>(self.refused.q.val().into()) << 4);
         }
         if self.rd_addr.val() == self.a_irq.val() {
-            self.rd_data.next = bit_cast::<16, 2>(self.events.q.val());
+            self.rd_data.next = bit_cast::<16, 4>(self.events.q.val());
         }
         if self.rd_addr.val() == self.a_mask.val() {
-            self.rd_data.next = bit_cast::<16, 2>(self.mask.q.val());
+            self.rd_data.next = bit_cast::<16, 4>(self.mask.q.val());
         }
         self.r_hit.next = false;
         self.r_lneg.next = false;
@@ -371,6 +536,8 @@ impl<const K: usize> Logic for IoRegs<K> {
         self.r_home.next = false;
         self.r_alarm.next = false;
         self.r_drv.next = false;
+        self.r_lvld.next = false;
+        self.r_hev.next = false;
         self.rd_axis_reg.next = self.rd_addr.val().get_bit(8) & (self.rd_addr.val().get_bits::<4>(0) == self.o_axis.val());
         for i in 0..K {
             self.lneg_p[i].bus.next = self.lneg_s.sig_out.val();
@@ -378,6 +545,12 @@ impl<const K: usize> Logic for IoRegs<K> {
             self.home_p[i].bus.next = self.home_s.sig_out.val();
             self.alarm_p[i].bus.next = self.alarm_s.sig_out.val();
             self.drv_p[i].bus.next = self.drv_s.sig_out.val();
+            self.lvld_p[i].bus.next = self.lvld.q.val();
+            self.home_ev_p[i].bus.next = self.home_ev.q.val();
+            if self.rd_addr.val().get_bits::<4>(4).index() == i {
+                self.r_lvld.next = self.lvld_p[i].value.val();
+                self.r_hev.next = self.home_ev_p[i].value.val();
+            }
             if self.rd_axis_reg.val() & (self.rd_addr.val().get_bits::<4>(4).index() == i) {
                 self.r_hit.next = true;
                 self.r_lneg.next = self.lneg_p[i].value.val();
@@ -392,7 +565,30 @@ impl<const K: usize> Logic for IoRegs<K> {
                 | (bit_cast::<16, 1>(self.r_lpos.val().into()) << 1)
                 | (bit_cast::<16, 1>(self.r_home.val().into()) << 2)
                 | (bit_cast::<16, 1>(self.r_alarm.val().into()) << 3)
-                | (bit_cast::<16, 1>(self.r_drv.val().into()) << 4);
+                | (bit_cast::<16, 1>(self.r_drv.val().into()) << 4)
+                | (bit_cast::<16, 1>(self.r_hev.val().into()) << 5);
+        }
+        // The latch mirror at the read's axis (0 until its first word).
+        self.r_lat.next = 0.into();
+        if self.r_lvld.val() {
+            self.r_lat.next = self.lmirror.rdata.val();
+        }
+        if self.rd_addr.val().get_bit(8) {
+            if self.rd_addr.val().get_bits::<4>(0) == self.o_hlo.val() {
+                self.rd_data.next = self.r_lat.val().get_bits::<16>(0);
+                if self.rd.val() {
+                    self.hi_latch.d.next = self.r_lat.val().get_bits::<16>(16);
+                }
+            }
+            if self.rd_addr.val().get_bits::<4>(0) == self.o_plo.val() {
+                self.rd_data.next = self.r_lat.val().get_bits::<16>(32);
+                if self.rd.val() {
+                    self.hi_latch.d.next = self.r_lat.val().get_bits::<16>(48);
+                }
+            }
+            if (self.rd_addr.val().get_bits::<4>(0) == self.o_hhi.val()) | (self.rd_addr.val().get_bits::<4>(0) == self.o_phi.val()) {
+                self.rd_data.next = self.hi_latch.q.val();
+            }
         }
 
         if self.bus_reset.val() {
@@ -407,6 +603,12 @@ impl<const K: usize> Logic for IoRegs<K> {
             self.mask.d.next = 0.into();
             self.toggles.d.next = 0.into();
             self.irq_q.d.next = false;
+            self.lvld.d.next = 0.into();
+            self.htog_b.d.next = 0.into();
+            self.ptog_b.d.next = 0.into();
+            self.pann.d.next = false;
+            self.home_ev.d.next = 0.into();
+            self.hi_latch.d.next = 0.into();
         }
     }
 }

@@ -50,6 +50,9 @@ macro_rules! core_connect_ports {
             self.abort.connect();
             self.high_min.connect();
             self.low_min.connect();
+            self.home_latch.connect();
+            self.probe_latch.connect();
+            self.lsel_axis.connect();
             self.connect_all();
         }
     };

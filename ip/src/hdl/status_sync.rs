@@ -16,19 +16,23 @@ use rust_hdl::prelude::*;
 /// Width of a status word.
 pub const STATUS_BITS: usize = 58;
 
+/// The register file's status crossing: words of [`STATUS_BITS`].
+pub type StatusSync<const K: usize> = WordSync<K, STATUS_BITS>;
+
+/// The crossing for `W`-bit words (the machine I/O's position latches use it too).
 #[derive(LogicBlock)]
-pub struct StatusSync<const K: usize> {
+pub struct WordSync<const K: usize, const W: usize> {
     pub cclock: Signal<In, Clock>,
     pub creset: Signal<In, Bit>,
     pub sel: Signal<Out, Bits<8>>,
-    pub word_in: Signal<In, Bits<STATUS_BITS>>,
+    pub word_in: Signal<In, Bits<W>>,
     pub bclock: Signal<In, Clock>,
     pub breset: Signal<In, Bit>,
     pub valid: Signal<Out, Bit>,
     pub axis: Signal<Out, Bits<8>>,
-    pub word: Signal<Out, Bits<STATUS_BITS>>,
+    pub word: Signal<Out, Bits<W>>,
     idx: DFF<Bits<8>>,
-    hold: DFF<Bits<STATUS_BITS>>,
+    hold: DFF<Bits<W>>,
     hold_axis: DFF<Bits<8>>,
     req: DFF<Bit>,
     ack_c1: DFF<Bit>,
@@ -39,10 +43,10 @@ pub struct StatusSync<const K: usize> {
     c_last: Constant<Bits<8>>,
 }
 
-impl<const K: usize> Default for StatusSync<K> {
+impl<const K: usize, const W: usize> Default for WordSync<K, W> {
     fn default() -> Self {
         assert!((1..=255).contains(&K));
-        StatusSync {
+        WordSync {
             cclock: Default::default(),
             creset: Default::default(),
             sel: Default::default(),
@@ -66,7 +70,7 @@ impl<const K: usize> Default for StatusSync<K> {
     }
 }
 
-impl<const K: usize> Logic for StatusSync<K> {
+impl<const K: usize, const W: usize> Logic for WordSync<K, W> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, cclock, idx, hold, hold_axis, req, ack_c1, ack_c2);

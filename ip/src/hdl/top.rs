@@ -267,6 +267,10 @@ macro_rules! stepper_top {
                 self.status.bclock.next = self.bus_clk.val();
                 self.status.breset.next = self.rst_bus.sig_out.val();
                 self.core.sel_axis.next = self.status.sel.val();
+                // Position latches: only the machine I/O drives them.
+                self.core.home_latch.next = 0.into();
+                self.core.probe_latch.next = false;
+                self.core.lsel_axis.next = 0.into();
                 self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_done.val()) << 40)
@@ -317,6 +321,12 @@ macro_rules! stepper_top {
                     self.io_regs.home.next = self.$io.home_active.val();
                     self.io_regs.alarm.next = self.$io.alarm_active.val();
                     self.io_regs.drv_enable.next = self.$io.drv_enable.val();
+                    self.io_regs.rd.next = self.exmc.rd.val();
+                    self.io_regs.creset.next = self.rst_core.sig_out.val();
+                    self.core.home_latch.next = self.$io.home_latch.val();
+                    self.core.probe_latch.next = self.$io.probe_latch.val();
+                    self.core.lsel_axis.next = self.io_regs.lsel.val();
+                    self.io_regs.lword.next = self.core.lsel_word.val();
                     self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val();
                     self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
                     // The hard stop holds the abort, except in a cycle that brings a push:
