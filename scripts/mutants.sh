@@ -83,6 +83,8 @@ mutants=(
   "50#ip/src/hdl/top.rs#s/\(self.\\\$io.hard_stop.val\(\) & !self.c_push.q.val\(\)\)/self.\\\$io.hard_stop.val()/#system#estop_through_the_bus#the hard stop's abort meets a push in the same cycle (the push is dropped uncounted)"
   "51#ip/src/hdl/axis_bank.rs#s/if self.probe_latch.val\(\) \{/if self.hl_pick[i].value.val() {/#hdl_axis_bank#axes_released_together#the probe latches take the position on the axis's home strobe"
   "52#ip/src/hdl/io_regs.rs#s/\(self.l_hbits.val\(\) \^ self.htog_b.q.val\(\)\) & self.l_onehot.val\(\)/self.l_hbits.val() ^ self.htog_b.q.val()/#system#home_and_probe_latch#a latch word's home toggle is compared with every axis's (home events on axes that did not latch)"
+  "53#ip/src/hdl/core.rs#s/self.queues.flush.next = self.axis_flush.val\(\);/self.queues.flush.next = false;/#hdl_core#one_axis_stops#the per-axis stop leaves the axis's queue (its segments run after the stop)"
+  "54#ip/src/hdl/machine_io.rs#s/\n                & self.toward_pick\[i\].value.val\(\)\)/)/#system#a_limit_in_the_direction#a limit stops an axis on one tick of DIR toward it (a move away from an active limit is stopped at its start)"
 )
 
 only=("$@")

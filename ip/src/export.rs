@@ -409,10 +409,10 @@ pub fn ports(axes: usize, io: bool) -> Vec<PortDoc> {
         v.extend([
             p("estop_n", "input", 1, "async", "emergency stop, active low by default (IO_POLARITY.ESTOP); synchronised and filtered: a hard stop of every axis, latched until IO_CMD.ESTOP_REARM"),
             p("probe", "input", 1, "async", "probe input, synchronised and filtered (IO_POLARITY, IO_FILTER_LO); its chosen edge latches every axis's position in the same tick (PROBE_POS)"),
-            p("limit_neg", "input", axes, "async", "limit switch at the negative end of axis a, bit a; synchronised and filtered, read in IO_AXIS"),
-            p("limit_pos", "input", axes, "async", "limit switch at the positive end of axis a, bit a; synchronised and filtered, read in IO_AXIS"),
+            p("limit_neg", "input", axes, "async", "limit switch at the negative end of axis a, bit a; synchronised and filtered, read in IO_AXIS; while active it stops the axis moving toward it (hard stop)"),
+            p("limit_pos", "input", axes, "async", "limit switch at the positive end of axis a, bit a; synchronised and filtered, read in IO_AXIS; while active it stops the axis moving toward it (hard stop)"),
             p("home", "input", axes, "async", "home switch of axis a, bit a; synchronised and filtered, read in IO_AXIS; its chosen edge latches the axis's position (HOME_POS)"),
-            p("alarm", "input", axes, "async", "driver alarm of axis a, bit a; synchronised and filtered: while active, drv_enable of the axis is low"),
+            p("alarm", "input", axes, "async", "driver alarm of axis a, bit a; synchronised and filtered: while active, drv_enable of the axis is low and the axis is held in a hard stop"),
             p("drv_enable", "output", axes, "clk", "driver enable of axis a, bit a, registered: high only while the core runs, no hard stop holds (e-stop latch, watchdog) and the axis's alarm is inactive"),
         ]);
     }

@@ -345,10 +345,11 @@ pub fn table() -> Vec<Register> {
                 f("WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
                 f("PROBE", 2, 1, W1c, "the probe latch took every axis's position (PROBE_POS)"),
                 f("HOME", 3, 1, W1c, "an axis's home latch took its position (IO_AXIS.HOME_LATCHED says which); writing 1 also clears every HOME_LATCHED"),
+                f("STOP", 4, 1, W1c, "a moving axis was stopped by a limit in its direction of motion or by its alarm (IO_AXIS.STOPPED says which); writing 1 also clears every STOPPED"),
             ],
             "Machine I/O events; under IRQ_MASK_IO they raise the irq line (GSTATUS.IRQ shows the other events' part of it only).",
         ),
-        io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 4, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
+        io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 5, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
         io_reg(
             "IO_AXIS", 0xA, true, 0,
             vec![
@@ -358,6 +359,7 @@ pub fn table() -> Vec<Register> {
                 f("ALARM", 3, 1, Ro, "the filtered alarm input is active (drv_enable of the axis is low)"),
                 f("DRV_ENABLE", 4, 1, Ro, "the axis's drv_enable output"),
                 f("HOME_LATCHED", 5, 1, Ro, "the axis's home latch took its position since IRQ_IO.HOME was last cleared"),
+                f("STOPPED", 6, 1, Ro, "the axis was stopped (hard) by a limit or its alarm since IRQ_IO.STOP was last cleared; its queue was flushed and POS is where it stopped"),
             ],
             "Machine I/O inputs of the axis, filtered, about 3 bus clocks behind clk. The e-stop, limit and alarm inputs read active from a reset until their filters have seen them inactive.",
         ),

@@ -224,6 +224,7 @@ fn uut() -> AxisBank<K, DEPTH> {
     u.home_latch.connect();
     u.probe_latch.connect();
     u.lsel_axis.connect();
+    u.stop.connect();
     u.connect_all();
     u
 }
@@ -247,6 +248,7 @@ fn spec() -> TbSpec {
             Port::new("home_latch", K),
             Port::new("probe_latch", 1),
             Port::new("lsel_axis", 8),
+            Port::new("stop", K),
         ],
         outputs: vec![
             Port::new("step", K),
@@ -276,7 +278,8 @@ fn with_timing(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
         .map(|(n, r)| {
             let home = if n % 37 == 5 { 1u128 << ((n / 37) % K) } else { 0 };
             let probe = (n % 53 == 7) as u128;
-            [r.clone(), vec![TIMING.high_min() as u128, TIMING.low_min() as u128, home, probe, (n % K) as u128]].concat()
+            // (The per-axis stop is held at 0 here: tests/hdl_core.rs stops an axis.)
+            [r.clone(), vec![TIMING.high_min() as u128, TIMING.low_min() as u128, home, probe, (n % K) as u128, 0]].concat()
         })
         .collect()
 }
@@ -333,6 +336,7 @@ fn simulate_all(rows: &[Vec<u128>]) -> Vec<Vec<u128>> {
             u.home_latch.next = Bits::<K>::from(r[12] as u64);
             u.probe_latch.next = r[13] == 1;
             u.lsel_axis.next = Bits::<8>::from(r[14] as u64);
+            u.stop.next = Bits::<K>::from(r[15] as u64);
         },
         |u| {
             vec![

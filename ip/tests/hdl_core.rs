@@ -36,6 +36,7 @@ macro_rules! rust_hdl_trace {
                 u.sel_axis.next = (r[8] as u64).into();
                 u.ext_go.next = (r[9] as u64).into();
                 u.abort.next = r[10] == 1;
+                u.stop_axes.next = (r[11] as u64).into();
             },
             |u| {
                 vec![
@@ -99,6 +100,7 @@ fn spec<const K: usize>() -> TbSpec {
             Port::new("sel_axis", 8),
             Port::new("ext_go", K),
             Port::new("abort", 1),
+            Port::new("stop_axes", K),
         ],
         outputs: vec![
             Port::new("step", K),
@@ -141,8 +143,9 @@ fn events<const K: usize>(axes: &[Vec<Segment>], cycles: u64) -> Vec<(u64, Vec<u
     for a in 0..K {
         ev.push((cycles - 2 * (K - a) as u64, idle(a as u128)));
     }
-    // No abort.
+    // No abort, no stop.
     for e in &mut ev {
+        e.1.push(0);
         e.1.push(0);
     }
     ev
@@ -681,4 +684,84 @@ fn sixteen_axes_stream_one_ms_segments_for_100_ms() {
     let dir = sim_dir("core_k16_streaming", Simulator::Verilator);
     let got = run_sparse(Simulator::Verilator, &dir, &verilog, &spec::<K>(), &ev, cycles).unwrap();
     check_against_model::<K>(&axes, &got, cycles, "16-axis streaming");
+}
+
+/// The per-axis stop: axis 1 is stopped in the middle of its moves (`stop_axes` high
+/// for three cycles) while axis 0 runs on. Axis 0's edges are all the model's; axis 1's
+/// are the model's up to the stop and none rises after it; its queue is emptied
+/// (every segment counted taken), BUSY drops, the position read is its edge count;
+/// then a new segment pushed and started on axis 1 alone runs exactly as the model's
+/// from its own release. rust-hdl and Verilator give the same trace.
+#[test]
+fn one_axis_stops_and_the_other_runs_on() {
+    const K: usize = 2;
+    let limits = Limits::default();
+    let axes = moves();
+    let run1 = AxisRun::run(&axes[1], &limits);
+    let after = plan(-60, [3000, 1000, 3000]);
+    let run_after = AxisRun::run(&after, &limits);
+    let cycles = cycles_for(&axes) + run_after.end_tick + 6000;
+    let mut ev = events::<K>(&axes, cycles);
+    let start_cycle = ev.iter().find(|e| e.1[6] == 1).unwrap().0;
+    // Mid-move on axis 1 (its release comes a few hundred cycles after the START).
+    let stop = start_cycle + 300 + run1.edge_ticks[run1.edge_ticks.len() / 2];
+    let idle = |stop_bits: u128| vec![0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, stop_bits];
+    let restart = stop + 2000;
+    let mut extra = vec![(stop, idle(0b10)), (stop + 3, idle(0))];
+    let feed = core_feed(&after);
+    for (j, sgm) in feed.iter().enumerate() {
+        extra.push((restart + j as u64, vec![0, 1, 1, sgm.v0_rate as u128, sgm.t_ticks as u128, sgm.steps as u32 as u128, 0, 0, 0, 0, 0, 0]));
+    }
+    let go = restart + feed.len() as u64;
+    extra.push((go, vec![0, 0, 0, 0, 0, 0, 1, 0b10, 0, 0, 0, 0]));
+    extra.push((go + 1, idle(0)));
+    ev.extend(extra);
+    ev.sort_by_key(|e| e.0);
+
+    let with_stops = || connect_core!(TdmCore::<K, R, DEPTH, QDEPTH>::new().with_axis_stops());
+    let reference = rust_hdl_trace!(with_stops(), &ev, cycles);
+    let got = run_sparse(Simulator::Verilator, &sim_dir("core_axis_stop", Simulator::Verilator), &generate_verilog(&with_stops()), &spec::<K>(), &ev, cycles).unwrap();
+    same_traces(&got, &reference, "per-axis stop");
+
+    let step = expand(&reference, 0, cycles);
+    let busy = expand(&reference, 3, cycles);
+    let pos = expand(&reference, 4, cycles);
+    let run0 = AxisRun::run(&axes[0], &limits);
+    let r0 = rises_of(&step, 0);
+    assert_eq!(r0.len(), run0.edge_ticks.len(), "axis 0 ran all its steps");
+    let l0 = release_of(&r0, &run0.edge_ticks, "axis 0").unwrap();
+    let r1 = rises_of(&step, 1);
+    let before: Vec<u64> = r1.iter().copied().filter(|&c| c < restart).collect();
+    assert!(before.len() > 5 && before.len() < run1.edge_ticks.len() - 5, "axis 1 stopped mid-move after {} edges", before.len());
+    assert_eq!(release_of(&before, &run1.edge_ticks, "axis 1 before the stop"), Some(l0), "axis 1's edges before the stop (and no skew)");
+    assert!(*before.last().unwrap() <= stop, "axis 1: an edge at cycle {} after the stop at {stop}", before.last().unwrap());
+    // BUSY drops once the pulse the stop caught (if any) has had its high time.
+    let low_from = (stop..restart).find(|&c| (step[c as usize] >> 1) & 1 == 0).unwrap();
+    let idle_from = (stop..restart).find(|&c| (busy[c as usize] >> 1) & 1 == 0).expect("axis 1 stays busy after the stop");
+    assert!(idle_from <= low_from.max(stop) + 3, "axis 1 busy until {idle_from}, STEP low from {low_from}, stop at {stop}");
+    assert!((idle_from..restart).all(|c| (busy[c as usize] >> 1) & 1 == 0 && (step[c as usize] >> 1) & 1 == 0), "axis 1 busy or stepping again before the restart");
+    let later: Vec<u64> = r1.iter().copied().filter(|&c| c >= restart).collect();
+    assert_eq!(later.len(), run_after.edge_ticks.len(), "axis 1's move after the stop");
+    release_of(&later, &run_after.edge_ticks, "axis 1 after the stop").unwrap();
+    // Status at the end (sel_axis reads each axis): positions and counts.
+    let sel1 = (cycles - 2 + 1) as usize;
+    let dir_sign = |segs: &[Segment]| if segs.iter().find(|s| s.steps != 0).unwrap().steps < 0 { -1 } else { 1 };
+    assert_eq!(dir_sign(&axes[1][..1]), 1);
+    // Axis 1's moves before the stop: the edges emitted, each with its segment's sign.
+    let signed_before: i64 = {
+        let mut k = 0usize;
+        let mut p = 0i64;
+        for sgm in &core_feed(&axes[1]) {
+            for _ in 0..sgm.steps.unsigned_abs() {
+                if k < before.len() {
+                    p += sgm.steps.signum() as i64;
+                    k += 1;
+                }
+            }
+        }
+        p
+    };
+    assert_eq!(pos[sel1] as u32 as i32 as i64, signed_before + run_after.position, "axis 1's position: the edges before the stop, then the new move");
+    let taken = expand(&reference, 7, cycles)[sel1];
+    assert_eq!(taken, (core_feed(&axes[1]).len() + feed.len()) as u128, "axis 1: every segment taken (the stopped ones flushed)");
 }

@@ -146,6 +146,8 @@ fn io_row(reset: bool, run: bool, pins: &IoPins, cfg: &IoConfig, cmd: &IoCommand
         cmd.estop_rearm as u128,
         cmd.wd_feed as u128,
         cmd.wd_rearm as u128,
+        pins.dir as u128,
+        pins.active as u128,
     ]
 }
 
@@ -165,6 +167,8 @@ fn unrow(r: &[u128]) -> (bool, bool, IoPins, IoConfig, IoCommands) {
         limit_pos: r[5] as u32,
         home: r[6] as u32,
         alarm: r[7] as u32,
+        dir: r[16] as u32,
+        active: r[17] as u32,
     };
     let cmd = IoCommands { estop_rearm: r[13] == 1, wd_feed: r[14] == 1, wd_rearm: r[15] == 1 };
     (r[0] == 1, r[1] == 1, pins, cfg, cmd)
@@ -187,6 +191,8 @@ fn set_io(u: &mut MachineIo<K>, r: &[u128]) {
     u.estop_rearm.next = r[13] == 1;
     u.wd_feed.next = r[14] == 1;
     u.wd_rearm.next = r[15] == 1;
+    u.dir.next = Bits::<K>::from(r[16] as u64);
+    u.active.next = Bits::<K>::from(r[17] as u64);
 }
 
 fn get_io(u: &MachineIo<K>) -> Vec<u128> {
@@ -203,6 +209,8 @@ fn get_io(u: &MachineIo<K>) -> Vec<u128> {
         u.alarm_active.val().to_u64() as u128,
         u.home_latch.val().to_u64() as u128,
         u.probe_latch.val() as u128,
+        u.axis_stop.val().to_u64() as u128,
+        u.stop_tog.val().to_u64() as u128,
     ]
 }
 
@@ -220,6 +228,8 @@ fn model_out(o: &tdm_stepper::model::io::IoOutputs) -> Vec<u128> {
         o.alarm as u128,
         o.home_latch as u128,
         o.probe_latch as u128,
+        o.axis_stop as u128,
+        o.stop_tog as u128,
     ]
 }
 
@@ -257,6 +267,8 @@ fn io_spec() -> TbSpec {
             Port::new("estop_rearm", 1),
             Port::new("wd_feed", 1),
             Port::new("wd_rearm", 1),
+            Port::new("dir", K),
+            Port::new("active", K),
         ],
         outputs: vec![
             Port::new("hard_stop", 1),
@@ -271,6 +283,8 @@ fn io_spec() -> TbSpec {
             Port::new("alarm_active", K),
             Port::new("home_latch", K),
             Port::new("probe_latch", 1),
+            Port::new("axis_stop", K),
+            Port::new("stop_tog", K),
         ],
     }
 }
@@ -278,7 +292,7 @@ fn io_spec() -> TbSpec {
 #[test]
 fn machine_io_equals_the_model_three_ways() {
     let mut rng = Rng(0x10_5afe_7e57);
-    let mut gens: Vec<PinGen> = (0..2 + 4 * K).map(|_| PinGen::new(false)).collect();
+    let mut gens: Vec<PinGen> = (0..2 + 6 * K).map(|_| PinGen::new(false)).collect();
     let mut rows = Vec::new();
     for phase in 0..12u64 {
         let cfg = IoConfig {
@@ -299,6 +313,9 @@ fn machine_io_equals_the_model_three_ways() {
                 limit_pos: word(2 + K),
                 home: word(2 + 2 * K),
                 alarm: word(2 + 3 * K),
+                // The core's DIR and moving flags: long stretches, short ones too.
+                dir: word(2 + 4 * K),
+                active: word(2 + 5 * K),
             };
             // Feeds mostly every few hundred cycles, with gaps long enough to trip.
             let feed_every = if phase % 3 == 1 { 3000 } else { 500 };
@@ -318,6 +335,8 @@ fn machine_io_equals_the_model_three_ways() {
     assert!(count(1) > 100 && count(1) < rows.len() - 100, "e-stop latched: {}", count(1));
     assert!(count(10) > 20 && count(11) > 5, "latch strobes: {} home, {} probe", count(10), count(11));
     assert!(count(5) > 1000, "drivers enabled: {}", count(5));
+    let tog_changes = want.windows(2).filter(|w| w[0][13].is_some() && w[0][13] != w[1][13]).count();
+    assert!(count(12) > 1000 && count(12) < rows.len() - 1000 && tog_changes > 50, "axis stops: {} cycles, {tog_changes} events", count(12));
     three_ways("machine_io", io_uut, |u, c| u.clock.next = Clock::from(c), set_io, get_io, &io_spec(), &rows, &want);
 }
 

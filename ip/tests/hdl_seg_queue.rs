@@ -4,7 +4,9 @@
 //! (many of empty queues, many with a push to the same axis in the same cycle),
 //! aborts (some with a push in the same cycle) and resets: every cycle `push_ready`,
 //! `nonempty`, the selected axis's level and taken counter, and the head of the axis
-//! read in the cycle before equal the model's.
+//! read in the cycle before equal the model's. Flushes of one queue (`flush`, the
+//! per-axis stop), some with a push to that queue in the same cycle (written and
+//! counted taken) and some with a push to another, empty it alone.
 
 mod common;
 
@@ -23,6 +25,7 @@ fn uut() -> SegQueue<K, QDEPTH> {
     u.clock.connect();
     u.reset.connect();
     u.abort.connect();
+    u.flush.connect();
     u.push_valid.connect();
     u.push_axis.connect();
     u.push_word.connect();
@@ -33,13 +36,13 @@ fn uut() -> SegQueue<K, QDEPTH> {
     u
 }
 
-/// Rows: reset, abort, push_valid, push_axis, push_word, axis, pop, sel_axis. Pushes
+/// Rows: reset, abort, push_valid, push_axis, push_word, axis, pop, sel_axis, flush. Pushes
 /// outnumber pops in some stretches and pops outnumber pushes in others, so that the
 /// queues run full and empty again and again; the taken counters wrap (more than 256
 /// segments per axis).
 fn stimulus() -> Vec<Vec<u128>> {
     let mut rng = Rng(0x5e90_0e5e_1234_abcd);
-    let mut rows = vec![vec![1, 0, 0, 0, 0, 0, 0, 0]];
+    let mut rows = vec![vec![1, 0, 0, 0, 0, 0, 0, 0, 0]];
     for c in 0..CYCLES {
         let push_bias = if (c / 300) % 2 == 0 { 3 } else { 1 };
         let push = (rng.next() % 4 < push_bias) as u128;
@@ -50,7 +53,10 @@ fn stimulus() -> Vec<Vec<u128>> {
         let abort = (rng.next() % 400 == 0) as u128;
         let reset = (rng.next() % 3000 == 0) as u128;
         let sel = (rng.next() % K as u64) as u128;
-        rows.push(vec![reset, abort, push, push_axis, rng.next_u128() >> 32, axis, pop, sel]);
+        let flush = (rng.next() % 150 == 0) as u128;
+        // Half the flushes come with a push to the flushed queue.
+        let (push, push_axis) = if flush == 1 && rng.next() % 2 == 0 { (1, axis) } else { (push, push_axis) };
+        rows.push(vec![reset, abort, push, push_axis, rng.next_u128() >> 32, axis, pop, sel, flush]);
     }
     rows
 }
@@ -67,6 +73,7 @@ fn model(rows: &[Vec<u128>]) -> (Vec<Vec<Option<u128>>>, usize) {
     for r in rows {
         let (reset, abort, push, pa, word, axis, pop, sel) =
             (r[0] == 1, r[1] == 1, r[2] == 1, r[3] as usize, r[4], r[5] as usize, r[6] == 1, r[7] as usize);
+        let flush = r[8] == 1;
         let ready = pa >= K || q[pa].len() < QDEPTH;
         let nonempty = (0..K).filter(|&i| !q[i].is_empty()).map(|i| 1u128 << i).sum::<u128>();
         out.push(vec![Some(ready as u128), Some(nonempty), Some(q[sel].len() as u128), Some(taken[sel] as u128), head]);
@@ -78,6 +85,15 @@ fn model(rows: &[Vec<u128>]) -> (Vec<Vec<Option<u128>>>, usize) {
             for i in 0..K {
                 taken[i] = taken[i].wrapping_add(q[i].len() as u8);
                 q[i].clear();
+            }
+        } else if flush {
+            // Queue `axis` empties, a push to it in this cycle with it; pushes to
+            // other queues go on.
+            let with_push = push && pa == axis && ready;
+            taken[axis] = taken[axis].wrapping_add((q[axis].len() + with_push as usize) as u8);
+            q[axis].clear();
+            if push && pa < K && pa != axis && ready {
+                q[pa].push_back(word);
             }
         } else {
             if pop && !q[axis].is_empty() {
@@ -102,6 +118,8 @@ fn seg_queue_three_ways() {
     assert!(want.iter().filter(|w| w[0] == Some(0)).count() > 500, "full queues");
     assert!(want.iter().filter(|w| w[4].is_some()).count() > CYCLES / 2, "heads read");
     assert!(rows.iter().filter(|r| r[1] == 1).count() >= 5, "aborts");
+    assert!(rows.iter().filter(|r| r[8] == 1 && r[0] == 0 && r[1] == 0).count() >= 20, "flushes");
+    assert!(rows.iter().filter(|r| r[8] == 1 && r[2] == 1 && r[3] == r[5]).count() >= 3, "flushes with a push to the same queue");
     assert!(pops > 256 * K, "the taken counters wrap ({pops} pops)");
     let spec = TbSpec {
         clock: "clock".into(),
@@ -114,6 +132,7 @@ fn seg_queue_three_ways() {
             Port::new("axis", 8),
             Port::new("pop", 1),
             Port::new("sel_axis", 8),
+            Port::new("flush", 1),
         ],
         outputs: vec![
             Port::new("push_ready", 1),
@@ -136,6 +155,7 @@ fn seg_queue_three_ways() {
             u.axis.next = Bits::<8>::from(r[5] as u64);
             u.pop.next = r[6] == 1;
             u.sel_axis.next = Bits::<8>::from(r[7] as u64);
+            u.flush.next = r[8] == 1;
         },
         |u| {
             vec![

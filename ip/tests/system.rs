@@ -1428,3 +1428,87 @@ fn home_and_probe_latch_the_exact_position() {
     let defined = |t: &SystemTrace| t.changes.iter().skip_while(|c| c.0 < 10).cloned().collect::<Vec<_>>();
     assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
 }
+
+/// Limit switches through the bus: both axes' `limit_pos` become active in the middle
+/// of a move where axis 0 runs toward it (+) and axis 1 away (−). Axis 0 stops with no
+/// STEP rising edge after e0 + 4 + n (e0: the edge that first samples the pin), its
+/// queue flushed, its position the edges emitted, IO_AXIS.STOPPED and IRQ_IO.STOP set
+/// (and the irq line); axis 1 runs its whole move. While the limit stays active a move
+/// away from it (−) runs in full, and a move toward it is stopped before its first
+/// edge. rust-hdl gives the same trace.
+#[test]
+fn a_limit_in_the_direction_of_motion_stops_that_axis_alone() {
+    use tdm_stepper::model::io::pin_to_level_ticks;
+    const K: usize = 2;
+    const N: u8 = 1; // limit_pos filter, samples
+    let mut b = bus();
+    b.write_reg("IO_FILTER_LO", 0, (N as u16) << 12);
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 1);
+    b.write_reg("IRQ_MASK_IO", 0, 1 << 4);
+    b.idle(50);
+    let moves = [Segment { v0_rate: 0, t_ticks: 20_000, steps: 200 }, Segment { v0_rate: 0, t_ticks: 20_000, steps: -150 }];
+    for (a, s) in moves.iter().enumerate() {
+        b.push_segment(a, s);
+    }
+    // A second segment on axis 0, flushed by the stop.
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 10_000, steps: 50 });
+    b.write_reg("START", 0, 0b11);
+    let t_lim = b.now_ps() + 12_000 * 2 * CLOCKS.clk_half_ps;
+    b.idle_until_ps(t_lim + 15_000 * 2 * CLOCKS.clk_half_ps);
+    let stopped = (b.read_position(0), b.read_position(1), b.read_reg("STATUS", 0), b.read_reg("IO_AXIS", 0), b.read_reg("IO_AXIS", 1), b.read_reg("IRQ_IO", 0), b.read_reg("BUSY", 0));
+    b.write_reg("IRQ_IO", 0, 1 << 4);
+    // Away from the limit: runs.
+    let t_away = b.now_ps();
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 10_000, steps: -100 });
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + 12_000 * 2 * CLOCKS.clk_half_ps);
+    let away = (b.read_position(0), b.read_reg("IO_AXIS", 0), b.read_reg("IRQ_IO", 0));
+    // Toward it: stopped before its first edge.
+    let t_toward = b.now_ps();
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 10_000, steps: 100 });
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + 12_000 * 2 * CLOCKS.clk_half_ps);
+    let toward = (b.read_position(0), b.read_reg("IO_AXIS", 0), b.read_reg("STATUS", 0), b.read_reg("BUSY", 0));
+    let cycles = cycles_after(&b, 100);
+    let pins = vec![(t_lim, vec![1, 0, 0, 0b11, 0, 0])];
+    let tr = verilator_io::<K>("io_limit", &b, cycles, &io_pins(true), &pins);
+
+    let check = |sim: &str, t: &SystemTrace| {
+        let v = |id| b.value(t, id).expect("read returned x");
+        let e0 = t_lim.div_ceil(2 * CLOCKS.clk_half_ps);
+        let (r0, r1) = (rises(t, 0), rises(t, 1));
+        let (away_c, toward_c) = (clk_cycle_at(t_away), clk_cycle_at(t_toward));
+        let first: Vec<u64> = r0.iter().copied().filter(|&c| c < away_c).collect();
+        assert!(first.len() > 20 && first.len() < 200, "{sim}: axis 0 stopped mid-move after {} edges", first.len());
+        let last = *first.last().unwrap();
+        assert!(last + 200 > e0, "{sim}: axis 0 was not stepping when the limit came");
+        assert!(last <= e0 + pin_to_level_ticks(N) + 2, "{sim}: axis 0's edge at clk {last}, {} after the pin was first sampled", last - e0);
+        let (p0, p1, st0, ax0, ax1, irq, busy) = stopped;
+        assert_eq!(position(&b, t, p0), Some(first.len() as i32), "{sim}: axis 0's position: the edges emitted");
+        assert_eq!(position(&b, t, p1), Some(-150), "{sim}: axis 1 ran its whole move (away from its limit)");
+        assert_eq!(r1.len(), 150, "{sim}: axis 1's edges");
+        assert_eq!(v(st0) & 0x1F, 0, "{sim}: axis 0's queue flushed (LEVEL 0)");
+        assert_eq!((v(ax0) >> 6 & 1, v(ax1) >> 6 & 1), (1, 0), "{sim}: IO_AXIS.STOPPED");
+        assert_eq!((v(ax0) >> 1 & 1, v(ax1) >> 1 & 1), (1, 1), "{sim}: IO_AXIS.LIMIT_POS");
+        assert_eq!(v(irq) >> 4 & 1, 1, "{sim}: IRQ_IO.STOP");
+        assert_eq!(v(busy), 0, "{sim}: nothing busy");
+        let (up, _) = irq_edges(t);
+        assert!(up.iter().any(|&c| c > e0 && c < e0 + 100), "{sim}: the irq line rose: {up:?}");
+        let second = r0.iter().filter(|&&c| c >= away_c && c < toward_c).count();
+        assert_eq!(second, 100, "{sim}: the move away from the limit");
+        assert_eq!(position(&b, t, away.0), Some(first.len() as i32 - 100), "{sim}: after the move away");
+        assert_eq!((v(away.1) >> 6 & 1, v(away.2) >> 4 & 1), (0, 0), "{sim}: the move away is no stop");
+        let third = r0.iter().filter(|&&c| c >= toward_c).count();
+        assert_eq!(third, 0, "{sim}: a move toward the active limit moved");
+        assert_eq!(position(&b, t, toward.0), Some(first.len() as i32 - 100), "{sim}: after the move toward");
+        assert_eq!((v(toward.1) >> 6 & 1, v(toward.2) & 0x1F, v(toward.3)), (1, 0, 0), "{sim}: the move toward: STOPPED, LEVEL 0, idle");
+    };
+    check("Verilator", &tr);
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &pins);
+    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
+    u.connect_ports();
+    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
+    samples_to_bus_events(&mut rh, &index);
+    check("rust-hdl", &rh);
+}

@@ -30,6 +30,8 @@
 //!   ([`LATCH_BITS`]: home position 31..0, probe position 63..32, home toggle 64,
 //!   probe toggle 65; a multiplexer). A core whose owner ties the strobes to 0 keeps
 //!   no latch: synthesis removes them (constant registers).
+//! * `stop` (bit i, a level): axis i as under an abort while it is high: no further
+//!   edge, its FIFO held empty (entries reaching it are dropped).
 //! * `abort` (one cycle): no further edge on any axis, the FIFOs and the pulse stage
 //!   flushed; `reset` (synchronous): the axes stop (a pulse in flight finishes) and
 //!   their counters and latches clear.
@@ -49,6 +51,7 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub abort: Signal<In, Bit>,
+    pub stop: Signal<In, Bits<K>>,
     pub high_min: Signal<In, Bits<16>>,
     pub low_min: Signal<In, Bits<16>>,
     pub push: Signal<In, Bit>,
@@ -83,6 +86,7 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     htog: [DFF<Bit>; K],
     ptog: [DFF<Bit>; K],
     hl_pick: [BitPick<K>; K],
+    stop_pick: [BitPick<K>; K],
     pulse: PulseStage,
     sync: SyncStart<K>,
     step_bus: [BitInsert<K>; K],
@@ -109,6 +113,7 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             clock: Default::default(),
             reset: Default::default(),
             abort: Default::default(),
+            stop: Default::default(),
             high_min: Default::default(),
             low_min: Default::default(),
             push: Default::default(),
@@ -143,6 +148,7 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             htog: std::array::from_fn(|_| Default::default()),
             ptog: std::array::from_fn(|_| Default::default()),
             hl_pick: std::array::from_fn(BitPick::new),
+            stop_pick: std::array::from_fn(BitPick::new),
             pulse: Default::default(),
             sync: Default::default(),
             step_bus: std::array::from_fn(BitInsert::new),
@@ -224,7 +230,8 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
             }
             self.axes[i].clock.next = self.clock.val();
             self.axes[i].reset.next = self.reset.val();
-            self.axes[i].abort.next = self.abort.val();
+            self.stop_pick[i].bus.next = self.stop.val();
+            self.axes[i].abort.next = self.abort.val() | self.stop_pick[i].value.val();
             self.axes[i].push.next = self.pulse.push_out.val() & (self.pulse.axis_out.val().index() == i);
             self.axes[i].entry_in.next = self.pulse.entry_out.val();
             self.pend_pick[i].bus.next = self.pending.val();

@@ -25,6 +25,9 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub cmd_ready: Signal<Out, Bit>,
     pub cmd_error: Signal<Out, Bit>,
     pub abort: Signal<In, Bit>,
+    /// Per-axis stops, each to its one-axis core.
+    pub stop_axes: Signal<In, Bits<K>>,
+    stop_pick: [BitPick<K>; K],
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     pub ready: Signal<Out, Bits<K>>,
@@ -67,6 +70,12 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Baseline<K, R, DEPTH, QDEPTH> {
+    /// As [`TdmCore::with_axis_stops`]: each one-axis core's stop works.
+    pub fn with_axis_stops(mut self) -> Self {
+        self.cores = self.cores.map(|c| c.with_axis_stops());
+        self
+    }
+
     pub fn new() -> Self {
         assert!((1..=64).contains(&K), "Baseline: K = {K} outside 1..=64");
         Baseline {
@@ -80,6 +89,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             cmd_ready: Default::default(),
             cmd_error: Default::default(),
             abort: Default::default(),
+            stop_axes: Default::default(),
+            stop_pick: std::array::from_fn(BitPick::new),
             start: Default::default(),
             start_mask: Default::default(),
             ready: Default::default(),
@@ -152,6 +163,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.cores[i].probe_latch.next = false;
             self.cores[i].lsel_axis.next = 0.into();
             self.cores[i].abort.next = self.abort.val();
+            self.stop_pick[i].bus.next = self.stop_axes.val();
+            self.cores[i].stop_axes.next = self.stop_pick[i].value.val().into();
             self.cores[i].high_min.next = self.high_min.val();
             self.cores[i].low_min.next = self.low_min.val();
             self.cores[i].clock.next = self.clock.val();

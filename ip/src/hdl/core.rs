@@ -40,6 +40,17 @@
 //! keeps its high time), positions stay exact, and the scheduler waits in `S_DRAIN`
 //! until the shared unit is idle before it takes new work.
 //!
+//! **Stop (per axis).** `stop_axes` bit i (a level) stops axis i as an abort stops
+//! every axis, and leaves the others running: at once its step generator raises no
+//! further edge (a pulse already high keeps its high time) and its period FIFO is held
+//! empty; the request is kept (`stop_pend`) until the scheduler next reaches the axis in
+//! PICK, where, with nothing of the axis in the shared unit, it empties the axis's
+//! queue (counted as taken), clears its context (current and next segment) and
+//! moves on; the FIFO stays held one cycle more, for the entry still in the pulse
+//! stage. The axis is idle after that, with an exact position, and takes new segments
+//! once the bit is low. Only a core built [`TdmCore::with_axis_stops`] has it (the
+//! machine I/O's); in one built with `new` the input is ignored and costs nothing.
+//!
 //! **Counters** for the register bus (8 bits each, wrapping, per axis, read through
 //! `sel_axis`): segments taken from the queue (`sel_taken`, counting the ones an abort
 //! flushes), done (`sel_done`: their last period ended) and underruns begun
@@ -122,6 +133,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub cmd_error: Signal<Out, Bit>,
     /// Hard stop of every axis (one cycle); see the module docs.
     pub abort: Signal<In, Bit>,
+    /// Hard stop of axis i while bit i is high; see the module docs.
+    pub stop_axes: Signal<In, Bits<K>>,
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     /// Axes idle with their first period ready (what the start waits for).
@@ -191,6 +204,28 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// one cycle ahead so that no flag multiplexer sits in front of the RAM's read.
     ra: DFF<Bits<CTX_ADDR_BITS>>,
     cmd_err: DFF<Bit>,
+    /// Per-axis stops: requested and not yet flushed by PICK; PICK's view of axis m's
+    /// (registered a cycle ahead like its other flags); the axis flushed in the last
+    /// cycle, whose FIFO stays held for the pulse stage's last entry.
+    stop_pend: DFF<Bits<K>>,
+    pf_stop: DFF<Bit>,
+    fl_v: DFF<Bit>,
+    fl_a: DFF<Bits<8>>,
+    stop_all: Signal<Local, Bits<K>>,
+    /// `stop_all` shifted down by axis m + 1 (bit 0 is its stop: a shift, not a
+    /// BitPick, whose bus would be built and read in this block).
+    stop_sh: Signal<Local, Bits<K>>,
+    nx_stop: Signal<Local, Bit>,
+    pk_stop: Signal<Local, Bit>,
+    /// PICK flushes axis m in this cycle.
+    axis_flush: Signal<Local, Bit>,
+    m_bit: Signal<Local, Bits<K>>,
+    fl_bit: Signal<Local, Bits<K>>,
+    c_one_k: Constant<Bits<K>>,
+    /// All ones with the per-axis stop built in ([`Self::with_axis_stops`]), else 0:
+    /// then every stop register has a constant input and synthesis removes them (a
+    /// request register kept in a loop with PICK would not be provably 0 otherwise).
+    c_stops: Constant<Bits<K>>,
     // Working copy of axis m's context.
     w_kind: DFF<Bits<2>>,
     w_dwell: DFF<Bit>,
@@ -368,6 +403,13 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
     /// A core for segments already validated (by the push check, against the
     /// export's minimum period); the core itself checks nothing.
+    /// The core with the per-axis stop (`stop_axes`) working; [`Self::new`] builds it
+    /// with `stop_axes` ignored, which costs nothing (the machine I/O's top uses this).
+    pub fn with_axis_stops(mut self) -> Self {
+        self.c_stops = Constant::new(((1u64 << K) - 1).into());
+        self
+    }
+
     pub fn new() -> Self {
         assert!((1..=CTX_MAX_AXES).contains(&K), "TdmCore: K = {K} outside 1..={CTX_MAX_AXES}");
         assert!(
@@ -385,6 +427,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cmd_ready: Default::default(),
             cmd_error: Default::default(),
             abort: Default::default(),
+            stop_axes: Default::default(),
             start: Default::default(),
             start_mask: Default::default(),
             ready: Default::default(),
@@ -429,6 +472,19 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             c_first_next: Constant::new(((1 % K) as u64).into()),
             ra: Default::default(),
             cmd_err: Default::default(),
+            stop_pend: Default::default(),
+            pf_stop: Default::default(),
+            fl_v: Default::default(),
+            fl_a: Default::default(),
+            stop_sh: Default::default(),
+            stop_all: Default::default(),
+            nx_stop: Default::default(),
+            pk_stop: Default::default(),
+            axis_flush: Default::default(),
+            m_bit: Default::default(),
+            fl_bit: Default::default(),
+            c_one_k: Constant::new(1.into()),
+            c_stops: Constant::new(0.into()),
             w_kind: Default::default(),
             w_dwell: Default::default(),
             w_rev: Default::default(),
@@ -569,7 +625,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         dff_setup!(
             self, clock, st, m, nm, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, u_q1, u_r1, u_r2, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
-            p_wide, p_ready, last
+            p_wide, p_ready, last, stop_pend, pf_stop, fl_v, fl_a
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -591,6 +647,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.promote_now.next = false;
         self.nwe_now.next = false;
         self.advance.next = false;
+        self.axis_flush.next = false;
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
 
@@ -609,6 +666,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.nx_next_valid.next = false;
         self.nx_next_dwell.next = false;
         self.slot_nm.next = false;
+        self.stop_all.next = (self.stop_pend.q.val() | self.stop_axes.val()) & self.c_stops.val();
+        self.stop_sh.next = self.stop_all.val() >> self.next_m.val();
+        // (Bit 0 by a mask: at K = 1 the Verilog is a scalar, which takes no select.)
+        self.nx_stop.next = (self.stop_sh.val() & self.c_one_k.val()).any();
         for i in 0..K {
             if self.next_m.val().index() == i {
                 self.nx_kind.next = self.ctx[i].kind.val();
@@ -628,7 +689,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.pf_next_dwell.d.next = self.nx_next_dwell.val();
         self.pf_slot.d.next = self.slot_nm.val();
         self.pf_sat.d.next = self.all_sat.val();
+        self.pf_stop.d.next = self.nx_stop.val();
         if self.c_single.val() {
+            self.pk_stop.next = self.nx_stop.val();
             self.pk_kind.next = self.nx_kind.val();
             self.pk_queued.next = self.nx_queued.val();
             self.pk_full.next = self.nx_full.val();
@@ -644,6 +707,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pk_next_dwell.next = self.pf_next_dwell.q.val();
             self.pk_slot.next = self.pf_slot.q.val();
             self.pk_sat.next = self.pf_sat.q.val();
+            self.pk_stop.next = self.pf_stop.q.val();
         }
         // Axis m's context word is read at `ra`, set one cycle ahead: in PICK axis m's
         // next slot for S_PROMOTE (a dwell's FIFO entry needs its T), and on every move
@@ -788,7 +852,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_ur.d.next = self.ctx_ram.r_ur.val();
             self.w_uqs.d.next = self.ctx_ram.r_uqs.val();
             self.w_urs.d.next = self.ctx_ram.r_urs.val();
-            if (self.pk_kind.val() != 0) & !self.pk_full.val() {
+            if self.pk_stop.val() {
+                // Axis m is stopped: nothing of it is in the shared unit, so its
+                // queue, context and in-flight entries are flushed here.
+                self.axis_flush.next = true;
+                self.advance.next = true;
+            } else if (self.pk_kind.val() != 0) & !self.pk_full.val() {
                 // Axis m's next period.
                 if self.pk_kind.val() == 1 {
                     self.st.d.next = self.k_uadd.val();
@@ -1068,6 +1137,21 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.queues.clock.next = self.clock.val();
         self.queues.reset.next = self.reset.val();
         self.queues.abort.next = self.abort.val();
+        self.queues.flush.next = self.axis_flush.val();
+        // Per-axis stops: kept until PICK flushes the axis (while the request is still
+        // high it stays), the FIFO held one cycle more after the flush.
+        self.m_bit.next = self.c_one_k.val() << self.m.q.val();
+        self.fl_bit.next = 0.into();
+        if self.fl_v.q.val() {
+            self.fl_bit.next = self.c_one_k.val() << self.fl_a.q.val();
+        }
+        self.fl_v.d.next = self.axis_flush.val();
+        self.fl_a.d.next = self.m.q.val();
+        self.stop_pend.d.next = self.stop_all.val();
+        if self.axis_flush.val() {
+            self.stop_pend.d.next = ((self.stop_pend.q.val() & !self.m_bit.val()) | self.stop_axes.val()) & self.c_stops.val();
+        }
+        self.bank.stop.next = self.stop_all.val() | self.fl_bit.val();
         self.queues.pop.next = self.pop_now.val();
         self.queues.sel_axis.next = self.sel_axis.val();
         self.queues.push_valid.next = self.cmd_valid.val();
@@ -1086,7 +1170,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pend_bus[i].value.next =
                 (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | self.q_pick[i].value.val();
             self.ctx[i].clock.next = self.clock.val();
-            self.ctx[i].reset.next = self.flush.val();
+            self.ctx[i].reset.next = self.flush.val() | (self.axis_flush.val() & (self.m.q.val().index() == i));
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
             self.ctx[i].nwe.next = self.nwe_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
@@ -1129,6 +1213,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pf_next_dwell.d.next = false;
             self.pf_slot.d.next = false;
             self.pf_sat.d.next = false;
+            self.pf_stop.d.next = false;
+            self.stop_pend.d.next = 0.into();
+            self.fl_v.d.next = false;
             self.cmd_err.d.next = false;
             self.pe_valid.d.next = false;
         }

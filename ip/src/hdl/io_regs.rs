@@ -82,6 +82,8 @@ pub struct IoRegs<const K: usize> {
     pub rd: Signal<In, Bit>,
     pub lsel: Signal<Out, Bits<8>>,
     pub lword: Signal<In, Bits<LATCH_BITS>>,
+    /// The per-axis stops' toggles (`MachineIo::stop_tog`, clk).
+    pub stop_tog: Signal<In, Bits<K>>,
     // Bus clock: configuration, flags, events, command toggles.
     pol: DFF<Bits<6>>,
     filt_lo: DFF<Bits<16>>,
@@ -90,8 +92,14 @@ pub struct IoRegs<const K: usize> {
     edg: DFF<Bits<2>>,
     wdt: DFF<Bits<16>>,
     refused: DFF<Bit>,
-    events: DFF<Bits<4>>,
-    mask: DFF<Bits<4>>,
+    events: DFF<Bits<5>>,
+    mask: DFF<Bits<5>>,
+    stop_s: BitsSync<K>,
+    stop_prev: DFF<Bits<K>>,
+    stopped: DFF<Bits<K>>,
+    stopped_p: [BitPick<K>; K],
+    new_stop: Signal<Local, Bits<K>>,
+    r_stopped: Signal<Local, Bit>,
     toggles: DFF<Bits<3>>,
     prev: DFF<Bits<2>>,
     irq_q: DFF<Bit>,
@@ -163,7 +171,7 @@ pub struct IoRegs<const K: usize> {
     /// The e-stop input (bit 0) and the trip (bit 1), synchronised.
     now: Signal<Local, Bits<2>>,
     /// This cycle's new events (IRQ_IO's bits).
-    new_ev: Signal<Local, Bits<4>>,
+    new_ev: Signal<Local, Bits<5>>,
     /// The commands' toggles that changed (clk).
     pulses: Signal<Local, Bits<3>>,
     /// IO_AXIS of the read's axis, bit by bit.
@@ -213,6 +221,7 @@ impl<const K: usize> Default for IoRegs<K> {
             rd: Default::default(),
             lsel: Default::default(),
             lword: Default::default(),
+            stop_tog: Default::default(),
             pol: Default::default(),
             filt_lo: Default::default(),
             filt_hi: Default::default(),
@@ -222,6 +231,12 @@ impl<const K: usize> Default for IoRegs<K> {
             refused: Default::default(),
             events: Default::default(),
             mask: Default::default(),
+            stop_s: Default::default(),
+            stop_prev: Default::default(),
+            stopped: Default::default(),
+            stopped_p: std::array::from_fn(BitPick::new),
+            new_stop: Default::default(),
+            r_stopped: Default::default(),
             toggles: Default::default(),
             prev: Default::default(),
             irq_q: Default::default(),
@@ -328,6 +343,7 @@ impl<const K: usize> IoRegs<K> {
         self.creset.connect();
         self.rd.connect();
         self.lword.connect();
+        self.stop_tog.connect();
         self.connect_all();
     }
 }
@@ -336,7 +352,13 @@ impl<const K: usize> Logic for IoRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, bus_clock, pol, filt_lo, filt_hi, pre, edg, wdt, refused, events, mask, toggles, prev, irq_q);
-        dff_setup!(self, bus_clock, lvld, htog_b, ptog_b, pann, home_ev, hi_latch);
+        dff_setup!(self, bus_clock, lvld, htog_b, ptog_b, pann, home_ev, hi_latch, stop_prev, stopped);
+        // The per-axis stops' events: their toggles across.
+        self.stop_s.clock.next = self.bus_clock.val();
+        self.stop_s.sig_in.next = self.stop_tog.val();
+        self.stop_prev.d.next = self.stop_s.sig_out.val();
+        self.new_stop.next = self.stop_s.sig_out.val() ^ self.stop_prev.q.val();
+        self.stopped.d.next = self.stopped.q.val() | self.new_stop.val();
         dff_setup!(self, clock, cmd_prev);
         // Status into the bus clock.
         self.g_sync.clock.next = self.bus_clock.val();
@@ -416,7 +438,7 @@ impl<const K: usize> Logic for IoRegs<K> {
                 self.refused.d.next = false;
             }
             if self.wr_addr.val() == self.a_mask.val() {
-                self.mask.d.next = self.wr_data.val().get_bits::<4>(0);
+                self.mask.d.next = self.wr_data.val().get_bits::<5>(0);
             }
         }
 
@@ -480,19 +502,24 @@ impl<const K: usize> Logic for IoRegs<K> {
         // Events: the e-stop input and the trip rising, while the core runs.
         self.now.next = bit_cast::<2, 1>(self.g.val().get_bit(2).into()) | (bit_cast::<2, 1>(self.g.val().get_bit(3).into()) << 1);
         self.prev.d.next = self.now.val();
-        self.new_ev.next = bit_cast::<4, 2>(self.now.val() & !self.prev.q.val())
-            | (bit_cast::<4, 1>(self.p_event.val().into()) << 2)
-            | (bit_cast::<4, 1>(self.l_home.val().into()) << 3);
+        self.new_ev.next = bit_cast::<5, 2>(self.now.val() & !self.prev.q.val())
+            | (bit_cast::<5, 1>(self.p_event.val().into()) << 2)
+            | (bit_cast::<5, 1>(self.l_home.val().into()) << 3)
+            | (bit_cast::<5, 1>(self.new_stop.val().any().into()) << 4);
         self.events.d.next = self.events.q.val() | self.new_ev.val();
         if self.wr.val() & (self.wr_addr.val() == self.a_irq.val()) {
-            self.events.d.next = (self.events.q.val() & !self.wr_data.val().get_bits::<4>(0)) | self.new_ev.val();
+            self.events.d.next = (self.events.q.val() & !self.wr_data.val().get_bits::<5>(0)) | self.new_ev.val();
             if self.wr_data.val().get_bit(3) {
                 self.home_ev.d.next = self.l_hnew.val();
+            }
+            if self.wr_data.val().get_bit(4) {
+                self.stopped.d.next = self.new_stop.val();
             }
         }
         if !self.enable.val() | !self.g.val().get_bit(0) {
             self.events.d.next = 0.into();
             self.home_ev.d.next = 0.into();
+            self.stopped.d.next = 0.into();
         }
         self.irq_q.d.next = (self.events.q.val() & self.mask.q.val()).any();
         self.irq.next = self.irq_q.q.val();
@@ -525,10 +552,10 @@ impl<const K: usize> Logic for IoRegs<K> {
                 | (bit_cast::<16, 1>(self.refused.q.val().into()) << 4);
         }
         if self.rd_addr.val() == self.a_irq.val() {
-            self.rd_data.next = bit_cast::<16, 4>(self.events.q.val());
+            self.rd_data.next = bit_cast::<16, 5>(self.events.q.val());
         }
         if self.rd_addr.val() == self.a_mask.val() {
-            self.rd_data.next = bit_cast::<16, 4>(self.mask.q.val());
+            self.rd_data.next = bit_cast::<16, 5>(self.mask.q.val());
         }
         self.r_hit.next = false;
         self.r_lneg.next = false;
@@ -538,6 +565,7 @@ impl<const K: usize> Logic for IoRegs<K> {
         self.r_drv.next = false;
         self.r_lvld.next = false;
         self.r_hev.next = false;
+        self.r_stopped.next = false;
         self.rd_axis_reg.next = self.rd_addr.val().get_bit(8) & (self.rd_addr.val().get_bits::<4>(0) == self.o_axis.val());
         for i in 0..K {
             self.lneg_p[i].bus.next = self.lneg_s.sig_out.val();
@@ -547,9 +575,11 @@ impl<const K: usize> Logic for IoRegs<K> {
             self.drv_p[i].bus.next = self.drv_s.sig_out.val();
             self.lvld_p[i].bus.next = self.lvld.q.val();
             self.home_ev_p[i].bus.next = self.home_ev.q.val();
+            self.stopped_p[i].bus.next = self.stopped.q.val();
             if self.rd_addr.val().get_bits::<4>(4).index() == i {
                 self.r_lvld.next = self.lvld_p[i].value.val();
                 self.r_hev.next = self.home_ev_p[i].value.val();
+                self.r_stopped.next = self.stopped_p[i].value.val();
             }
             if self.rd_axis_reg.val() & (self.rd_addr.val().get_bits::<4>(4).index() == i) {
                 self.r_hit.next = true;
@@ -566,7 +596,8 @@ impl<const K: usize> Logic for IoRegs<K> {
                 | (bit_cast::<16, 1>(self.r_home.val().into()) << 2)
                 | (bit_cast::<16, 1>(self.r_alarm.val().into()) << 3)
                 | (bit_cast::<16, 1>(self.r_drv.val().into()) << 4)
-                | (bit_cast::<16, 1>(self.r_hev.val().into()) << 5);
+                | (bit_cast::<16, 1>(self.r_hev.val().into()) << 5)
+                | (bit_cast::<16, 1>(self.r_stopped.val().into()) << 6);
         }
         // The latch mirror at the read's axis (0 until its first word).
         self.r_lat.next = 0.into();
@@ -609,6 +640,8 @@ impl<const K: usize> Logic for IoRegs<K> {
             self.pann.d.next = false;
             self.home_ev.d.next = 0.into();
             self.hi_latch.d.next = 0.into();
+            self.stop_prev.d.next = 0.into();
+            self.stopped.d.next = 0.into();
         }
     }
 }

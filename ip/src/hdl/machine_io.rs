@@ -41,6 +41,13 @@
 //!   the probe: 0 = on becoming active, 1 = on becoming inactive), so a position latch
 //!   enabled by them takes the position on the edge where the level changes.
 //!
+//! * `axis_stop` (bit a, registered): the per-axis hard stop. Axis a was moving (`active`,
+//!   the core's) toward an active limit (`dir` 0 toward `limit_pos`, 1 toward
+//!   `limit_neg`) in this cycle and the one before (a segment that starts away from the
+//!   limit shows the old DIR for one tick), or its filtered alarm is active. With a
+//!   limit pin first sampled at edge e0 and the axis moving toward it, it rises after
+//!   edge e0 + 3 + n. `stop_tog` (bit a) flips each time it stops a moving axis.
+//!
 //! Cost: 7 flip-flops per input (4K + 2), 16 for the prescaler, 27 for the watchdog,
 //! 1 for the e-stop latch and K for the enables.
 
@@ -79,6 +86,20 @@ pub struct MachineIo<const K: usize> {
     pub alarm_active: Signal<Out, Bits<K>>,
     pub home_latch: Signal<Out, Bits<K>>,
     pub probe_latch: Signal<Out, Bit>,
+    /// The core's DIR and moving flags, bit a.
+    pub dir: Signal<In, Bits<K>>,
+    pub active: Signal<In, Bits<K>>,
+    pub axis_stop: Signal<Out, Bits<K>>,
+    pub stop_tog: Signal<Out, Bits<K>>,
+    toward_q: DFF<Bits<K>>,
+    stop_q: DFF<Bits<K>>,
+    tog_q: DFF<Bits<K>>,
+    dir_pick: [BitPick<K>; K],
+    act_pick: [BitPick<K>; K],
+    toward_pick: [BitPick<K>; K],
+    toward_bus: [BitInsert<K>; K],
+    stop_bus: [BitInsert<K>; K],
+    stop_new: Signal<Local, Bits<K>>,
     estop_f: InputFilter,
     probe_f: InputFilter,
     lneg_f: [InputFilter; K],
@@ -137,6 +158,19 @@ impl<const K: usize> Default for MachineIo<K> {
             alarm_active: Default::default(),
             home_latch: Default::default(),
             probe_latch: Default::default(),
+            dir: Default::default(),
+            active: Default::default(),
+            axis_stop: Default::default(),
+            stop_tog: Default::default(),
+            toward_q: Default::default(),
+            stop_q: Default::default(),
+            tog_q: Default::default(),
+            dir_pick: std::array::from_fn(BitPick::new),
+            act_pick: std::array::from_fn(BitPick::new),
+            toward_pick: std::array::from_fn(BitPick::new),
+            toward_bus: std::array::from_fn(BitInsert::new),
+            stop_bus: std::array::from_fn(BitInsert::new),
+            stop_new: Default::default(),
             estop_f: InputFilter::new(true),
             probe_f: InputFilter::new(false),
             lneg_f: std::array::from_fn(|_| InputFilter::new(true)),
@@ -185,6 +219,8 @@ impl<const K: usize> MachineIo<K> {
         self.estop_rearm.connect();
         self.wd_feed.connect();
         self.wd_rearm.connect();
+        self.dir.connect();
+        self.active.connect();
         self.connect_all();
     }
 }
@@ -192,7 +228,7 @@ impl<const K: usize> MachineIo<K> {
 impl<const K: usize> Logic for MachineIo<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, prescaler, latched, wd_count, tripped, drv);
+        dff_setup!(self, clock, prescaler, latched, wd_count, tripped, drv, toward_q, stop_q, tog_q);
         // The filters' shared sample strobe.
         self.sample.next = self.prescaler.q.val() >= self.prescale.val();
         if self.sample.val() {
@@ -277,7 +313,33 @@ impl<const K: usize> Logic for MachineIo<K> {
                 self.latch_bus[i].value.next = self.home_f[i].fall.val();
             }
             self.drv_bus[i].value.next = self.run.val() & !self.hard.val() & !self.alarm_f[i].active.val();
+            // The per-axis stop (see the module docs).
+            self.dir_pick[i].bus.next = self.dir.val();
+            self.act_pick[i].bus.next = self.active.val();
+            self.toward_pick[i].bus.next = self.toward_q.q.val();
+            self.toward_bus[i].value.next = self.act_pick[i].value.val()
+                & ((!self.dir_pick[i].value.val() & self.lpos_f[i].active.val())
+                    | (self.dir_pick[i].value.val() & self.lneg_f[i].active.val()));
+            self.stop_bus[i].value.next = (self.act_pick[i].value.val()
+                & ((!self.dir_pick[i].value.val() & self.lpos_f[i].active.val())
+                    | (self.dir_pick[i].value.val() & self.lneg_f[i].active.val()))
+                & self.toward_pick[i].value.val())
+                | self.alarm_f[i].active.val();
         }
+        self.toward_bus[0].bus_in.next = 0.into();
+        self.stop_bus[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.toward_bus[i].bus_in.next = self.toward_bus[i - 1].bus_out.val();
+            self.stop_bus[i].bus_in.next = self.stop_bus[i - 1].bus_out.val();
+        }
+        for i in 0..K {
+            self.toward_q.d.next = self.toward_bus[i].bus_out.val();
+            self.stop_new.next = self.stop_bus[i].bus_out.val();
+        }
+        self.stop_q.d.next = self.stop_new.val();
+        self.tog_q.d.next = self.tog_q.q.val() ^ (self.stop_new.val() & !self.stop_q.q.val() & self.active.val());
+        self.axis_stop.next = self.stop_q.q.val();
+        self.stop_tog.next = self.tog_q.q.val();
         self.lneg_bus[0].bus_in.next = 0.into();
         self.lpos_bus[0].bus_in.next = 0.into();
         self.home_bus[0].bus_in.next = 0.into();
@@ -309,6 +371,9 @@ impl<const K: usize> Logic for MachineIo<K> {
             self.wd_count.d.next = 1.into();
             self.tripped.d.next = false;
             self.drv.d.next = 0.into();
+            self.toward_q.d.next = 0.into();
+            self.stop_q.d.next = 0.into();
+            self.tog_q.d.next = 0.into();
         }
     }
 }

@@ -48,6 +48,7 @@ macro_rules! core_connect_ports {
             self.sel_axis.connect();
             self.ext_go.connect();
             self.abort.connect();
+            self.stop_axes.connect();
             self.high_min.connect();
             self.low_min.connect();
             self.home_latch.connect();

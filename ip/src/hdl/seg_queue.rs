@@ -28,6 +28,9 @@
 //!   cycle before it reads the head.
 //! * **Pop** (`pop`, one cycle): takes the head of queue `axis` at the clock edge, if
 //!   the queue is not empty. A push to the same axis in that cycle is allowed.
+//! * **Flush** (`flush`, one cycle): queue `axis` empties at the clock edge (`rd` takes
+//!   `wr`, or `wr + 1` with a push to it in that cycle, which is written and counted
+//!   taken with the rest). The per-axis stop; tied to 0 it costs nothing.
 //! * **Abort** (one cycle): every queue empties at the clock edge (`rd` takes `wr`, so
 //!   the taken counter counts the flushed segments), and a push in that cycle is
 //!   dropped. **Reset** (synchronous) zeroes both counters and clears both flags of
@@ -58,6 +61,7 @@ const _: () = assert!(MAX_QUEUE_AXES * MAX_QUEUE_DEPTH == 1 << SEG_ADDR_BITS);
 #[derive(LogicBlock)]
 pub struct SegQueue<const K: usize, const QDEPTH: usize> {
     pub clock: Signal<In, Clock>,
+    pub flush: Signal<In, Bit>,
     pub reset: Signal<In, Bit>,
     pub abort: Signal<In, Bit>,
     pub push_valid: Signal<In, Bit>,
@@ -103,6 +107,7 @@ impl<const K: usize, const QDEPTH: usize> SegQueue<K, QDEPTH> {
         );
         SegQueue {
             clock: Default::default(),
+            flush: Default::default(),
             reset: Default::default(),
             abort: Default::default(),
             push_valid: Default::default(),
@@ -211,6 +216,14 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
             }
             if self.push_valid.val() & (self.push_axis.val().index() == i) & !self.full[i].q.val() {
                 self.ne[i].d.next = true;
+            }
+            if self.flush.val() & (self.axis.val().index() == i) {
+                self.rd[i].d.next = self.wr[i].q.val();
+                if self.push_valid.val() & (self.push_axis.val().index() == i) & !self.full[i].q.val() {
+                    self.rd[i].d.next = self.wr[i].q.val() + 1;
+                }
+                self.full[i].d.next = false;
+                self.ne[i].d.next = false;
             }
             if self.abort.val() {
                 self.wr[i].d.next = self.wr[i].q.val();

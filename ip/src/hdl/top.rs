@@ -125,7 +125,8 @@ macro_rules! stepper_top {
                     regs: RegFile::new(params),
                     cmd_fifo: Default::default(),
                     status: Default::default(),
-                    core: $core::new(),
+                    // (The machine I/O's stops need the core's per-axis stop.)
+                    core: if false $(|| { let _ = stringify!($io); true })? { $core::new().with_axis_stops() } else { $core::new() },
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
                     c_push: Default::default(),
@@ -267,6 +268,7 @@ macro_rules! stepper_top {
                 self.status.bclock.next = self.bus_clk.val();
                 self.status.breset.next = self.rst_bus.sig_out.val();
                 self.core.sel_axis.next = self.status.sel.val();
+                self.core.stop_axes.next = 0.into();
                 // Position latches: only the machine I/O drives them.
                 self.core.home_latch.next = 0.into();
                 self.core.probe_latch.next = false;
@@ -327,6 +329,11 @@ macro_rules! stepper_top {
                     self.core.probe_latch.next = self.$io.probe_latch.val();
                     self.core.lsel_axis.next = self.io_regs.lsel.val();
                     self.io_regs.lword.next = self.core.lsel_word.val();
+                    // Limits and alarms stop their axes.
+                    self.$io.dir.next = self.core.dir.val();
+                    self.$io.active.next = self.core.active.val();
+                    self.core.stop_axes.next = self.$io.axis_stop.val();
+                    self.io_regs.stop_tog.next = self.$io.stop_tog.val();
                     self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val();
                     self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
                     // The hard stop holds the abort, except in a cycle that brings a push:

@@ -22,7 +22,10 @@
 //! last feed or re-arm; sticky until a re-arm), the hard-stop request and the
 //! drivers' enables, and says in which cycle the home and probe latches take the
 //! positions (the cycle before their filtered level changes, so a latch and the
-//! level change on the same clock edge).
+//! level change on the same clock edge). **The per-axis stop** (`axis_stop`, bit a,
+//! registered): axis a moving (the core's `active`) toward an active limit (DIR 0
+//! toward `limit_pos`, 1 toward `limit_neg`) in this cycle and the one before, or its
+//! alarm active; `stop_tog` flips when it stops a moving axis (the event).
 
 /// Largest filter length, in filter samples (the 4-bit field of each group).
 pub const FILTER_MAX_SAMPLES: u8 = 15;
@@ -124,6 +127,9 @@ pub struct IoPins {
     pub limit_pos: u32,
     pub home: u32,
     pub alarm: u32,
+    /// Not pins: the core's DIR (1 = negative) and moving (`active`) flags, bit a.
+    pub dir: u32,
+    pub active: u32,
 }
 
 /// One-cycle commands from the host (already in clk).
@@ -151,6 +157,10 @@ pub struct IoOutputs {
     pub home_latch: u32,
     /// Every axis's probe latch takes its position at the coming edge.
     pub probe_latch: bool,
+    /// Bit a: axis a is held in a hard stop by its inputs ([`MachineIoModel`]).
+    pub axis_stop: u32,
+    /// Bit a flips each time `axis_stop` stops a moving axis a.
+    pub stop_tog: u32,
 }
 
 /// The machine I/O block of `axes` axes.
@@ -166,6 +176,10 @@ pub struct MachineIoModel {
     wd_count: u32,
     wd_tripped: bool,
     drv_enable: u32,
+    /// Per axis, registered: moving toward an active limit, the stop, its toggle.
+    toward: u32,
+    axis_stop: u32,
+    stop_tog: u32,
 }
 
 impl MachineIoModel {
@@ -182,6 +196,9 @@ impl MachineIoModel {
             wd_count: 1,
             wd_tripped: false,
             drv_enable: 0,
+            toward: 0,
+            axis_stop: 0,
+            stop_tog: 0,
         }
     }
 
@@ -217,6 +234,8 @@ impl MachineIoModel {
             alarm: level(3),
             home_latch,
             probe_latch: self.probe.changes(inv(G_PROBE), s, cfg.filter[G_PROBE]) && self.probe.level != probe_to,
+            axis_stop: self.axis_stop,
+            stop_tog: self.stop_tog,
         }
     }
 
@@ -227,6 +246,17 @@ impl MachineIoModel {
         let hard = self.estop_latched || self.estop.level || self.wd_tripped;
         // Registered enables: the state of this cycle.
         self.drv_enable = self.bits(|a| run && !hard && !self.axis_inputs[a][3].level);
+        // The per-axis stop: moving toward an active limit (DIR 0 toward limit_pos, 1
+        // toward limit_neg) in this cycle and the one before (a segment that starts
+        // away from the limit shows the old DIR for one tick), or the alarm active.
+        let toward = self.bits(|a| {
+            let (d, act) = (pins.dir >> a & 1 == 1, pins.active >> a & 1 == 1);
+            act && ((!d && self.axis_inputs[a][1].level) || (d && self.axis_inputs[a][0].level))
+        });
+        let stop = (toward & self.toward) | self.bits(|a| self.axis_inputs[a][3].level);
+        self.stop_tog ^= stop & !self.axis_stop & pins.active;
+        self.axis_stop = stop;
+        self.toward = toward;
         let estop_active = self.estop.level;
         self.estop_latched = estop_active || (self.estop_latched && !cmd.estop_rearm);
         let unit_end = (cfg.wd_timeout as u32) << WATCHDOG_UNIT_BITS;
@@ -258,6 +288,9 @@ impl MachineIoModel {
             self.wd_count = 1;
             self.wd_tripped = false;
             self.drv_enable = 0;
+            self.toward = 0;
+            self.axis_stop = 0;
+            self.stop_tog = 0;
         }
     }
 }
