@@ -674,8 +674,8 @@ fn sixteen_axes_stream_one_ms_segments_for_100_ms() {
         for (a, segs) in axes.iter().enumerate() {
             let s = segs[j].effective();
             let c = start + (j - AHEAD) as u64 * t as u64 + 2 + 2 * a as u64;
-            ev.push((c, vec![0, 1, a as u128, s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0, 0, 0, 0, 0]));
-            ev.push((c + 1, vec![0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]));
+            ev.push((c, vec![0, 1, a as u128, s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0, 0, 0, 0, 0, 0]));
+            ev.push((c + 1, vec![0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]));
         }
     }
     ev.sort_by_key(|e| e.0);
