@@ -1136,6 +1136,16 @@ fn verilator_io<const K: usize>(name: &str, b: &BusModel, cycles: u64, initial: 
     tr
 }
 
+/// [`verilator_io`] in rust-hdl: the same bus events and pins, the same trace form.
+fn rust_hdl_io<const K: usize>(b: &BusModel, cycles: u64, initial: &[u128], pins: &[(u64, Vec<u128>)]) -> SystemTrace {
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), initial, pins);
+    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
+    u.connect_ports();
+    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
+    samples_to_bus_events(&mut rh, &index);
+    rh
+}
+
 /// Pins: estop_n, probe, limit_neg, limit_pos, home, alarm (every input inactive, the
 /// e-stop released, with the reset polarities).
 fn io_pins(estop_n: bool) -> Vec<u128> {
@@ -1334,11 +1344,7 @@ fn io_axis_reads_the_filtered_inputs_and_an_alarm_drops_the_enable() {
     assert_eq!(v(filt), 0x21, "IO_FILTER_HI written while disabled");
 
     // rust-hdl on the same events.
-    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &[(t_pins, pins)]);
-    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
-    u.connect_ports();
-    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
-    samples_to_bus_events(&mut rh, &index);
+    let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &[(t_pins, pins)]);
     let defined = |t: &SystemTrace| t.changes.iter().skip_while(|c| c.0 < 10).cloned().collect::<Vec<_>>();
     assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
     assert_eq!(rh.samples, tr.samples, "rust-hdl and Verilator differ (bus reads)");
@@ -1419,11 +1425,7 @@ fn home_and_probe_latch_the_exact_position() {
     check("Verilator", &tr);
     assert_eq!(expect_probe[0], j as i32 + 1, "the probe's edge counts axis 0's j-th edge");
 
-    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &pins);
-    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
-    u.connect_ports();
-    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
-    samples_to_bus_events(&mut rh, &index);
+    let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &pins);
     check("rust-hdl", &rh);
     let defined = |t: &SystemTrace| t.changes.iter().skip_while(|c| c.0 < 10).cloned().collect::<Vec<_>>();
     assert_eq!(defined(&rh), defined(&tr), "rust-hdl and Verilator differ (watched outputs)");
@@ -1505,10 +1507,6 @@ fn a_limit_in_the_direction_of_motion_stops_that_axis_alone() {
         assert_eq!((v(toward.1) >> 6 & 1, v(toward.2) & 0x1F, v(toward.3)), (1, 0, 0), "{sim}: the move toward: STOPPED, LEVEL 0, idle");
     };
     check("Verilator", &tr);
-    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &io_pins(true), &pins);
-    let mut u = TdmStepperIo::<K, R, DEPTH, QDEPTH>::new(CoreParams { io: true, ..params::<K>() });
-    u.connect_ports();
-    let mut rh = run_stepper_io_rust_hdl(&mut u, &CLOCKS, &events, cycles);
-    samples_to_bus_events(&mut rh, &index);
+    let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &pins);
     check("rust-hdl", &rh);
 }
