@@ -171,7 +171,7 @@
 #define TDM_STATUS_ERROR_SHIFT 8u
 #define TDM_STATUS_ERROR_MASK 0x0100u /* W1C: a segment was rejected; ERROR_CODE says why. Clearing it clears ERROR_CODE */
 #define TDM_STATUS_ERROR_CODE_SHIFT 12u
-#define TDM_STATUS_ERROR_CODE_MASK 0xF000u /* RO: 1 T = 0, 2 would reverse, 3 period too short, 4 T, 5 steps, 6 v0 out of range */
+#define TDM_STATUS_ERROR_CODE_MASK 0xF000u /* RO: 1 T = 0, 2 would reverse, 3 period too short, 4 T, 5 steps, 6 v0 out of range; with the machine I/O, 7 toward an active limit, 8 outside the soft limits, 9 axis held stopped or its plan stale */
 
 /* POS_LO: Signed position in steps, low half. */
 #define TDM_POS_LO(axis) (TDM_AXIS_BASE + (axis) * TDM_AXIS_STRIDE + 0x0Eu)

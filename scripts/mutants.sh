@@ -85,6 +85,9 @@ mutants=(
   "52#ip/src/hdl/io_regs.rs#s/\(self.l_hbits.val\(\) \^ self.htog_b.q.val\(\)\) & self.l_onehot.val\(\)/self.l_hbits.val() ^ self.htog_b.q.val()/#system#home_and_probe_latch#a latch word's home toggle is compared with every axis's (home events on axes that did not latch)"
   "53#ip/src/hdl/core.rs#s/self.queues.flush.next = self.axis_flush.val\(\);/self.queues.flush.next = false;/#hdl_core#one_axis_stops#the per-axis stop leaves the axis's queue (its segments run after the stop)"
   "54#ip/src/hdl/machine_io.rs#s/\n                & self.toward_pick\[i\].value.val\(\)\)/)/#system#a_limit_in_the_direction#a limit stops an axis on one tick of DIR toward it (a move away from an active limit is stopped at its start)"
+  "55#ip/src/hdl/push_guard.rs#s/ & \(self.st_taken.val\(\) == self.st_pushed.val\(\)\);/;/#hdl_machine_io#push_guard#the plan is taken from a status word of an axis with pushes the core has not taken"
+  "56#ip/src/hdl/push_guard.rs#s/\(self.u_sum.val\(\) > self.u_max.val\(\)\)/(self.u_sum.val() >= self.u_max.val())/#system#soft_limits#the soft maximum is exclusive (a push ending on it is rejected)"
+  "57#ip/src/hdl/step_gen.rs#s/self.more.val\(\) \| !self.fifo.empty.val\(\) \| /self.more.val() | /#hdl_axis_bank#axes_released_together#BUSY leaves out periods waiting in the FIFO for START"
 )
 
 only=("$@")

@@ -273,7 +273,7 @@ pub fn table() -> Vec<Register> {
                 f("UNDERRUN", 6, 1, W1c, "a period came late: the pulse was stretched (no step lost)"),
                 f("OVERFLOW", 7, 1, W1c, "a push was refused: the queue was full (LEVEL = ID_QUEUE_DEPTH) or the command FIFO had no room for it"),
                 f("ERROR", 8, 1, W1c, "a segment was rejected; ERROR_CODE says why. Clearing it clears ERROR_CODE"),
-                f("ERROR_CODE", 12, 4, Ro, "1 T = 0, 2 would reverse, 3 period too short, 4 T, 5 steps, 6 v0 out of range"),
+                f("ERROR_CODE", 12, 4, Ro, "1 T = 0, 2 would reverse, 3 period too short, 4 T, 5 steps, 6 v0 out of range; with the machine I/O, 7 toward an active limit, 8 outside the soft limits, 9 axis held stopped or its plan stale"),
             ],
             "Axis status.",
         ),
@@ -350,6 +350,31 @@ pub fn table() -> Vec<Register> {
             "Machine I/O events; under IRQ_MASK_IO they raise the irq line (GSTATUS.IRQ shows the other events' part of it only).",
         ),
         io_reg("IRQ_MASK_IO", 0x29, false, 0, vec![f("EVENTS", 0, 5, Rw, "1 lets IRQ_IO bit b raise the irq line")], "Enables for IRQ_IO."),
+        io_reg("SL_AXIS", 0x2A, false, 0, vec![f("AXIS", 0, 4, Rw, "the axis SL_APPLY sets and SL_STATUS and PLAN read")], "Soft limits: the axis they address."),
+        io_reg("SL_MIN_LO", 0x2B, false, 0, vec![f("VALUE", 0, 16, Rw, "bits 15:0")], "Soft limits, staging: the lowest end position a push may have (signed, inclusive), low half."),
+        io_reg("SL_MIN_HI", 0x2C, false, 0, vec![f("VALUE", 0, 16, Rw, "bits 31:16")], "Soft limits, staging: minimum, high half."),
+        io_reg("SL_MAX_LO", 0x2D, false, 0, vec![f("VALUE", 0, 16, Rw, "bits 15:0")], "Soft limits, staging: the highest end position a push may have (signed, inclusive), low half."),
+        io_reg("SL_MAX_HI", 0x2E, false, 0, vec![f("VALUE", 0, 16, Rw, "bits 31:16")], "Soft limits, staging: maximum, high half."),
+        io_reg(
+            "SL_APPLY", 0x2F, false, 0,
+            vec![f("ENABLE", 0, 1, Wo, "1: the staged SL_MIN..SL_MAX become axis SL_AXIS's soft limits, enabled (refused, SL_STATUS.REFUSED, if SL_MIN > SL_MAX); 0: its soft limits are off")],
+            "Soft limits: a write sets those of axis SL_AXIS; they apply to pushes checked after it.",
+        ),
+        io_reg(
+            "SL_STATUS", 0x30, false, 0,
+            vec![
+                f("ENABLED", 0, 1, Ro, "axis SL_AXIS's soft limits are on"),
+                f("STALE", 1, 1, Ro, "axis SL_AXIS's planned position is stale after a stop: its pushes are rejected (code 9) until a status word shows it at rest"),
+                f("REFUSED", 2, 1, W1c, "an SL_APPLY was refused (SL_MIN > SL_MAX, or SL_AXIS not an axis of this core)"),
+            ],
+            "Soft limits and the planned position of axis SL_AXIS.",
+        ),
+        io_reg(
+            "PLAN_LO", 0x31, false, 0,
+            vec![f("VALUE", 0, 16, Ro, "bits 15:0 of axis SL_AXIS's planned position; reading it latches bits 31:16 for PLAN_HI")],
+            "Planned position: where axis SL_AXIS's accepted pushes end (signed steps); the position itself whenever the axis rests with nothing pushed.",
+        ),
+        io_reg("PLAN_HI", 0x32, false, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PLAN_LO read")], "Planned position, high half (read PLAN_LO first)."),
         io_reg(
             "IO_AXIS", 0xA, true, 0,
             vec![
@@ -466,13 +491,23 @@ pub fn c_header(p: &CoreParams) -> String {
         let _ = writeln!(h);
     }
     h.push_str("/* Segment error codes (STATUS.ERROR_CODE). */\n");
-    for (code, name) in ERROR_CODES {
+    for (code, name) in error_codes(p) {
         let _ = writeln!(h, "#define TDM_ERR_{name} {code}u");
     }
     h.push_str("\n/* Access helpers: base is the bank's address, e.g. 0x60000000 for FSMC bank 1. */\n");
     h.push_str("#define TDM_REG(base, off) (*(volatile uint16_t *)((uintptr_t)(base) + (off)))\n\n");
     h.push_str("#endif /* TDM_STEPPER_REGS_H */\n");
     h
+}
+
+/// The error codes STATUS.ERROR_CODE can hold in a core with `p`: the segment's own,
+/// and with the machine I/O the push guard's ([`crate::model::guard::GuardError`]).
+pub fn error_codes(p: &CoreParams) -> Vec<(u8, &'static str)> {
+    let mut v = ERROR_CODES.to_vec();
+    if p.io {
+        v.extend(crate::model::guard::GuardError::ALL.iter().map(|e| (e.code(), e.name())));
+    }
+    v
 }
 
 /// Error codes of STATUS.ERROR_CODE, as the model defines them.
@@ -515,9 +550,13 @@ pub fn markdown(p: &CoreParams) -> String {
         }
     }
     m.push_str("\nError codes: ");
-    let codes: Vec<String> = ERROR_CODES.iter().map(|(c, n)| format!("{c} `{n}`")).collect();
+    let codes: Vec<String> = error_codes(p).iter().map(|(c, n)| format!("{c} `{n}`")).collect();
     m.push_str(&codes.join(", "));
-    m.push_str(". Segment fields and their ranges: docs/model.md.\n");
+    m.push_str(". Segment fields and their ranges: docs/model.md.");
+    if p.io {
+        m.push_str(" Codes 7 to 9 are the machine I/O's push guard: 7 a push toward an active limit switch, 8 a push whose end position lies outside the axis's soft limits, 9 a push to an axis held stopped (e-stop latch, watchdog trip, its alarm) or whose planned position is stale after a stop (retry once BUSY = 0).");
+    }
+    m.push('\n');
     contract(&mut m, p);
     m.push_str(SEQUENCE_TEXT);
     m

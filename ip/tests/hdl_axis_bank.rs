@@ -437,12 +437,18 @@ fn axes_released_together_match_the_pins_model() {
             if pending {
                 assert!(bit(t[O_BUSY], a), "row {r}: axis {a} has work coming but is not busy");
             }
+            if bit(t[O_READY], a) {
+                assert!(bit(t[O_BUSY], a), "row {r}: axis {a} has periods waiting for its release but is not busy");
+            }
         }
         let all = (0..K).all(|a| bit(t[O_FULL], a) || !bit(rows[r][I_PENDING], a));
         assert_eq!(t[O_SAT] == 1, all, "row {r}: all_sat");
         let sel = rows[r][I_SEL] as usize;
         assert_eq!(bit(t[O_FULL], sel), t[O_FIFO] >= DEPTH as u128, "row {r}: full of axis {sel}, level {}", t[O_FIFO]);
         assert_eq!(t[O_SBUSY] == 1, bit(t[O_BUSY], sel), "row {r}: sel_busy");
+        if t[O_FIFO] > 0 {
+            assert!(bit(t[O_BUSY], sel), "row {r}: axis {sel} has {} periods in its FIFO but is not busy", t[O_FIFO]);
+        }
     }
     // Before the start every axis is ready, and full when it holds DEPTH entries.
     for a in 0..K {

@@ -463,3 +463,363 @@ fn latch_strobes_follow_the_chosen_edge() {
         assert_eq!(probe_at, vec![expect(1)], "edges {edges}: probe");
     }
 }
+
+// ---- The push guard --------------------------------------------------------------
+
+use tdm_stepper::hdl::push_guard::PushGuard;
+use tdm_stepper::model::guard::{GuardFlags, PushGuardModel, SoftLimits};
+use tdm_stepper::regs;
+
+fn guard_uut() -> PushGuard<K> {
+    let mut u = PushGuard::<K>::default();
+    u.connect_ports();
+    u
+}
+
+/// Columns of a guard row as simulated (the offered command's kind, axis and steps in
+/// three; the generator and the model keep them packed in one, as a command).
+const G_COLS: [(&str, usize); 23] = [
+    ("reset", 1),
+    ("enable", 1),
+    ("wr", 1),
+    ("wr_addr", 9),
+    ("wr_data", 16),
+    ("rd", 1),
+    ("rd_addr", 9),
+    ("offer", 1),
+    ("offer_kind", 2),
+    ("offer_axis", 4),
+    ("offer_steps", 32),
+    ("accept", 1),
+    ("st_valid", 1),
+    ("st_axis", 4),
+    ("st_pos", 32),
+    ("st_taken", 8),
+    ("st_busy", 1),
+    ("st_pushed", 8),
+    ("lim_neg", K),
+    ("lim_pos", K),
+    ("alarm", K),
+    ("held_all", 1),
+    ("stop_ev", K),
+];
+
+fn set_guard(u: &mut PushGuard<K>, r: &[u128]) {
+    u.reset.next = r[0] == 1;
+    u.enable.next = r[1] == 1;
+    u.wr.next = r[2] == 1;
+    u.wr_addr.next = Bits::<9>::from(r[3] as u64);
+    u.wr_data.next = Bits::<16>::from(r[4] as u64);
+    u.rd.next = r[5] == 1;
+    u.rd_addr.next = Bits::<9>::from(r[6] as u64);
+    u.offer.next = r[7] == 1;
+    u.offer_kind.next = Bits::<2>::from(r[8] as u64);
+    u.offer_axis.next = Bits::<4>::from(r[9] as u64);
+    u.offer_steps.next = Bits::<32>::from(r[10] as u64);
+    u.accept.next = r[11] == 1;
+    u.st_valid.next = r[12] == 1;
+    u.st_axis.next = Bits::<4>::from(r[13] as u64);
+    u.st_pos.next = Bits::<32>::from(r[14] as u64);
+    u.st_taken.next = Bits::<8>::from(r[15] as u64);
+    u.st_busy.next = r[16] == 1;
+    u.st_pushed.next = Bits::<8>::from(r[17] as u64);
+    u.lim_neg.next = Bits::<K>::from(r[18] as u64);
+    u.lim_pos.next = Bits::<K>::from(r[19] as u64);
+    u.alarm.next = Bits::<K>::from(r[20] as u64);
+    u.held_all.next = r[21] == 1;
+    u.stop_ev.next = Bits::<K>::from(r[22] as u64);
+}
+
+/// A generated row (the command packed in column 8, the status word in 12) as simulated.
+fn unpack_offer(r: &[u128]) -> Vec<u128> {
+    let mut v = r[..8].to_vec();
+    v.extend([r[8] >> 104 & 3, r[8] >> 96 & 0xF, r[8] >> 64 & 0xFFFF_FFFF]);
+    v.extend_from_slice(&r[9..12]);
+    v.extend([r[12] & 0xFFFF_FFFF, r[12] >> 32 & 0xFF, r[12] >> 56 & 1]);
+    v.extend_from_slice(&r[13..]);
+    v
+}
+
+/// The guard in a register-level model: [`PushGuardModel`] for the checks and the
+/// plan, the pipeline's timing and the registers as the block comment gives them.
+struct GuardTb {
+    m: PushGuardModel,
+    plan_known: [bool; K],
+    sl_on: [bool; K],
+    sl_axis: u8,
+    sl_min: u32,
+    sl_max: u32,
+    refused: bool,
+    hi: Option<u16>,
+    /// A push in the pipeline: (axis, steps, cycle it is in, verdict).
+    push: Option<(usize, i32, u8, Option<Result<i64, u8>>)>,
+}
+
+impl GuardTb {
+    fn new() -> Self {
+        GuardTb {
+            m: PushGuardModel::new(K),
+            plan_known: [false; K],
+            sl_on: [false; K],
+            sl_axis: 0,
+            sl_min: 0,
+            sl_max: 0,
+            refused: false,
+            hi: Some(0),
+            push: None,
+        }
+    }
+
+    /// The outputs before the edge, then the edge.
+    fn clock(&mut self, r: &[u128]) -> Vec<Option<u128>> {
+        let a = |n: &str| regs::addr(n) as u128;
+        let (reset, enable, wr, waddr, wdata, rd, raddr) = (r[0] == 1, r[1] == 1, r[2] == 1, r[3], r[4] as u16, r[5] == 1, r[6]);
+        let bit = |col: usize, ax: usize| (r[col] >> ax) & 1 == 1;
+        // Cycle 1 of a push: the verdict from this cycle's state.
+        if let Some((ax, steps, 1, None)) = self.push {
+            let flags = GuardFlags { limit_neg: bit(14, ax), limit_pos: bit(15, ax), held: r[17] == 1 || bit(16, ax) };
+            let mut m = self.m.clone();
+            if !self.sl_on[ax] {
+                m.soft[ax] = None;
+            }
+            self.push = Some((ax, steps, 1, Some(m.check(ax, steps, flags).map_err(|e| e.code()))));
+        }
+        let code = match self.push {
+            Some((_, _, 3, Some(v))) => v.err().unwrap_or(0) as u128,
+            _ => 0,
+        };
+        let sa = self.sl_axis as usize;
+        let sel = |v: &[bool; K]| sa < K && v[sa];
+        let rdv: Option<u128> = if raddr == a("SL_AXIS") {
+            Some(self.sl_axis as u128)
+        } else if raddr == a("SL_MIN_LO") {
+            Some((self.sl_min & 0xFFFF) as u128)
+        } else if raddr == a("SL_MIN_HI") {
+            Some((self.sl_min >> 16) as u128)
+        } else if raddr == a("SL_MAX_LO") {
+            Some((self.sl_max & 0xFFFF) as u128)
+        } else if raddr == a("SL_MAX_HI") {
+            Some((self.sl_max >> 16) as u128)
+        } else if raddr == a("SL_STATUS") {
+            let stale = sa < K && self.m.stale[sa];
+            Some(sel(&self.sl_on) as u128 | (stale as u128) << 1 | (self.refused as u128) << 2)
+        } else if raddr == a("PLAN_LO") {
+            (sa < K && self.plan_known[sa]).then(|| (self.m.plan[sa] as u32 & 0xFFFF) as u128)
+        } else if raddr == a("PLAN_HI") {
+            self.hi.map(|h| h as u128)
+        } else {
+            Some(0)
+        };
+        let out = vec![Some(code), rdv];
+
+        // The edge.
+        if rd && raddr == a("PLAN_LO") {
+            self.hi = (sa < K && self.plan_known[sa]).then(|| (self.m.plan[sa] as u32 >> 16) as u16);
+        }
+        let mut w_write = false;
+        if let Some((ax, _, 4, Some(Ok(end)))) = self.push {
+            if r[9] == 1 {
+                self.m.accept(ax, end);
+                self.plan_known[ax] = true;
+                w_write = true;
+            }
+        }
+        let word = r[12];
+        let (st_ax, pos, taken, busy) = (r[11] as usize, word as u32 as i32, (word >> 32) as u8, (word >> 56) & 1 == 1);
+        let resync = r[10] == 1 && !busy && taken == r[13] as u8;
+        let mut clr = [false; K];
+        if resync && !w_write {
+            self.m.resync(st_ax, pos);
+            self.plan_known[st_ax] = true;
+            clr[st_ax] = true;
+        }
+        let _ = clr;
+        let kind = (r[8] >> 104) & 3;
+        let all = r[17] == 1 || !enable || (r[7] == 1 && kind == 2);
+        for ax in 0..K {
+            if all || bit(18, ax) || bit(16, ax) {
+                self.m.mark_stale(ax);
+            }
+        }
+        if wr {
+            if waddr == a("SL_AXIS") {
+                self.sl_axis = (wdata & 0xF) as u8;
+            }
+            if waddr == a("SL_MIN_LO") {
+                self.sl_min = (self.sl_min & 0xFFFF_0000) | wdata as u32;
+            }
+            if waddr == a("SL_MIN_HI") {
+                self.sl_min = (self.sl_min & 0xFFFF) | (wdata as u32) << 16;
+            }
+            if waddr == a("SL_MAX_LO") {
+                self.sl_max = (self.sl_max & 0xFFFF_0000) | wdata as u32;
+            }
+            if waddr == a("SL_MAX_HI") {
+                self.sl_max = (self.sl_max & 0xFFFF) | (wdata as u32) << 16;
+            }
+            if waddr == a("SL_APPLY") {
+                let en = wdata & 1 == 1;
+                let lim = SoftLimits { min: self.sl_min as i32, max: self.sl_max as i32 };
+                if sa >= K {
+                    self.refused = true;
+                } else if en {
+                    match self.m.set_soft(sa, Some(lim)) {
+                        Ok(()) => self.sl_on[sa] = true,
+                        Err(()) => self.refused = true,
+                    }
+                } else {
+                    self.sl_on[sa] = false;
+                }
+            }
+            if waddr == a("SL_STATUS") && wdata & 4 != 0 {
+                self.refused = false;
+            }
+        }
+        // The pipeline moves on; a new push enters it.
+        self.push = match self.push {
+            Some((ax, s, c, v)) if c < 4 => Some((ax, s, c + 1, v)),
+            _ => None,
+        };
+        if r[7] == 1 && kind == 0 {
+            self.push = Some((((r[8] >> 96) & 0xF) as usize, (r[8] >> 64) as u32 as i32, 1, None));
+        }
+        if reset || !enable {
+            self.push = None;
+        }
+        if reset {
+            let plan = self.m.plan.clone();
+            self.m = PushGuardModel::new(K);
+            self.m.plan = plan; // the plan memory keeps its words; stale covers them
+            self.sl_on = [false; K];
+            self.sl_axis = 0;
+            self.sl_min = 0;
+            self.sl_max = 0;
+            self.refused = false;
+            self.hi = Some(0);
+        }
+        out
+    }
+}
+
+#[test]
+fn push_guard_equals_the_model_three_ways() {
+    let mut rng = Rng(0x6a4d_0001);
+    let a = |n: &str| regs::addr(n) as u128;
+    let guard_regs = ["SL_AXIS", "SL_MIN_LO", "SL_MIN_HI", "SL_MAX_LO", "SL_MAX_HI", "SL_STATUS", "PLAN_LO", "PLAN_HI"];
+    let mut rows: Vec<Vec<u128>> = Vec::new();
+    let (mut lneg, mut lpos, mut alarm, mut held, mut enable) = (0u128, 0u128, 0u128, false, true);
+    let mut pos = [0i32; K];
+    let mut since_offer = 10;
+    let mut tb = GuardTb::new();
+    let mut want: Vec<Vec<Option<u128>>> = Vec::new();
+    for cyc in 0..12_000usize {
+        let mut r = vec![0u128; G_COLS.len() - 4];
+        r[0] = (cyc < 3 || rng.next() % 3000 == 0) as u128;
+        if rng.next() % 400 == 0 {
+            enable = !enable || rng.next() % 2 == 0;
+        }
+        r[1] = enable as u128;
+        // Register writes: mostly the soft limits around the positions in use.
+        if rng.next() % 9 == 0 {
+            r[2] = 1;
+            let which = rng.next() % 9;
+            let v = (rng.next() % 400) as i32 - 200;
+            let (addr, data) = match which {
+                0 => (a("SL_AXIS"), rng.next() % (K as u64 + 1)),
+                1 | 2 => (a("SL_MIN_LO"), (v - 50) as u32 as u64 & 0xFFFF),
+                3 => (a("SL_MIN_HI"), if v < 60 { 0xFFFF } else { 0 }),
+                4 | 5 => (a("SL_MAX_LO"), (v + 50) as u32 as u64 & 0xFFFF),
+                6 => (a("SL_MAX_HI"), if v < -60 { 0xFFFF } else { 0 }),
+                7 => (a("SL_APPLY"), rng.next() % 4),
+                _ => (a("SL_STATUS"), rng.next() % 8),
+            };
+            r[3] = addr;
+            r[4] = data as u128;
+        }
+        r[5] = (rng.next() % 4 == 0) as u128;
+        r[6] = if rng.next() % 8 == 0 { a("IO_STATUS") } else { a(guard_regs[(rng.next() % 8) as usize]) };
+        // A command into the check at most every 4 cycles.
+        since_offer += 1;
+        if since_offer >= 4 && rng.next() % 3 == 0 {
+            since_offer = 0;
+            r[7] = 1;
+            let kind = match rng.next() % 40 {
+                0 => 2u128,
+                1 => 1,
+                _ => 0,
+            };
+            let ax = (rng.next() % K as u64) as usize;
+            let steps: i32 = match rng.next() % 6 {
+                0 => 0,
+                1 => i32::MAX - (rng.next() % 3) as i32,
+                2 => i32::MIN + (rng.next() % 3) as i32,
+                _ => (rng.next() % 160) as i32 - 80,
+            };
+            r[8] = (kind << 104) | ((ax as u128) << 96) | ((steps as u32 as u128) << 64) | rng.next_u128() & ((1 << 64) - 1);
+        }
+        // The check's verdict in cycle 4: a random accept (the segment's own checks
+        // pass or not); noise elsewhere.
+        r[9] = (rng.next() % 3 != 0) as u128;
+        // Status words: half of them show their axis at rest with nothing untaken.
+        if rng.next() % 3 == 0 {
+            r[10] = 1;
+            let ax = (rng.next() % K as u64) as usize;
+            if rng.next() % 5 == 0 {
+                pos[ax] = (rng.next() % 300) as i32 - 150;
+            }
+            let pushed = rng.next() % 256;
+            let idle = rng.next() % 2 == 0;
+            let taken = if idle { pushed } else { (pushed + 1 + rng.next() % 3) % 256 };
+            let busy = !idle && rng.next() % 2 == 0 || idle && rng.next() % 6 == 0;
+            r[11] = ax as u128;
+            r[12] = (pos[ax] as u32 as u128) | (taken as u128) << 32 | (rng.next() as u128 & 0xFFFF) << 40 | (busy as u128) << 56 | 1 << 57;
+            r[13] = pushed as u128;
+        }
+        if rng.next() % 150 == 0 {
+            lneg ^= 1 << (rng.next() % K as u64);
+        }
+        if rng.next() % 150 == 0 {
+            lpos ^= 1 << (rng.next() % K as u64);
+        }
+        if rng.next() % 300 == 0 {
+            alarm ^= 1 << (rng.next() % K as u64);
+        }
+        if rng.next() % 500 == 0 {
+            held = !held && rng.next() % 3 == 0;
+        }
+        r[14] = lneg;
+        r[15] = lpos;
+        r[16] = alarm;
+        r[17] = held as u128;
+        r[18] = if rng.next() % 200 == 0 { 1 << (rng.next() % K as u64) } else { 0 };
+        // The check never passes a push the guard rejects.
+        if let Some((_, _, 4, Some(Err(_)))) = tb.push {
+            r[9] = 0;
+        }
+        let o = tb.clock(&r);
+        // Before the first reset's edge nothing is defined in Verilog.
+        want.push(if cyc < 1 { vec![None, None] } else { o });
+        rows.push(r);
+    }
+    for code in [7u128, 8, 9] {
+        let n = want.iter().filter(|w| w[0] == Some(code)).count();
+        assert!(n >= 20, "stimulus too thin: code {code} {n} times");
+    }
+    let passed = want.iter().zip(&rows).filter(|(_, r)| r[7] == 1).count();
+    assert!(passed > 1500, "{passed} commands");
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: G_COLS.iter().map(|(n, w)| Port::new(n, *w)).collect(),
+        outputs: vec![Port::new("code", 4), Port::new("rd_data", 16)],
+    };
+    three_ways(
+        "push_guard",
+        guard_uut,
+        |u, c| u.clock.next = Clock::from(c),
+        set_guard,
+        |u| vec![u.code.val().to_u64() as u128, u.rd_data.val().to_u64() as u128],
+        &spec,
+        &rows.iter().map(|r| unpack_offer(r)).collect::<Vec<_>>(),
+        &want,
+    );
+}

@@ -6,6 +6,8 @@
 //! apart: each comes out PUSH_CHECK_LATENCY cycles later, a valid push in its effective
 //! form, a bad one as a rejection with the model's code and its axis; `busy` covers
 //! the cycles in between. A reset drops the command in flight.
+//! A further check's code (`ext_code`, the push guard's) in a push's cycle 3 rejects a
+//! push the segment's own checks pass, with that code; their own code wins otherwise.
 
 mod common;
 
@@ -23,7 +25,13 @@ fn push(seg: &Segment, axis: u32) -> u128 {
 fn spec() -> TbSpec {
     TbSpec {
         clock: "clock".into(),
-        inputs: vec![Port::new("reset", 1), Port::new("in_valid", 1), Port::new("in_data", CMD_BITS), Port::new("in_v0", 32)],
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("in_valid", 1),
+            Port::new("in_data", CMD_BITS),
+            Port::new("in_v0", 32),
+            Port::new("ext_code", 4),
+        ],
         outputs: vec![
             Port::new("busy", 1),
             Port::new("out_valid", 1),
@@ -114,6 +122,9 @@ fn verdicts_equal_the_model_three_ways() {
         // Rows at which a command is offered and what comes out L cycles later.
         let mut plan: Vec<(usize, Vec<Option<u128>>)> = Vec::new();
         let (mut codes, mut near) = (std::collections::BTreeSet::new(), 0);
+        // The push guard's code in each push's cycle 3 (else noise, never read).
+        let mut ext_at: Vec<(usize, u128)> = Vec::new();
+        let mut ext_seen = 0;
         let mut k = 0;
         while k < segs.len() {
             let r = rows.len();
@@ -131,7 +142,16 @@ fn verdicts_equal_the_model_three_ways() {
                 _ => {
                     let seg = segs[k];
                     k += 1;
+                    let mut ext = [0u128, 0, 0, 7, 8, 9][(rng.next() % 6) as usize];
+                    if seg.rounds_past_rest() && near < 2 {
+                        ext = 0; // the first two go through (the count below)
+                    }
+                    ext_at.push((r + 3, ext));
                     match seg.validate(&limits) {
+                        Ok(()) if ext != 0 => {
+                            ext_seen += 1;
+                            (push(&seg, axis), vec![Some(0), None, Some(1), Some(axis as u128), Some(ext)])
+                        }
                         Ok(()) => {
                             near += seg.rounds_past_rest() as usize;
                             codes.insert(0);
@@ -164,7 +184,12 @@ fn verdicts_equal_the_model_three_ways() {
         for r in rows.iter_mut() {
             let v0 = r[2] & 0xFFFF_FFFF;
             r.push(v0);
+            r.push((rng.next() % 16) as u128);
         }
+        for (r, ext) in &ext_at {
+            rows[*r][4] = *ext;
+        }
+        assert!(ext_seen >= 10, "only {ext_seen} valid pushes the guard rejects");
         want.resize(rows.len(), vec![None; 6]);
         for w in want.iter_mut().skip(2) {
             *w = vec![Some(0), Some(0), None, Some(0), None, None];
@@ -196,6 +221,7 @@ fn verdicts_equal_the_model_three_ways() {
                 u.in_valid.connect();
                 u.in_data.connect();
                 u.in_v0.connect();
+                u.ext_code.connect();
                 u.connect_all();
                 u
             },
@@ -205,6 +231,7 @@ fn verdicts_equal_the_model_three_ways() {
                 u.in_valid.next = r[1] == 1;
                 u.in_data.next = Bits::<CMD_BITS>::from(num_bigint::BigUint::from(r[2]));
                 u.in_v0.next = Bits::<32>::from(r[3] as u64);
+                u.ext_code.next = Bits::<4>::from(r[4] as u64);
             },
             |u| {
                 vec![

@@ -42,6 +42,7 @@ fn uut() -> RegFile<K> {
     u.cmd_full.connect();
     u.cmd_almost_full.connect();
     u.start_fail_toggle.connect();
+    u.guard_code.connect();
     u.connect_all();
     u
 }
@@ -65,6 +66,8 @@ fn spec() -> TbSpec {
             Port::new("wr_next", 1),
             Port::new("wr_axis_next", 4),
             Port::new("cmd_almost_full", 1),
+            // The push guard's code (the machine I/O's), 0 here as without it.
+            Port::new("guard_code", 4),
         ],
         outputs: vec![Port::new("cmd_write", 1), Port::new("cmd_data", CMD_BITS), Port::new("rd_data", 16)],
     }
@@ -190,7 +193,7 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
     let mut rows = s.rows;
     for k in 0..rows.len() {
         let next = rows.get(k + 1).cloned().unwrap_or(vec![0; 11]);
-        rows[k].extend([next[5] >> 4, next[1], (next[2] >> 4) & 15, (k >= almost_from) as u128]);
+        rows[k].extend([next[5] >> 4, next[1], (next[2] >> 4) & 15, (k >= almost_from) as u128, 0]);
     }
 
     let out = run_rust_hdl(
@@ -213,6 +216,7 @@ fn commands_pass_the_push_check_in_order_and_bad_pushes_never_reach_the_core() {
             u.wr_next.next = r[12] == 1;
             u.wr_axis_next.next = (r[13] as u64).into();
             u.cmd_almost_full.next = r[14] == 1;
+            u.guard_code.next = (r[15] as u64).into();
         },
         |u| vec![u.cmd_write.val() as u128, bits_to_u128(u.cmd_data.val()), u.rd_data.val().to_u64() as u128],
     );

@@ -1158,8 +1158,8 @@ fn io_pins(estop_n: bool) -> Vec<u128> {
 /// cycle), no pulse is cut below STEP_HIGH, the
 /// positions read back equal the edges emitted, the queues are empty, drv_enable drops
 /// (at e0 + 3 + n),
-/// IO_STATUS and IRQ_IO say so; a release alone restarts nothing (a push and a START
-/// while latched move nothing, and LEVEL counts the flushed push as taken); only
+/// IO_STATUS and IRQ_IO say so; a release alone restarts nothing (a push while latched
+/// is rejected at push with code 9, HALTED, and a START moves nothing); only
 /// IO_CMD.ESTOP_REARM, written while the e-stop is released, lets the next move run.
 /// A machine I/O configuration write while enabled is refused.
 #[test]
@@ -1257,7 +1257,8 @@ fn estop_through_the_bus_stops_every_axis_exactly() {
     assert!(irq_edges(&tr).0.iter().any(|&c| c > e0 && c < e0 + 200), "the irq line rose for IRQ_IO.ESTOP");
     assert_eq!(v(released) & 0b111, 0b001, "released: ESTOP still latched, ESTOP_IN clear");
     let (st0, busy0, pos0) = latched_after;
-    assert_eq!((v(st0) & 0x1F, v(busy0)), (0, 0), "a push while latched is flushed and counted");
+    assert_eq!((v(st0) & 0x1F, v(busy0)), (0, 0), "a push while latched is not queued");
+    assert_eq!((v(st0) >> 8 & 1, v(st0) >> 12), (1, 9), "a push while latched is rejected at push: code 9 (HALTED)");
     assert_eq!(position(&b, &tr, pos0).unwrap(), position(&b, &tr, stopped_pos[0]).unwrap(), "nothing moved while latched");
     assert_eq!(v(rearmed) & 0b111, 0, "re-armed");
     let after: Vec<u64> = rises(&tr, 0).into_iter().filter(|&c| c >= resume).collect();
@@ -1436,8 +1437,9 @@ fn home_and_probe_latch_the_exact_position() {
 /// STEP rising edge after e0 + 4 + n (e0: the edge that first samples the pin), its
 /// queue flushed, its position the edges emitted, IO_AXIS.STOPPED and IRQ_IO.STOP set
 /// (and the irq line); axis 1 runs its whole move. While the limit stays active a move
-/// away from it (−) runs in full, and a move toward it is stopped before its first
-/// edge. rust-hdl gives the same trace.
+/// away from it (−) runs in full, and a push toward it is rejected at push with code 7
+/// (LIMIT) while a segment queued before it runs exactly, the model's edges. rust-hdl
+/// gives the same trace.
 #[test]
 fn a_limit_in_the_direction_of_motion_stops_that_axis_alone() {
     use tdm_stepper::model::io::pin_to_level_ticks;
@@ -1466,8 +1468,10 @@ fn a_limit_in_the_direction_of_motion_stops_that_axis_alone() {
     b.write_reg("START", 0, 0b01);
     b.idle_until_ps(b.now_ps() + 12_000 * 2 * CLOCKS.clk_half_ps);
     let away = (b.read_position(0), b.read_reg("IO_AXIS", 0), b.read_reg("IRQ_IO", 0));
-    // Toward it: stopped before its first edge.
+    // Toward it: rejected at push; the segment queued before it runs.
     let t_toward = b.now_ps();
+    let last_away = Segment { v0_rate: 0, t_ticks: 10_000, steps: -50 };
+    b.push_segment(0, &last_away);
     b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 10_000, steps: 100 });
     b.write_reg("START", 0, 0b01);
     b.idle_until_ps(b.now_ps() + 12_000 * 2 * CLOCKS.clk_half_ps);
@@ -1501,12 +1505,126 @@ fn a_limit_in_the_direction_of_motion_stops_that_axis_alone() {
         assert_eq!(second, 100, "{sim}: the move away from the limit");
         assert_eq!(position(&b, t, away.0), Some(first.len() as i32 - 100), "{sim}: after the move away");
         assert_eq!((v(away.1) >> 6 & 1, v(away.2) >> 4 & 1), (0, 0), "{sim}: the move away is no stop");
-        let third = r0.iter().filter(|&&c| c >= toward_c).count();
-        assert_eq!(third, 0, "{sim}: a move toward the active limit moved");
-        assert_eq!(position(&b, t, toward.0), Some(first.len() as i32 - 100), "{sim}: after the move toward");
-        assert_eq!((v(toward.1) >> 6 & 1, v(toward.2) & 0x1F, v(toward.3)), (1, 0, 0), "{sim}: the move toward: STOPPED, LEVEL 0, idle");
+        check_edges_in(t, &[vec![last_away]], toward_c..u64::MAX, &format!("{sim}: the segment queued before the push toward the limit"));
+        assert_eq!(position(&b, t, toward.0), Some(first.len() as i32 - 150), "{sim}: after the push toward");
+        let st = v(toward.2);
+        assert_eq!((st >> 8 & 1, st >> 12, st & 0x1F, v(toward.3)), (1, 7, 0, 0), "{sim}: the push toward: ERROR, code 7 (LIMIT), LEVEL 0, idle");
+        assert_eq!(v(toward.1) >> 6 & 1, 0, "{sim}: a rejected push is no stop");
     };
     check("Verilator", &tr);
     let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &pins);
+    check("rust-hdl", &rh);
+}
+
+/// Soft limits and the planned position through the bus (the push guard), K = 2: axis 0
+/// gets soft limits [−100, 300]. SL_APPLY with SL_MIN > SL_MAX, or with SL_AXIS beyond
+/// the core's axes, is refused (SL_STATUS.REFUSED) and changes nothing. A push whose end
+/// position after everything queued before it lies past a limit is rejected at push
+/// with code 8 (SOFT_LIMIT) and the queued segments run exactly (the model's edges);
+/// one that ends on a limit is taken (inclusive). PLAN reads where the accepted pushes
+/// end. After an ABORT mid-move the plan is stale (SL_STATUS.STALE) until a status word
+/// shows the axis at rest, then equals the position it stopped at: a push past the
+/// limit from there is rejected, one within it runs, and PLAN follows. rust-hdl gives the
+/// same reads.
+#[test]
+fn soft_limits_reject_pushes_past_them_and_the_plan_follows_an_abort() {
+    const K: usize = 2;
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 1);
+    b.idle(50);
+    let set = |b: &mut BusModel, axis: u16, min: i32, max: i32| {
+        b.write_reg("SL_AXIS", 0, axis);
+        b.write_reg("SL_MIN_LO", 0, min as u16);
+        b.write_reg("SL_MIN_HI", 0, (min >> 16) as u16);
+        b.write_reg("SL_MAX_LO", 0, max as u16);
+        b.write_reg("SL_MAX_HI", 0, (max >> 16) as u16);
+        b.write_reg("SL_APPLY", 0, 1);
+    };
+    set(&mut b, 0, -100, 300);
+    let on = b.read_reg("SL_STATUS", 0);
+    set(&mut b, 0, 10, 5);
+    let bad_pair = b.read_reg("SL_STATUS", 0);
+    b.write_reg("SL_STATUS", 0, 1 << 2);
+    set(&mut b, 5, 0, 10);
+    let bad_axis = b.read_reg("SL_STATUS", 0);
+    b.write_reg("SL_STATUS", 0, 1 << 2);
+    b.write_reg("SL_AXIS", 0, 0);
+    let cleared = b.read_reg("SL_STATUS", 0);
+
+    let first = Segment { v0_rate: 0, t_ticks: 20_000, steps: 200 };
+    let last = Segment { v0_rate: 0, t_ticks: 10_000, steps: 100 };
+    let other = Segment { v0_rate: 0, t_ticks: 30_000, steps: -300 };
+    b.push_segment(0, &first);
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 20_000, steps: 150 }); // ends at 350
+    b.idle(10);
+    let over = b.read_reg("STATUS", 0);
+    b.write_reg("STATUS", 0, 1 << 8);
+    b.push_segment(0, &last); // ends at 300: on the limit
+    b.push_segment(1, &other);
+    b.idle(10);
+    let planned = (b.read_reg("STATUS", 0), b.read_reg("PLAN_LO", 0), b.read_reg("PLAN_HI", 0));
+    b.write_reg("SL_AXIS", 0, 1);
+    let planned1 = (b.read_reg("PLAN_LO", 0), b.read_reg("PLAN_HI", 0));
+    b.write_reg("SL_AXIS", 0, 0);
+    let t_start = b.now_ps();
+    b.write_reg("START", 0, 0b11);
+    b.idle_until_ps(b.now_ps() + 32_000 * 2 * CLOCKS.clk_half_ps);
+    let done = (b.read_position(0), b.read_position(1), b.read_reg("PLAN_LO", 0), b.read_reg("PLAN_HI", 0));
+
+    // An abort mid-move.
+    let t_second = b.now_ps();
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 40_000, steps: -350 });
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + 20_000 * 2 * CLOCKS.clk_half_ps);
+    b.write_reg("ABORT", 0, 1);
+    let just_aborted = b.read_reg("SL_STATUS", 0);
+    b.idle(200);
+    let rested = (b.read_reg("SL_STATUS", 0), b.read_position(0), b.read_reg("PLAN_LO", 0), b.read_reg("PLAN_HI", 0));
+    let t_third = b.now_ps();
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 40_000, steps: 400 }); // past 300 from anywhere above −100
+    b.idle(10);
+    let over2 = b.read_reg("STATUS", 0);
+    b.write_reg("STATUS", 0, 1 << 8);
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 10_000, steps: -1 });
+    b.write_reg("START", 0, 0b01);
+    // (The one step's pulse is high for half its 10,000-tick period.)
+    b.idle_until_ps(b.now_ps() + 17_000 * 2 * CLOCKS.clk_half_ps);
+    let fin = (b.read_reg("STATUS", 0), b.read_position(0), b.read_reg("PLAN_LO", 0), b.read_reg("PLAN_HI", 0));
+    let cycles = cycles_after(&b, 100);
+    let tr = verilator_io::<K>("io_soft_limits", &b, cycles, &io_pins(true), &[]);
+
+    let check = |sim: &str, t: &SystemTrace| {
+        let v = |id| b.value(t, id).expect("read returned x");
+        let pair = |lo, hi| (v(lo) as u32 | (v(hi) as u32) << 16) as i32;
+        assert_eq!(v(on) & 0b111, 0b001, "{sim}: SL_STATUS after SL_APPLY: ENABLED");
+        assert_eq!(v(bad_pair) & 0b111, 0b101, "{sim}: SL_MIN > SL_MAX refused, the limits still on");
+        assert_eq!(v(bad_axis) >> 2 & 1, 1, "{sim}: SL_AXIS beyond K refused");
+        assert_eq!(v(cleared) & 0b111, 0b001, "{sim}: REFUSED cleared");
+        let st = v(over);
+        assert_eq!((st >> 8 & 1, st >> 12, st & 0x1F), (1, 8, 1), "{sim}: the push ending at 350: code 8, one segment queued");
+        let (st, lo, hi) = planned;
+        assert_eq!((v(st) >> 8 & 1, v(st) & 0x1F), (0, 2), "{sim}: the push ending on the limit is taken");
+        assert_eq!(pair(lo, hi), 300, "{sim}: PLAN of axis 0 before the start");
+        assert_eq!(pair(planned1.0, planned1.1), -300, "{sim}: PLAN of axis 1 (no soft limits)");
+        let window = clk_cycle_at(t_start)..clk_cycle_at(t_second);
+        check_edges_in(t, &[vec![first, last], vec![other]], window, &format!("{sim}: the segments queued around the rejected push"));
+        let (p0, p1, lo, hi) = done;
+        assert_eq!((position(&b, t, p0), position(&b, t, p1), pair(lo, hi)), (Some(300), Some(-300), 300), "{sim}: after the move");
+        assert_eq!(v(just_aborted) >> 1 & 1, 1, "{sim}: the plan is stale right after the ABORT");
+        let (sl, pos, lo, hi) = rested;
+        let pos = position(&b, t, pos).unwrap();
+        let moved = rises(t, 0).into_iter().filter(|&c| c >= clk_cycle_at(t_second) && c < clk_cycle_at(t_third)).count() as i32;
+        assert!(moved > 50 && moved < 349, "{sim}: the abort came mid-move ({moved} edges)");
+        assert_eq!(pos, 300 - moved, "{sim}: the position after the abort: the edges emitted");
+        assert_eq!((v(sl) >> 1 & 1, pair(lo, hi)), (0, pos), "{sim}: at rest the plan is the position again");
+        let st = v(over2);
+        assert_eq!((st >> 8 & 1, st >> 12, st & 0x1F), (1, 8, 0), "{sim}: past the limit from the aborted position: code 8");
+        let (st, pos2, lo, hi) = fin;
+        assert_eq!(v(st) & 0x13F, 0, "{sim}: the push within the limit ran: no error, nothing queued, idle");
+        assert_eq!((position(&b, t, pos2), pair(lo, hi)), (Some(pos - 1), pos - 1), "{sim}: the last move and its plan");
+    };
+    check("Verilator", &tr);
+    let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &[]);
     check("rust-hdl", &rh);
 }

@@ -11,7 +11,8 @@
 //! * **Coming** (`pending`, bit i): axis i has work the scheduler has not yet turned
 //!   into entries (a segment in progress, set up, or queued). An axis's `more` (the
 //!   step generator's underrun test) is `pending` or an entry of its own in flight
-//!   (offered now, or in either pulse stage), and its `busy` is `more`, moving, or
+//!   (offered now, or in either pulse stage), and its `busy` is `more`, an entry in its
+//!   FIFO (a move not yet released counts), moving, or
 //!   STEP high.
 //! * **Release**: `start` with `start_mask` arms the [`SyncStart`] (`go` 2 cycles after
 //!   the last masked axis is ready, `failed` one cycle when it cannot complete);

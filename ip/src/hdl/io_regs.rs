@@ -19,6 +19,8 @@
 //!   input, the watchdog trip, the probe input, and per axis the filtered inputs and
 //!   `drv_enable`, each level through its own two flip-flops (independent flags).
 //!
+//! * for the push guard ([`super::push_guard::PushGuard`]): the synchronised limits
+//!   and alarms, the e-stop latch or trip, and the stops' events, in the bus clock;
 //! * position latches from `clk`: a [`WordSync`] copies one axis's latch word at a
 //!   time, round robin (`lsel` names the axis, `lword` is the core's word for it, see
 //!   [`LATCH_BITS`]), into a mirror in LUT RAM that HOME_POS and PROBE_POS read. A word
@@ -84,6 +86,14 @@ pub struct IoRegs<const K: usize> {
     pub lword: Signal<In, Bits<LATCH_BITS>>,
     /// The per-axis stops' toggles (`MachineIo::stop_tog`, clk).
     pub stop_tog: Signal<In, Bits<K>>,
+    /// For the push guard, in the bus clock: the filtered limits and alarms (bit a),
+    /// the e-stop latch or a watchdog trip (`b_held`), and a stop's event (`b_stop_ev`,
+    /// one cycle per stop).
+    pub b_lneg: Signal<Out, Bits<K>>,
+    pub b_lpos: Signal<Out, Bits<K>>,
+    pub b_alarm: Signal<Out, Bits<K>>,
+    pub b_held: Signal<Out, Bit>,
+    pub b_stop_ev: Signal<Out, Bits<K>>,
     // Bus clock: configuration, flags, events, command toggles.
     pol: DFF<Bits<6>>,
     filt_lo: DFF<Bits<16>>,
@@ -222,6 +232,11 @@ impl<const K: usize> Default for IoRegs<K> {
             lsel: Default::default(),
             lword: Default::default(),
             stop_tog: Default::default(),
+            b_lneg: Default::default(),
+            b_lpos: Default::default(),
+            b_alarm: Default::default(),
+            b_held: Default::default(),
+            b_stop_ev: Default::default(),
             pol: Default::default(),
             filt_lo: Default::default(),
             filt_hi: Default::default(),
@@ -378,6 +393,11 @@ impl<const K: usize> Logic for IoRegs<K> {
         self.alarm_s.sig_in.next = self.alarm.val();
         self.drv_s.clock.next = self.bus_clock.val();
         self.drv_s.sig_in.next = self.drv_enable.val();
+        self.b_lneg.next = self.lneg_s.sig_out.val();
+        self.b_lpos.next = self.lpos_s.sig_out.val();
+        self.b_alarm.next = self.alarm_s.sig_out.val();
+        self.b_held.next = self.g.val().get_bit(1) | self.g.val().get_bit(3);
+        self.b_stop_ev.next = self.new_stop.val();
 
         // Configuration out (static while used: see the module comment).
         self.polarity.next = self.pol.q.val();

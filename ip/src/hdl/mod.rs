@@ -85,6 +85,7 @@ pub mod lut_ram;
 pub mod machine_io;
 pub mod pulse_stage;
 pub mod push_check;
+pub mod push_guard;
 pub mod ram_fifo;
 pub mod regfile;
 pub mod root;

@@ -20,6 +20,7 @@
 //!   2n·2^32 < v0·T; rounds past rest: and 2n·2^32 + T > v0·T; too fast at the end:
 //!   2n·2^32 > (v0 + RMAX)·T, that is v_end·T·2^32 > T·RMAX) make the verdict's code,
 //!   in the model's order, and it is registered with the rounds-past-rest flag;
+//!   a push the segment's checks pass takes `ext_code` (a further check's, 0 passes);
 //! * cycle 4: the verdict, from those registers. `out_valid`/`out_data` for a valid push, START or ABORT;
 //!   `rej_valid` with `rej_axis` and `rej_code` for a rejected push.
 //!
@@ -46,6 +47,10 @@ pub struct PushCheck {
     /// The v0 of the push on offer (equal to `in_data`'s low 32 bits whenever a push
     /// is offered; read every cycle, for v0 + RMAX).
     pub in_v0: Signal<In, Bits<32>>,
+    /// A further check's code for the push in cycle 3 (the machine I/O's
+    /// [`super::push_guard::PushGuard`]; 0 passes): the verdict takes it when the
+    /// segment's own checks pass. Tied to 0 without the machine I/O.
+    pub ext_code: Signal<In, Bits<4>>,
     pub busy: Signal<Out, Bit>,
     pub out_valid: Signal<Out, Bit>,
     pub out_data: Signal<Out, Bits<CMD_BITS>>,
@@ -101,6 +106,7 @@ impl PushCheck {
             in_valid: Default::default(),
             in_data: Default::default(),
             in_v0: Default::default(),
+            ext_code: Default::default(),
             busy: Default::default(),
             out_valid: Default::default(),
             out_data: Default::default(),
@@ -213,14 +219,14 @@ impl Logic for PushCheck {
             if self.v0_fast1.q.val() {
                 self.code.d.next = 3.into();
             } else {
-                self.code.d.next = 0.into();
+                self.code.d.next = self.ext_code.val();
             }
         } else if self.rev.val() {
             self.code.d.next = 2.into();
         } else if self.v0_fast.q.val() | self.fast.val() {
             self.code.d.next = 3.into();
         } else {
-            self.code.d.next = 0.into();
+            self.code.d.next = self.ext_code.val();
         }
 
         // Cycle 4: the verdict.

@@ -117,6 +117,16 @@ pub struct RegFile<const K: usize> {
     /// Toggles (synchronised from clk) each time the core cancels a START.
     pub start_fail_toggle: Signal<In, Bit>,
     pub irq: Signal<Out, Bit>,
+    /// The machine I/O's push guard ([`super::push_guard::PushGuard`]): the command
+    /// written into the push check this cycle (`offer`, its kind, axis and steps), the
+    /// push count of the status word's axis (`st_pushed`), and the guard's code, which
+    /// the check merges into its verdict in cycle 3 (`guard_code`; tied to 0 without it).
+    pub offer: Signal<Out, Bit>,
+    pub offer_kind: Signal<Out, Bits<2>>,
+    pub offer_axis: Signal<Out, Bits<4>>,
+    pub offer_steps: Signal<Out, Bits<32>>,
+    pub st_pushed: Signal<Out, Bits<8>>,
+    pub guard_code: Signal<In, Bits<4>>,
 
     /// Staging, one LUT RAM per half-word register (V0_LO, V0_HI, T_LO, T_HI,
     /// STEPS_LO, STEPS_HI), addressed by axis.
@@ -332,6 +342,12 @@ impl<const K: usize> RegFile<K> {
             high_min: Default::default(),
             low_min: Default::default(),
             start_fail_toggle: Default::default(),
+            offer: Default::default(),
+            offer_kind: Default::default(),
+            offer_axis: Default::default(),
+            offer_steps: Default::default(),
+            st_pushed: Default::default(),
+            guard_code: Default::default(),
             irq: Default::default(),
             st_ram: std::array::from_fn(|_| Default::default()),
             st_vld: std::array::from_fn(|_| Default::default()),
@@ -945,6 +961,12 @@ impl<const K: usize> Logic for RegFile<K> {
         self.chk.in_data.next = self.c_data.val();
         // The push's v0 on its own port: v0 + RMAX does not wait for the START/ABORT select.
         self.chk.in_v0.next = self.x_v0.val();
+        self.chk.ext_code.next = self.guard_code.val();
+        self.offer.next = self.c_write.val();
+        self.offer_kind.next = self.c_data.val().get_bits::<2>(104);
+        self.offer_axis.next = self.c_data.val().get_bits::<4>(96);
+        self.offer_steps.next = self.c_data.val().get_bits::<32>(64);
+        self.st_pushed.next = self.o_pushed.val();
         self.irq_q.d.next = ((self.irq_done.q.val() & self.mask_done.q.val())
             | (self.irq_qlow.q.val() & self.mask_qlow.q.val())
             | (self.irq_err.q.val() & self.mask_err.q.val()))

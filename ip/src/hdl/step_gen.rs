@@ -285,7 +285,8 @@ pub struct StepAxis<const DEPTH: usize> {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
-    /// Entries still coming (`more`), moving, or STEP still high: the axis's BUSY.
+    /// Entries still coming (`more`) or waiting in the FIFO (a move not yet released),
+    /// moving, or STEP still high: the axis's BUSY.
     pub busy: Signal<Out, Bit>,
     pub done_count: Signal<Out, Bits<8>>,
     pub under_count: Signal<Out, Bits<8>>,
@@ -348,7 +349,7 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
         self.gen.go.next = self.go.val();
         self.gen.more.next = self.more.val();
         self.step.next = self.gen.step.val();
-        self.busy.next = self.more.val() | self.gen.active.val() | self.gen.step.val();
+        self.busy.next = self.more.val() | !self.fifo.empty.val() | self.gen.active.val() | self.gen.step.val();
         self.dir.next = self.gen.dir.val();
         self.position.next = self.gen.position.val();
         self.underrun.next = self.gen.underrun.val();

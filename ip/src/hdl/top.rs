@@ -39,6 +39,7 @@ use super::core::{TdmCore, STATE_BITS};
 use super::exmc::ExmcSlave;
 use super::io_regs::IoRegs;
 use super::machine_io::MachineIo;
+use super::push_guard::PushGuard;
 use super::regfile::{RegFile, CMD_BITS};
 use super::status_sync::{StatusSync, STATUS_BITS};
 use crate::regs::{CoreParams, ADDR_BITS};
@@ -93,6 +94,7 @@ macro_rules! stepper_top {
                 pub drv_enable: Signal<Out, Bits<K>>,
                 pub $io: MachineIo<K>,
                 pub io_regs: IoRegs<K>,
+                pub guard: PushGuard<K>,
             )?
         }
 
@@ -143,6 +145,7 @@ macro_rules! stepper_top {
                         drv_enable: Default::default(),
                         $io: Default::default(),
                         io_regs: Default::default(),
+                        guard: Default::default(),
                     )?
                 }
             }
@@ -210,6 +213,8 @@ macro_rules! stepper_top {
                 self.regs.wr_axis_next.next = self.exmc.wr_axis_next.val();
                 self.exmc.rd_data.next = self.regs.rd_data.val();
                 self.irq.next = self.regs.irq.val();
+                // The push guard is the machine I/O's.
+                self.regs.guard_code.next = 0.into();
 
                 // Commands across.
                 self.cmd_fifo.wclock.next = self.bus_clk.val();
@@ -334,7 +339,34 @@ macro_rules! stepper_top {
                     self.$io.active.next = self.core.active.val();
                     self.core.stop_axes.next = self.$io.axis_stop.val();
                     self.io_regs.stop_tog.next = self.$io.stop_tog.val();
-                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val();
+                    // The push guard: beside the check, on the status words, with the
+                    // machine I/O's levels and stops.
+                    self.guard.clock.next = self.bus_clk.val();
+                    self.guard.reset.next = self.rst_bus.sig_out.val();
+                    self.guard.enable.next = self.regs.enable.val();
+                    self.guard.wr.next = self.exmc.wr.val();
+                    self.guard.wr_addr.next = self.exmc.wr_addr.val();
+                    self.guard.wr_data.next = self.exmc.wr_data.val();
+                    self.guard.rd.next = self.exmc.rd.val();
+                    self.guard.rd_addr.next = self.exmc.rd_addr.val();
+                    self.guard.offer.next = self.regs.offer.val();
+                    self.guard.offer_kind.next = self.regs.offer_kind.val();
+                    self.guard.offer_axis.next = self.regs.offer_axis.val();
+                    self.guard.offer_steps.next = self.regs.offer_steps.val();
+                    self.guard.accept.next = self.regs.cmd_write.val();
+                    self.regs.guard_code.next = self.guard.code.val();
+                    self.guard.st_valid.next = self.status.valid.val();
+                    self.guard.st_axis.next = self.status.axis.val().get_bits::<4>(0);
+                    self.guard.st_pos.next = self.status.word.val().get_bits::<32>(0);
+                    self.guard.st_taken.next = self.status.word.val().get_bits::<8>(32);
+                    self.guard.st_busy.next = self.status.word.val().get_bit(56);
+                    self.guard.st_pushed.next = self.regs.st_pushed.val();
+                    self.guard.lim_neg.next = self.io_regs.b_lneg.val();
+                    self.guard.lim_pos.next = self.io_regs.b_lpos.val();
+                    self.guard.alarm.next = self.io_regs.b_alarm.val();
+                    self.guard.held_all.next = self.io_regs.b_held.val();
+                    self.guard.stop_ev.next = self.io_regs.b_stop_ev.val();
+                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val();
                     self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
                     // The hard stop holds the abort, except in a cycle that brings a push:
                     // the queue takes it then and the next cycle's abort flushes it and

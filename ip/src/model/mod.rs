@@ -7,6 +7,7 @@
 //! * [`axis`]: one axis running segments back to back;
 //! * [`units`]: steps/s and seconds to register units;
 //! * [`planner`]: trapezoid moves to segments;
+//! * [`guard`]: the machine I/O's push checks (limits, soft limits, a held axis) and the planned position;
 //! * [`io`]: machine inputs and safety (filters, e-stop latch, watchdog, latches), clock by clock;
 //! * [`pulse`]: STEP high times and DIR changes on the pins, from the output timing;
 //! * [`alternatives`]: other period algorithms, for the accuracy report.
@@ -14,6 +15,7 @@
 pub mod alternatives;
 pub mod axis;
 pub mod exact;
+pub mod guard;
 pub mod integer;
 pub mod io;
 pub mod planner;
