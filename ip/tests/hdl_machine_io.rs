@@ -604,7 +604,12 @@ impl GuardTb {
             let stale = sa < K && self.m.stale[sa];
             Some(sel(&self.sl_on) as u128 | (stale as u128) << 1 | (self.refused as u128) << 2)
         } else if raddr == a("PLAN_LO") {
-            (sa < K && self.plan_known[sa]).then(|| (self.m.plan[sa] as u32 & 0xFFFF) as u128)
+            // The plan memory's read port is the check's in a push's cycle 1.
+            let pa = match self.push {
+                Some((ax, _, 1, _)) => ax,
+                _ => sa,
+            };
+            (pa < K && self.plan_known[pa]).then(|| (self.m.plan[pa] as u32 & 0xFFFF) as u128)
         } else if raddr == a("PLAN_HI") {
             self.hi.map(|h| h as u128)
         } else {
@@ -614,7 +619,11 @@ impl GuardTb {
 
         // The edge.
         if rd && raddr == a("PLAN_LO") {
-            self.hi = (sa < K && self.plan_known[sa]).then(|| (self.m.plan[sa] as u32 >> 16) as u16);
+            let pa = match self.push {
+                Some((ax, _, 1, _)) => ax,
+                _ => sa,
+            };
+            self.hi = (pa < K && self.plan_known[pa]).then(|| (self.m.plan[pa] as u32 >> 16) as u16);
         }
         let mut w_write = false;
         if let Some((ax, _, 4, Some(Ok(end)))) = self.push {

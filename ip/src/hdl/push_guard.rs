@@ -30,9 +30,11 @@
 //! * Registers: `wr`, `wr_addr`, `wr_data`, `rd`, `rd_addr` → `rd_data`
 //!   (combinational). SL_APPLY takes effect at its write's clock edge.
 //!
-//! Memories: the plan (two LUT RAMs, one read by the check, one by PLAN_LO) and the
-//! soft limits (64 bits per axis) in LUT RAM; per axis two flip-flops (stale, soft
-//! limits on).
+//! Memories: the plan (32 bits per axis) and the soft limits (64 bits per axis) in LUT
+//! RAM; per axis two flip-flops (stale, soft limits on). The plan's one read port
+//! serves the check in a push's cycle 1 and PLAN_LO otherwise: a PLAN_LO read in that
+//! cycle would see the pushed axis's plan, and the bus never reads then (a read comes
+//! at least two cycles after a write commits, with the documented timing).
 
 use super::lut_ram::LutRam;
 use super::regfile::c9;
@@ -85,13 +87,11 @@ pub struct PushGuard<const K: usize> {
     g_held: DFF<Bit>,
     g_lim: DFF<Bit>,
     /// Cycle 3's registers: the end position (33 bits), soft check on (limits on,
-    /// steps ≠ 0), held or stale, toward an active limit, and the limits.
+    /// steps ≠ 0), held or stale, toward an active limit.
     e_sum: DFF<Bits<33>>,
     e_soft: DFF<Bit>,
     e_held: DFF<Bit>,
     e_lim: DFF<Bit>,
-    e_min: DFF<Bits<33>>,
-    e_max: DFF<Bits<33>>,
     stale: DFF<Bits<K>>,
     sl_on: DFF<Bits<K>>,
     // Registers.
@@ -102,8 +102,7 @@ pub struct PushGuard<const K: usize> {
     sl_max_hi: DFF<Bits<16>>,
     refused: DFF<Bit>,
     hi_latch: DFF<Bits<16>>,
-    plan_chk: LutRam<32, 4>,
-    plan_rd: LutRam<32, 4>,
+    plan: LutRam<32, 4>,
     sl_ram: LutRam<64, 4>,
     c_one: Constant<Bits<K>>,
     c_ones: Constant<Bits<K>>,
@@ -192,8 +191,6 @@ impl<const K: usize> Default for PushGuard<K> {
             e_soft: Default::default(),
             e_held: Default::default(),
             e_lim: Default::default(),
-            e_min: Default::default(),
-            e_max: Default::default(),
             stale: Default::default(),
             sl_on: Default::default(),
             sl_axis: Default::default(),
@@ -203,8 +200,7 @@ impl<const K: usize> Default for PushGuard<K> {
             sl_max_hi: Default::default(),
             refused: Default::default(),
             hi_latch: Default::default(),
-            plan_chk: Default::default(),
-            plan_rd: Default::default(),
+            plan: Default::default(),
             sl_ram: Default::default(),
             c_one: Constant::new(1.into()),
             c_ones: Constant::new(((1u64 << K) - 1).into()),
@@ -282,10 +278,9 @@ impl<const K: usize> Logic for PushGuard<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, s1, s2, s3, s4, g_axis, g_steps, g_plan, g_min, g_max, g_soft, g_held, g_lim);
-        dff_setup!(self, clock, e_sum, e_soft, e_held, e_lim, e_min, e_max, stale, sl_on, sl_axis, refused, hi_latch);
+        dff_setup!(self, clock, e_sum, e_soft, e_held, e_lim, stale, sl_on, sl_axis, refused, hi_latch);
         dff_setup!(self, clock, sl_min_lo, sl_min_hi, sl_max_lo, sl_max_hi);
-        self.plan_chk.clock.next = self.clock.val();
-        self.plan_rd.clock.next = self.clock.val();
+        self.plan.clock.next = self.clock.val();
         self.sl_ram.clock.next = self.clock.val();
 
         // Cycle 0: a push offered to the check.
@@ -301,10 +296,15 @@ impl<const K: usize> Logic for PushGuard<K> {
 
         // Cycle 1: the axis's plan, soft limits and flags.
         self.g_onehot.next = self.c_one.val() << self.g_axis.q.val();
-        self.plan_chk.raddr.next = self.g_axis.q.val();
+        // The plan memory's one read port: the push's axis in its cycle 1, else
+        // SL_AXIS for PLAN_LO (a bus read never comes in the cycle after a write).
+        self.plan.raddr.next = self.sl_axis.q.val();
+        if self.s1.q.val() {
+            self.plan.raddr.next = self.g_axis.q.val();
+        }
         self.sl_ram.raddr.next = self.g_axis.q.val();
         if self.s1.q.val() {
-            self.g_plan.d.next = self.plan_chk.rdata.val();
+            self.g_plan.d.next = self.plan.rdata.val();
             self.g_min.d.next = self.sl_ram.rdata.val().get_bits::<32>(0);
             self.g_max.d.next = self.sl_ram.rdata.val().get_bits::<32>(32);
             self.g_soft.d.next = (self.sl_on.q.val() & self.g_onehot.val()).any() & (self.g_steps.q.val() != 0);
@@ -332,8 +332,6 @@ impl<const K: usize> Logic for PushGuard<K> {
         }
         if self.s2.q.val() {
             self.e_sum.d.next = self.x_plan.val() + self.x_steps.val();
-            self.e_min.d.next = self.x_min.val();
-            self.e_max.d.next = self.x_max.val();
             self.e_soft.d.next = self.g_soft.q.val();
             self.e_held.d.next = self.g_held.q.val();
             self.e_lim.d.next = self.g_lim.q.val();
@@ -341,8 +339,9 @@ impl<const K: usize> Logic for PushGuard<K> {
 
         // Cycle 3: the code, in the model's order.
         self.u_sum.next = self.e_sum.q.val() ^ self.c_top.val();
-        self.u_min.next = self.e_min.q.val() ^ self.c_top.val();
-        self.u_max.next = self.e_max.q.val() ^ self.c_top.val();
+        // (The limits stay in their cycle-1 registers until the next push.)
+        self.u_min.next = self.x_min.val() ^ self.c_top.val();
+        self.u_max.next = self.x_max.val() ^ self.c_top.val();
         self.code.next = 0.into();
         if self.s3.q.val() {
             if self.e_held.q.val() {
@@ -364,12 +363,9 @@ impl<const K: usize> Logic for PushGuard<K> {
             self.p_addr.next = self.g_axis.q.val();
             self.p_data.next = self.e_sum.q.val().get_bits::<32>(0);
         }
-        self.plan_chk.we.next = self.w_write.val() | self.resync.val();
-        self.plan_chk.waddr.next = self.p_addr.val();
-        self.plan_chk.wdata.next = self.p_data.val();
-        self.plan_rd.we.next = self.w_write.val() | self.resync.val();
-        self.plan_rd.waddr.next = self.p_addr.val();
-        self.plan_rd.wdata.next = self.p_data.val();
+        self.plan.we.next = self.w_write.val() | self.resync.val();
+        self.plan.waddr.next = self.p_addr.val();
+        self.plan.wdata.next = self.p_data.val();
 
         // Stale: set by a stop (set wins), cleared by the resync's word.
         self.st_onehot.next = self.c_one.val() << self.st_axis.val();
@@ -423,7 +419,6 @@ impl<const K: usize> Logic for PushGuard<K> {
         }
 
         // Reads: 0 outside this block's addresses.
-        self.plan_rd.raddr.next = self.sl_axis.q.val();
         self.rd_data.next = 0.into();
         if self.rd_addr.val() == self.a_axis.val() {
             self.rd_data.next = bit_cast::<16, 4>(self.sl_axis.q.val());
@@ -446,9 +441,9 @@ impl<const K: usize> Logic for PushGuard<K> {
                 | (bit_cast::<16, 1>(self.refused.q.val().into()) << 2);
         }
         if self.rd_addr.val() == self.a_plan_lo.val() {
-            self.rd_data.next = self.plan_rd.rdata.val().get_bits::<16>(0);
+            self.rd_data.next = self.plan.rdata.val().get_bits::<16>(0);
             if self.rd.val() {
-                self.hi_latch.d.next = self.plan_rd.rdata.val().get_bits::<16>(16);
+                self.hi_latch.d.next = self.plan.rdata.val().get_bits::<16>(16);
             }
         }
         if self.rd_addr.val() == self.a_plan_hi.val() {
