@@ -466,7 +466,7 @@ fn latch_strobes_follow_the_chosen_edge() {
 
 // ---- The push guard --------------------------------------------------------------
 
-use tdm_stepper::hdl::push_guard::PushGuard;
+use tdm_stepper::hdl::push_guard::{PushGuard, GUARD_CODE_CYCLE};
 use tdm_stepper::model::guard::{GuardFlags, PushGuardModel, SoftLimits};
 use tdm_stepper::regs;
 
@@ -545,7 +545,6 @@ fn unpack_offer(r: &[u128]) -> Vec<u128> {
 struct GuardTb {
     m: PushGuardModel,
     plan_known: [bool; K],
-    sl_on: [bool; K],
     sl_axis: u8,
     sl_min: u32,
     sl_max: u32,
@@ -560,7 +559,6 @@ impl GuardTb {
         GuardTb {
             m: PushGuardModel::new(K),
             plan_known: [false; K],
-            sl_on: [false; K],
             sl_axis: 0,
             sl_min: 0,
             sl_max: 0,
@@ -578,18 +576,18 @@ impl GuardTb {
         // Cycle 1 of a push: the verdict from this cycle's state.
         if let Some((ax, steps, 1, None)) = self.push {
             let flags = GuardFlags { limit_neg: bit(14, ax), limit_pos: bit(15, ax), held: r[17] == 1 || bit(16, ax) };
-            let mut m = self.m.clone();
-            if !self.sl_on[ax] {
-                m.soft[ax] = None;
-            }
-            self.push = Some((ax, steps, 1, Some(m.check(ax, steps, flags).map_err(|e| e.code()))));
+            self.push = Some((ax, steps, 1, Some(self.m.check(ax, steps, flags).map_err(|e| e.code()))));
         }
         let code = match self.push {
-            Some((_, _, 3, Some(v))) => v.err().unwrap_or(0) as u128,
+            Some((_, _, c, Some(v))) if c as usize == GUARD_CODE_CYCLE => v.err().unwrap_or(0) as u128,
             _ => 0,
         };
         let sa = self.sl_axis as usize;
-        let sel = |v: &[bool; K]| sa < K && v[sa];
+        // The plan memory's read port is the check's in a push's cycle 1.
+        let pa = match self.push {
+            Some((ax, _, 1, _)) => ax,
+            _ => sa,
+        };
         let rdv: Option<u128> = if raddr == a("SL_AXIS") {
             Some(self.sl_axis as u128)
         } else if raddr == a("SL_MIN_LO") {
@@ -602,13 +600,9 @@ impl GuardTb {
             Some((self.sl_max >> 16) as u128)
         } else if raddr == a("SL_STATUS") {
             let stale = sa < K && self.m.stale[sa];
-            Some(sel(&self.sl_on) as u128 | (stale as u128) << 1 | (self.refused as u128) << 2)
+            let on = sa < K && self.m.soft[sa].is_some();
+            Some(on as u128 | (stale as u128) << 1 | (self.refused as u128) << 2)
         } else if raddr == a("PLAN_LO") {
-            // The plan memory's read port is the check's in a push's cycle 1.
-            let pa = match self.push {
-                Some((ax, _, 1, _)) => ax,
-                _ => sa,
-            };
             (pa < K && self.plan_known[pa]).then(|| (self.m.plan[pa] as u32 & 0xFFFF) as u128)
         } else if raddr == a("PLAN_HI") {
             self.hi.map(|h| h as u128)
@@ -619,10 +613,6 @@ impl GuardTb {
 
         // The edge.
         if rd && raddr == a("PLAN_LO") {
-            let pa = match self.push {
-                Some((ax, _, 1, _)) => ax,
-                _ => sa,
-            };
             self.hi = (pa < K && self.plan_known[pa]).then(|| (self.m.plan[pa] as u32 >> 16) as u16);
         }
         let mut w_write = false;
@@ -636,13 +626,10 @@ impl GuardTb {
         let word = r[12];
         let (st_ax, pos, taken, busy) = (r[11] as usize, word as u32 as i32, (word >> 32) as u8, (word >> 56) & 1 == 1);
         let resync = r[10] == 1 && !busy && taken == r[13] as u8;
-        let mut clr = [false; K];
         if resync && !w_write {
             self.m.resync(st_ax, pos);
             self.plan_known[st_ax] = true;
-            clr[st_ax] = true;
         }
-        let _ = clr;
         let kind = (r[8] >> 104) & 3;
         let all = r[17] == 1 || !enable || (r[7] == 1 && kind == 2);
         for ax in 0..K {
@@ -672,12 +659,11 @@ impl GuardTb {
                 if sa >= K {
                     self.refused = true;
                 } else if en {
-                    match self.m.set_soft(sa, Some(lim)) {
-                        Ok(()) => self.sl_on[sa] = true,
-                        Err(()) => self.refused = true,
+                    if self.m.set_soft(sa, Some(lim)).is_err() {
+                        self.refused = true;
                     }
                 } else {
-                    self.sl_on[sa] = false;
+                    self.m.set_soft(sa, None).unwrap();
                 }
             }
             if waddr == a("SL_STATUS") && wdata & 4 != 0 {
@@ -699,7 +685,6 @@ impl GuardTb {
             let plan = self.m.plan.clone();
             self.m = PushGuardModel::new(K);
             self.m.plan = plan; // the plan memory keeps its words; stale covers them
-            self.sl_on = [false; K];
             self.sl_axis = 0;
             self.sl_min = 0;
             self.sl_max = 0;
