@@ -438,6 +438,9 @@ struct Manifest {
     register_map_version: String,
     /// The machine I/O is in this core (`--io all`).
     io: bool,
+    /// With the machine I/O: the smallest STOP_DECEL the core accepts (else absent).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    stop_decel_min: Option<u32>,
     ports: Vec<PortDoc>,
     tools: Tools,
 }
@@ -466,6 +469,7 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         max_step_rate_hz: opts.max_step_rate_hz(),
         register_map_version: format!("{}.{}", regs::VERSION >> 8, regs::VERSION & 0xFF),
         io: opts.io,
+        stop_decel_min: opts.io.then(|| opts.params().stop_decel_min()),
         ports: ports(opts.axes, opts.io),
         tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },
     }

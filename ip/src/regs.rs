@@ -127,6 +127,12 @@ pub struct CoreParams {
 }
 
 impl CoreParams {
+    /// The smallest STOP_DECEL the core accepts ([`crate::model::stop::stop_decel_min`]
+    /// for its minimum period).
+    pub fn stop_decel_min(&self) -> u32 {
+        crate::model::stop::stop_decel_min(&crate::model::Limits { min_period_ticks: self.min_period })
+    }
+
     /// Whether a core with these parameters has `feature`'s registers.
     pub fn has(&self, feature: Feature) -> bool {
         match feature {
@@ -376,6 +382,26 @@ pub fn table() -> Vec<Register> {
         ),
         io_reg("PLAN_HI", 0x32, false, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PLAN_LO read")], "Planned position, high half (read PLAN_LO first)."),
         io_reg(
+            "STOP", 0x33, false, 0,
+            vec![f("AXES", 0, 16, Wo, "write 1 to bit i: a controlled stop of axis i (bits of axes the core lacks are ignored)")],
+            "Controlled stop: each axis named decelerates to rest at STOP_DECEL from the speed of its last computed period, after the periods already computed (at most the period FIFO's depth + 2); its queued segments are dropped (counted as taken). An axis not moving (idle, not released, or in a dwell) stops at once, as by a limit's hard stop. The request reaches clk 3 to 4 clk ticks after the write commits.",
+        ),
+        io_reg(
+            "STOP_DECEL_LO", 0x34, false, 0xFFFF,
+            vec![f("VALUE", 0, 16, Rw, "write: stages bits 15:0 for STOP_DECEL_HI's write; read: bits 15:0 of the deceleration in use")],
+            "Controlled stop's deceleration a = DECEL / 2^57 steps/tick² (at 50 MHz, 1 step/s² is about 57.6), low half.",
+        ),
+        io_reg(
+            "STOP_DECEL_HI", 0x35, false, 0xFFFF,
+            vec![f("VALUE", 0, 16, Rw, "write: {this, the staged low half} becomes the deceleration in use, refused (STOP_STATUS.REFUSED) while CTRL.ENABLE = 1 or below TDM_STOP_DECEL_MIN; read: bits 31:16 in use")],
+            "Controlled stop's deceleration, high half (write STOP_DECEL_LO first). After reset 2^32 − 1, the hardest.",
+        ),
+        io_reg(
+            "STOP_STATUS", 0x36, false, 0,
+            vec![f("REFUSED", 0, 1, W1c, "a STOP_DECEL_HI write was refused (the core enabled, or the value below the minimum)")],
+            "Controlled stop status.",
+        ),
+        io_reg(
             "IO_AXIS", 0xA, true, 0,
             vec![
                 f("LIMIT_NEG", 0, 1, Ro, "the filtered limit_neg input is active"),
@@ -469,6 +495,13 @@ pub fn c_header(p: &CoreParams) -> String {
     let _ = writeln!(h, "#define TDM_T_CALC {}u", p.t_calc);
     let _ = writeln!(h, "#define TDM_MIN_PERIOD {}u /* ticks: no STEP period is shorter */", p.min_period);
     let _ = writeln!(h, "#define TDM_MAX_RATE {}u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */", p.max_rate());
+    if p.io {
+        let _ = writeln!(
+            h,
+            "#define TDM_STOP_DECEL_MIN {}u /* the smallest STOP_DECEL (a = DECEL / 2^57 steps/tick^2) this export accepts */",
+            p.stop_decel_min()
+        );
+    }
     let _ = writeln!(h, "#define TDM_MAGIC 0x{MAGIC:04X}u");
     let _ = writeln!(h, "#define TDM_VERSION 0x{VERSION:04X}u\n");
     let _ = writeln!(h, "#define TDM_AXIS_BASE 0x{:03X}u /* byte offset of axis 0's block */", 2 * AXIS_BASE);

@@ -155,6 +155,16 @@ fn io_option_refuses_what_is_not_built() {
     let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(m["io"], true, "every group listed is --io all");
     assert!(m["ports"].as_array().unwrap().iter().any(|p| p["name"] == "drv_enable"));
+    // The controlled stop's smallest deceleration: the model's for the export's minimum
+    // period, in the manifest and the header alike (absent without --io).
+    let opts = tdm_stepper::export::ExportOptions { io: true, ..Default::default() };
+    let want = tdm_stepper::model::stop::stop_decel_min(&opts.limits());
+    assert_eq!(m["stop_decel_min"], want);
+    let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
+    assert!(header.contains(&format!("#define TDM_STOP_DECEL_MIN {want}u ")), "header's TDM_STOP_DECEL_MIN");
+    let plain = export_to(&[], "export_io_none");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(plain.join("manifest.json")).unwrap()).unwrap();
+    assert!(m.get("stop_decel_min").is_none() && !std::fs::read_to_string(plain.join("tdm_stepper_regs.h")).unwrap().contains("STOP_DECEL"));
 }
 
 #[test]

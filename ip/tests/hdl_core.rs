@@ -13,7 +13,7 @@ use common::*;
 use rust_hdl::prelude::*;
 use tdm_stepper::hdl::baseline::Baseline;
 use tdm_stepper::hdl::core::{t_calc_sqrt, TdmCore, STATES, STATE_BITS};
-use tdm_stepper::model::{planner, AxisRun, Limits, Segment};
+use tdm_stepper::model::{planner, AxisRun, Limits, Segment, SegmentPlan};
 use tdm_stepper::verify::{run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
 
 /// The rust-hdl trace of any core with these ports (TdmCore and Baseline).
@@ -764,4 +764,177 @@ fn one_axis_stops_and_the_other_runs_on() {
     assert_eq!(pos[sel1] as u32 as i32 as i64, signed_before + run_after.position, "axis 1's position: the edges before the stop, then the new move");
     let taken = expand(&reference, 7, cycles)[sel1];
     assert_eq!(taken, (core_feed(&axes[1]).len() + feed.len()) as u128, "axis 1: every segment taken (the stopped ones flushed)");
+}
+
+/// The controlled-stop core's ports: the core's, and `cstop_axes` and `decel`.
+fn spec_cs<const K: usize>() -> TbSpec {
+    let mut s = spec::<K>();
+    s.inputs.push(Port::new("cstop_axes", K));
+    s.inputs.push(Port::new("decel", 32));
+    s
+}
+
+/// The controlled stop (model::stop), three ways: axis 1 runs a move of each kind and
+/// is stopped in it (accelerating, cruising, decelerating, an exactly uniform segment,
+/// a dwell between two moves, within a few steps of a segment's end, and near the top
+/// rate the test's two-axis core sustains) while axis 0 runs its moves untouched. For
+/// each stop, the edges of axis 1 are exactly the model's cut of the move after c
+/// FIFO entries followed by the model's stop segment from the last of them
+/// (model::stop::cut_run), with c at most DEPTH + 3 entries past the edges emitted
+/// when the stop was requested (in the dwell, the axis at rest: it stops as the hard
+/// stop does, after the dwell's entry); the axis ends at rest (BUSY low) with its position the
+/// edges emitted, and no underrun. The scheduler's state trace shows the ramp's
+/// formation taking `t_stop_form(R)` cycles from the PICK that took the request.
+/// rust-hdl and Verilator give the same trace.
+#[test]
+fn controlled_stop_ramps_down_from_every_kind_of_segment() {
+    use tdm_stepper::hdl::core::{gray, t_stop_form};
+    use tdm_stepper::model::stop::{cut_run, stop_segment};
+    const K: usize = 2;
+    let limits = Limits::default();
+    let decel: u32 = u32::MAX;
+    let axes = moves();
+    let accel = plan(30, [16_000, 12_000, 16_000]);
+    let acc_run = AxisRun::run(&accel, &limits);
+    let cruise_end = SegmentPlan::new(accel[0]).n_steps() as usize + SegmentPlan::new(accel[1]).n_steps() as usize;
+    let dwell = [plan(12, [8_000, 0, 8_000]), vec![Segment::dwell(30_000)], plan(12, [8_000, 0, 8_000])].concat();
+    let fast = plan(-700, [40_000, 20_000, 40_000]);
+    // (what, segments, stop at this many ticks after the release)
+    let uniform = vec![Segment::new(1 << 22, 51_200, -50)];
+    let at_edge = |segs: &[Segment], i: usize| AxisRun::run(segs, &limits).edge_ticks[i];
+    // The first three run in rust-hdl too (it simulates a few thousand cycles a second).
+    let scenarios: Vec<(&str, Vec<Segment>, u64)> = vec![
+        ("accelerating", accel.clone(), acc_run.edge_ticks[3]),
+        ("in a dwell", dwell.clone(), AxisRun::run(&dwell[..dwell.len() - 3], &limits).end_tick + 15_000),
+        ("a few steps before a segment's end", accel.clone(), acc_run.edge_ticks[cruise_end - 6]),
+        ("cruising", accel.clone(), acc_run.edge_ticks[cruise_end - 8]),
+        ("decelerating", accel.clone(), acc_run.edge_ticks[cruise_end - 1]),
+        ("uniform", uniform.clone(), at_edge(&uniform, 25)),
+        ("near the top rate", fast.clone(), at_edge(&fast, 350)),
+    ];
+    const RUST_HDL_SCENARIOS: usize = 3;
+    let row = |cmd: Option<(u128, &Segment)>, start: bool, cstop: u128| -> Vec<u128> {
+        let (v, a, s) = match cmd {
+            Some((a, s)) => (1, a, (s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128)),
+            None => (0, 0, (0, 0, 0)),
+        };
+        vec![0, v, a, s.0, s.1, s.2, start as u128, if start { 0b10 } else { 0 }, 1, 0, 0, 0, cstop, decel as u128]
+    };
+    let mut ev: Vec<(u64, Vec<u128>)> = vec![(0, [vec![1], row(None, false, 0)[1..].to_vec()].concat()), (3, row(None, false, 0))];
+    // Axis 0's moves first, released with axis 1's first move.
+    let mut c = 3u64;
+    for s in core_feed(&axes[0]) {
+        c += 1;
+        ev.push((c, row(Some((0, &s)), false, 0)));
+    }
+    let mut windows = Vec::new();
+    for (k, (what, segs, at)) in scenarios.iter().enumerate() {
+        let run = AxisRun::run(segs, &limits);
+        for s in core_feed(segs) {
+            c += 1;
+            ev.push((c, row(Some((1, &s)), false, 0)));
+        }
+        c += 1;
+        let mut r = row(None, true, 0);
+        if k == 0 {
+            r[7] = 0b11;
+        }
+        ev.push((c, r));
+        let stop = c + 400 + at;
+        ev.push((c + 1, row(None, false, 0)));
+        ev.push((stop, row(None, false, 0b10)));
+        ev.push((stop + 1, row(None, false, 0)));
+        let slowest = run.fifo.iter().map(|e| e.ticks as u64).max().unwrap();
+        let ramp = run.fifo.iter().filter(|e| e.step).filter_map(|e| stop_segment(e.ticks, decel, e.reverse)).map(|s| s.t_ticks as u64).max().unwrap_or(0);
+        let end = stop + (DEPTH as u64 + 3) * slowest + ramp + 4000;
+        windows.push((*what, run, c, stop, end));
+        c = end;
+    }
+    let cycles = c + 10;
+    let uut = || connect_core!(TdmCore::<K, R, DEPTH, QDEPTH>::new().with_controlled_stop());
+    ev.sort_by_key(|e| e.0);
+    let got = run_sparse(Simulator::Verilator, &sim_dir("core_cstop", Simulator::Verilator), &generate_verilog(&uut()), &spec_cs::<K>(), &ev, cycles).unwrap();
+    let cut_off = windows[RUST_HDL_SCENARIOS - 1].4;
+    let ev_short: Vec<_> = ev.iter().filter(|e| e.0 < cut_off).cloned().collect();
+    let reference = run_rust_hdl_sparse(
+        &mut uut(),
+        &ev_short,
+        cut_off,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.cmd_valid.next = r[1] == 1;
+            u.cmd_axis.next = (r[2] as u64).into();
+            u.cmd_v0.next = (r[3] as u64).into();
+            u.cmd_t.next = (r[4] as u64).into();
+            u.cmd_steps.next = (r[5] as u64).into();
+            u.start.next = r[6] == 1;
+            u.start_mask.next = (r[7] as u64).into();
+            u.sel_axis.next = (r[8] as u64).into();
+            u.ext_go.next = (r[9] as u64).into();
+            u.abort.next = r[10] == 1;
+            u.stop_axes.next = (r[11] as u64).into();
+            u.cstop_axes.next = (r[12] as u64).into();
+            u.decel.next = (r[13] as u64).into();
+        },
+        |u| {
+            vec![
+                u.step.val().to_u64() as u128,
+                u.dir.val().to_u64() as u128,
+                u.underrun.val().to_u64() as u128,
+                u.busy.val().to_u64() as u128,
+                u.sel_position.val().to_u64() as u128,
+                u.cmd_ready.val() as u128,
+                u.fsm_state.val().to_u64() as u128,
+                u.sel_taken.val().to_u64() as u128,
+                u.sel_done.val().to_u64() as u128,
+            ]
+        },
+    );
+    let short: Vec<Change> = got.iter().filter(|c| c.0 < cut_off).cloned().collect();
+    same_traces(&short, &reference, "controlled stop");
+
+    let step = expand(&got, 0, cycles);
+    let under = expand(&got, 2, cycles);
+    let busy = expand(&got, 3, cycles);
+    let pos = expand(&got, 4, cycles);
+    let fsm = expand(&got, 6, cycles);
+    // Axis 0 untouched.
+    let run0 = AxisRun::run(&axes[0], &limits);
+    let r0 = rises_of(&step, 0);
+    assert_eq!(r0.len(), run0.edge_ticks.len(), "axis 0 ran all its steps");
+    release_of(&r0, &run0.edge_ticks, "axis 0").unwrap();
+    let r1 = rises_of(&step, 1);
+    let st = |name: &str| gray(STATES.iter().position(|s| *s == name).unwrap()) as u128;
+    let mut position = 0i64;
+    for (what, run, from, stop, end) in &windows {
+        let rises: Vec<u64> = r1.iter().copied().filter(|&x| x > *from && x < *end).collect();
+        let l0 = release_of(&rises[..2], &run.edge_ticks[..2], what).unwrap();
+        let emitted = rises.iter().filter(|&&x| x <= *stop).count();
+        let e0 = (0..=run.fifo.len()).find(|&e| run.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
+        let cut = (e0..=(e0 + DEPTH + 3).min(run.fifo.len()))
+            .find(|&c| {
+                let m = cut_run(run, c, decel, &limits);
+                m.edge_ticks.len() == rises.len() && m.edge_ticks.iter().zip(&rises).all(|(&e, &r)| r as i64 == l0 + 1 + e as i64)
+            })
+            .unwrap_or_else(|| panic!("{what}: no cut after {e0}..{} FIFO entries gives the {} edges seen (the move has {})", e0 + DEPTH + 3, rises.len(), run.edge_ticks.len()));
+        let m = cut_run(run, cut, decel, &limits);
+        eprintln!("{what}: stop after {emitted} edges, cut after {cut} entries (+{}), ramp {:?}, {} edges", cut - e0, m.accepted.first(), rises.len());
+        if *what == "in a dwell" {
+            // At rest in the dwell: stopped as the hard stop does, with no edge after it.
+            assert_eq!((m.accepted.len(), rises.len(), cut), (0, emitted, e0 + 1), "{what}: the axis stays at rest");
+        } else {
+            assert_eq!(m.accepted.len(), 1, "{what}: a stop ramp was formed");
+            assert!(rises.len() < run.edge_ticks.len() || m.position != run.position, "{what}: the stop changed nothing");
+        }
+        position += m.position;
+        assert_eq!(busy[*end as usize - 1] >> 1 & 1, 0, "{what}: axis 1 at rest");
+        assert_eq!(pos[*end as usize - 1] as u32 as i32 as i64, position, "{what}: position = edges emitted");
+        assert!((*from..*end).all(|x| under[x as usize] >> 1 & 1 == 0), "{what}: an underrun");
+        // The ramp's formation: the first C_V0 after the stop, to the commit that follows.
+        if let Some(v0) = (*stop..*end).find(|&x| fsm[x as usize] == st("C_V0")) {
+            let commit = (v0..*end).find(|&x| fsm[x as usize] == st("S_COMMIT_SETUP")).unwrap();
+            assert_eq!(commit - v0 + 2, t_stop_form(R) as u64, "{what}: PICK to the ramp's commit");
+        }
+    }
 }

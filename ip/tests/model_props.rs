@@ -472,3 +472,69 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+
+    /// The controlled stop's segment (model::stop), from any last period Δ the core can
+    /// emit (the minimum period up to the rest threshold) and any accepted deceleration:
+    /// it passes validation as it is (no v0 − 1 adjustment), fits one segment's range,
+    /// starts no faster than 1/(Δ + 1), ends at rest within one rate unit without
+    /// reversing, decelerates at most a·(1 + 2^-8) and covers at least v²/(2a) with it,
+    /// and its edges keep the 0.625-tick bound.
+    #[test]
+    fn the_stop_segment_is_valid_and_ends_at_rest(
+        m in min_period(),
+        dx in 0.0f64..=1.0,
+        ax in 0.0f64..=1.0,
+        rev in any::<bool>(),
+        seed in any::<u64>(),
+    ) {
+        use tdm_stepper::model::stop::*;
+        let limits = Limits::new(m).unwrap();
+        let lg = |lo: u64, hi: u64, x: f64| (((lo as f64).ln() + x * ((hi as f64).ln() - (lo as f64).ln())).exp().round() as u64).clamp(lo, hi);
+        let delta = lg(m as u64, STOP_REST_PERIOD as u64 - 1, dx) as u32;
+        let a_min = stop_decel_min(&limits);
+        let decel = lg(a_min as u64, u32::MAX as u64, ax) as u32;
+        let seg = stop_segment(delta, decel, rev).unwrap();
+        prop_assert_eq!(seg.validate(&limits), Ok(()), "{:?} from {} at {}", seg, delta, decel);
+        prop_assert_eq!(seg.effective(), seg);
+        prop_assert!(seg.n_steps() >= 1 && seg.n_steps() <= MAX_STEPS && seg.t_ticks <= MAX_T_TICKS);
+        prop_assert_eq!(seg.reverse(), rev);
+        prop_assert!((seg.v0_rate as u64) * (delta as u64 + 1) <= 1 << 32);
+        let v_end_t = seg.v_end_t_q32();
+        prop_assert!(v_end_t >= 0 && v_end_t < seg.t_ticks as i128);
+        // |α| = (v0 − v_end)/T in steps/tick², against a = DECEL/2^57.
+        let (v0, t) = (seg.v0_rate as f64 / 2f64.powi(32), seg.t_ticks as f64);
+        let v_end = v_end_t as f64 / 2f64.powi(32) / t;
+        let a = decel as f64 / 2f64.powi(57);
+        prop_assert!((v0 - v_end) / t <= a * (1.0 + 2f64.powi(-8)));
+        prop_assert!(seg.n_steps() as f64 >= v0 * v0 / (2.0 * a) * (1.0 - 1e-12));
+        check_segment(&seg, &limits, seed)?;
+        // At rest: a dwell's 0 or a period at the threshold forms nothing.
+        prop_assert_eq!(stop_segment(0, decel, rev), None);
+        prop_assert_eq!(stop_segment(STOP_REST_PERIOD, decel, rev), None);
+    }
+}
+
+/// The deceleration register's unit: 1 step/s² at 50 MHz is 2^57 / 2.5·10^15 ≈ 57.6;
+/// its minimum for a 2-tick minimum period is the n bound, for 50 ticks the T bound.
+#[test]
+fn the_stop_deceleration_unit_and_minimum() {
+    use tdm_stepper::model::stop::*;
+    assert_eq!(decel_from_steps_per_s2(1.0, 50e6), Some(58));
+    assert_eq!(decel_from_steps_per_s2(0.001, 50e6), None);
+    let l2 = Limits::new(2).unwrap();
+    let r2 = l2.max_rate() as u128;
+    assert_eq!(stop_decel_min(&l2) as u128, (r2 * r2).div_ceil(256 * ((1 << 24) - 1)));
+    let l50 = Limits::new(50).unwrap();
+    assert_eq!(stop_decel_min(&l50), l50.max_rate().div_ceil(31));
+    // At the minimum, the stop from the top rate fits: from a 2-tick period ...
+    let s = stop_segment(2, stop_decel_min(&l2), false).unwrap();
+    assert_eq!(s.validate(&l2), Ok(()));
+    assert!(s.n_steps() > MAX_STEPS / 2, "{s:?}");
+    // ... and from a 50-tick one, the T bound nearly reached.
+    let s = stop_segment(50, stop_decel_min(&l50), true).unwrap();
+    assert_eq!(s.validate(&l50), Ok(()));
+    assert!(s.t_ticks > MAX_T_TICKS / 2 && s.steps < 0, "{s:?}");
+}

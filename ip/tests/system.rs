@@ -1628,3 +1628,97 @@ fn soft_limits_reject_pushes_past_them_and_the_plan_follows_an_abort() {
     let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &[]);
     check("rust-hdl", &rh);
 }
+
+/// The controlled stop through the bus (Verilator and rust-hdl): STOP_DECEL refused
+/// below the export's minimum and while enabled (STOP_STATUS.REFUSED, the value in use
+/// unchanged), taken otherwise; then, on a move of both axes, STOP names axis 1 in its
+/// cruise: axis 0's edges are all the model's, axis 1's are the model's move cut after
+/// c FIFO entries followed by the model's stop segment (model::stop::cut_run), with c at
+/// most the FIFO's depth + 3 entries past the edges emitted when the write began;
+/// axis 1 comes to rest, its position read back is
+/// the edges emitted, its plan is stale right after the STOP and follows the position
+/// at rest.
+#[test]
+fn a_controlled_stop_through_the_bus_ramps_down_from_the_axis_speed() {
+    use tdm_stepper::model::planner;
+    use tdm_stepper::model::stop::cut_run;
+    const K: usize = 2;
+    let limits = Limits::default();
+    // Below the minimum of any minimum period (the export's and rust-hdl's here).
+    let low_decel = 1000;
+    let decel: u32 = 0xF000_0000;
+    let mut b = bus();
+    let put = |b: &mut BusModel, v: u32| {
+        b.write_reg("STOP_DECEL_LO", 0, v as u16);
+        b.write_reg("STOP_DECEL_HI", 0, (v >> 16) as u16);
+    };
+    put(&mut b, low_decel);
+    let low = (b.read_reg("STOP_STATUS", 0), b.read_reg("STOP_DECEL_LO", 0), b.read_reg("STOP_DECEL_HI", 0));
+    b.write_reg("STOP_STATUS", 0, 1);
+    put(&mut b, decel);
+    let taken = (b.read_reg("STOP_STATUS", 0), b.read_reg("STOP_DECEL_LO", 0), b.read_reg("STOP_DECEL_HI", 0));
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 1);
+    b.idle(50);
+    put(&mut b, 0xFFFF_0000);
+    let enabled = (b.read_reg("STOP_STATUS", 0), b.read_reg("STOP_DECEL_LO", 0), b.read_reg("STOP_DECEL_HI", 0));
+    b.write_reg("STOP_STATUS", 0, 1);
+
+    let m0 = planner::trapezoid_by_ticks(30, [12_000, 8_000, 12_000], &limits).unwrap();
+    let m1 = planner::trapezoid_by_ticks(-60, [16_000, 20_000, 16_000], &limits).unwrap();
+    let run1 = AxisRun::run(&m1, &limits);
+    for s in &m0 {
+        b.push_segment(0, s);
+    }
+    for s in &m1 {
+        b.push_segment(1, s);
+    }
+    b.idle(10);
+    let t_start = b.now_ps();
+    b.write_reg("START", 0, 0b11);
+    b.idle_until_ps(b.now_ps() + (run1.edge_ticks[30] + 300) * 2 * CLOCKS.clk_half_ps);
+    b.write_reg("SL_AXIS", 0, 1);
+    let t_stop = b.now_ps();
+    b.write_reg("STOP", 0, 0b10);
+    let stale = b.read_reg("SL_STATUS", 0);
+    b.idle_until_ps(b.now_ps() + 100_000 * 2 * CLOCKS.clk_half_ps);
+    let rest = (b.read_reg("STATUS", 1), b.read_position(1), b.read_reg("SL_STATUS", 0), b.read_reg("PLAN_LO", 0), b.read_reg("PLAN_HI", 0));
+    let cycles = cycles_after(&b, 100);
+
+    let check = |sim: &str, t: &SystemTrace| {
+        let v = |id| b.value(t, id).expect("read returned x");
+        let (st, lo, hi) = low;
+        assert_eq!((v(st) & 1, v(lo), v(hi)), (1, 0xFFFF, 0xFFFF), "{sim}: a deceleration below the minimum is refused, the reset value stays");
+        let (st, lo, hi) = taken;
+        assert_eq!((v(st) & 1, v(lo) as u32 | (v(hi) as u32) << 16), (0, decel), "{sim}: STOP_DECEL taken while disabled");
+        let (st, lo, hi) = enabled;
+        assert_eq!((v(st) & 1, v(lo) as u32 | (v(hi) as u32) << 16), (1, decel), "{sim}: refused while enabled");
+        let window = clk_cycle_at(t_start)..cycles;
+        check_edges_in(t, &[m0.clone()], window.clone(), &format!("{sim}: axis 0 untouched"));
+        let r: Vec<u64> = rises(t, 1).into_iter().filter(|c| window.contains(c)).collect();
+        let l0 = r[0] as i64 - 1 - run1.edge_ticks[0] as i64;
+        let emitted = r.iter().filter(|&&c| c <= clk_cycle_at(t_stop)).count();
+        assert!(emitted > 25 && emitted < 40, "{sim}: the stop came in the cruise ({emitted} edges)");
+        let e0 = (0..=run1.fifo.len()).find(|&e| run1.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
+        let cut = (e0..=e0 + DEPTH + 3)
+            .find(|&c| {
+                let m = cut_run(&run1, c, decel, &limits);
+                m.edge_ticks.len() == r.len() && m.edge_ticks.iter().zip(&r).all(|(&e, &g)| g as i64 == l0 + 1 + e as i64)
+            })
+            .unwrap_or_else(|| panic!("{sim}: no cut after {e0}.. entries gives axis 1's {} edges", r.len()));
+        let m = cut_run(&run1, cut, decel, &limits);
+        assert_eq!(m.accepted.len(), 1, "{sim}: a ramp");
+        // (The test's moves decelerate harder than the hardest STOP_DECEL, 2^-25 steps/tick²,
+        // 7.5·10^7 steps/s² at 50 MHz: the ramp runs farther than the move would have.)
+        assert_ne!(r.len(), run1.edge_ticks.len(), "{sim}: axis 1's motion changed");
+        let (st, pos, sl, lo, hi) = rest;
+        assert_eq!(v(st) & 0x13F, 0, "{sim}: axis 1 idle, nothing queued, no error");
+        assert_eq!(position(&b, t, pos), Some(m.position as i32), "{sim}: the position at rest is the edges emitted");
+        assert_eq!(v(stale) >> 1 & 1, 1, "{sim}: the plan is stale right after the STOP");
+        assert_eq!((v(sl) >> 1 & 1, (v(lo) as u32 | (v(hi) as u32) << 16) as i32), (0, m.position as i32), "{sim}: at rest the plan is the position");
+    };
+    let tr = verilator_io::<K>("io_controlled_stop", &b, cycles, &io_pins(true), &[]);
+    check("Verilator", &tr);
+    let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &[]);
+    check("rust-hdl", &rh);
+}

@@ -67,6 +67,8 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     pub dir: Signal<Out, Bits<K>>,
     pub underrun: Signal<Out, Bits<K>>,
     pub active: Signal<Out, Bits<K>>,
+    /// Axis i runs an entry that ends with a step (not a dwell's): [`super::step_gen::StepGen::moving`].
+    pub moving: Signal<Out, Bits<K>>,
     pub busy: Signal<Out, Bits<K>>,
     pub ready: Signal<Out, Bits<K>>,
     pub full: Signal<Out, Bits<K>>,
@@ -94,6 +96,7 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     dir_bus: [BitInsert<K>; K],
     under_bus: [BitInsert<K>; K],
     active_bus: [BitInsert<K>; K],
+    moving_bus: [BitInsert<K>; K],
     busy_bus: [BitInsert<K>; K],
     ready_bus: [BitInsert<K>; K],
     full_bus: [BitInsert<K>; K],
@@ -129,6 +132,7 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             dir: Default::default(),
             underrun: Default::default(),
             active: Default::default(),
+            moving: Default::default(),
             busy: Default::default(),
             ready: Default::default(),
             full: Default::default(),
@@ -156,6 +160,7 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             dir_bus: std::array::from_fn(BitInsert::new),
             under_bus: std::array::from_fn(BitInsert::new),
             active_bus: std::array::from_fn(BitInsert::new),
+            moving_bus: std::array::from_fn(BitInsert::new),
             busy_bus: std::array::from_fn(BitInsert::new),
             ready_bus: std::array::from_fn(BitInsert::new),
             full_bus: std::array::from_fn(BitInsert::new),
@@ -248,6 +253,7 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
             self.dir_bus[i].value.next = self.axes[i].dir.val();
             self.under_bus[i].value.next = self.axes[i].underrun.val();
             self.active_bus[i].value.next = self.axes[i].active.val();
+            self.moving_bus[i].value.next = self.axes[i].moving.val();
             self.busy_bus[i].value.next = self.axes[i].busy.val();
             self.full_bus[i].value.next = self.axes[i].full.val();
             // Satisfied: a full FIFO, or nothing to compute.
@@ -265,6 +271,7 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
         self.dir_bus[0].bus_in.next = 0.into();
         self.under_bus[0].bus_in.next = 0.into();
         self.active_bus[0].bus_in.next = 0.into();
+        self.moving_bus[0].bus_in.next = 0.into();
         self.busy_bus[0].bus_in.next = 0.into();
         self.ready_bus[0].bus_in.next = 0.into();
         self.full_bus[0].bus_in.next = 0.into();
@@ -274,6 +281,7 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
             self.dir_bus[i].bus_in.next = self.dir_bus[i - 1].bus_out.val();
             self.under_bus[i].bus_in.next = self.under_bus[i - 1].bus_out.val();
             self.active_bus[i].bus_in.next = self.active_bus[i - 1].bus_out.val();
+            self.moving_bus[i].bus_in.next = self.moving_bus[i - 1].bus_out.val();
             self.busy_bus[i].bus_in.next = self.busy_bus[i - 1].bus_out.val();
             self.ready_bus[i].bus_in.next = self.ready_bus[i - 1].bus_out.val();
             self.full_bus[i].bus_in.next = self.full_bus[i - 1].bus_out.val();
@@ -289,6 +297,7 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
             self.dir.next = self.dir_bus[i].bus_out.val();
             self.underrun.next = self.under_bus[i].bus_out.val();
             self.active.next = self.active_bus[i].bus_out.val();
+            self.moving.next = self.moving_bus[i].bus_out.val();
             self.busy.next = self.busy_bus[i].bus_out.val();
             self.ready.next = self.ready_bus[i].bus_out.val();
             self.full.next = self.full_bus[i].bus_out.val();

@@ -28,6 +28,10 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     /// Per-axis stops, each to its one-axis core.
     pub stop_axes: Signal<In, Bits<K>>,
     stop_pick: [BitPick<K>; K],
+    /// Controlled stops and their deceleration, each to its one-axis core.
+    pub cstop_axes: Signal<In, Bits<K>>,
+    pub decel: Signal<In, Bits<32>>,
+    cstop_pick: [BitPick<K>; K],
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     pub ready: Signal<Out, Bits<K>>,
@@ -76,6 +80,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
         self
     }
 
+    /// Each one-axis core with the controlled stop (and the per-axis stop).
+    pub fn with_controlled_stop(mut self) -> Self {
+        self.cores = self.cores.map(|c| c.with_controlled_stop());
+        self
+    }
+
     pub fn new() -> Self {
         assert!((1..=64).contains(&K), "Baseline: K = {K} outside 1..=64");
         Baseline {
@@ -91,6 +101,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             abort: Default::default(),
             stop_axes: Default::default(),
             stop_pick: std::array::from_fn(BitPick::new),
+            cstop_axes: Default::default(),
+            decel: Default::default(),
+            cstop_pick: std::array::from_fn(BitPick::new),
             start: Default::default(),
             start_mask: Default::default(),
             ready: Default::default(),
@@ -165,6 +178,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.cores[i].abort.next = self.abort.val();
             self.stop_pick[i].bus.next = self.stop_axes.val();
             self.cores[i].stop_axes.next = self.stop_pick[i].value.val().into();
+            self.cstop_pick[i].bus.next = self.cstop_axes.val();
+            self.cores[i].cstop_axes.next = self.cstop_pick[i].value.val().into();
+            self.cores[i].decel.next = self.decel.val();
             self.cores[i].high_min.next = self.high_min.val();
             self.cores[i].low_min.next = self.low_min.val();
             self.cores[i].clock.next = self.clock.val();

@@ -23,6 +23,9 @@ pub struct AxisContext {
     pub we: Signal<In, Bit>,
     pub nwe: Signal<In, Bit>,
     pub promote: Signal<In, Bit>,
+    /// A controlled stop's cut: the current segment ends (kind 0) and the next slot
+    /// empties; the slot stays.
+    pub cut: Signal<In, Bit>,
     pub new_dwell: Signal<In, Bit>,
     pub new_kind: Signal<In, Bits<2>>,
     pub kind: Signal<Out, Bits<2>>,
@@ -56,6 +59,11 @@ impl Logic for AxisContext {
                 self.r_kind.d.next = self.x_kind.q.val();
                 self.r_slot.d.next = !self.r_slot.q.val();
             }
+            self.x_kind.d.next = 0.into();
+            self.x_dwell.d.next = false;
+        }
+        if self.cut.val() {
+            self.r_kind.d.next = 0.into();
             self.x_kind.d.next = 0.into();
             self.x_dwell.d.next = false;
         }

@@ -51,6 +51,20 @@
 //! once the bit is low. Only a core built [`TdmCore::with_axis_stops`] has it (the
 //! machine I/O's); in one built with `new` the input is ignored and costs nothing.
 //!
+//! **Controlled stop (per axis).** `cstop_axes` bit i (a pulse; a level repeats it)
+//! decelerates axis i to rest at `decel` (a = `decel`/2^57 steps/tick²) with a segment
+//! the core forms itself ([`crate::model::stop`]). The request waits in the
+//! [`StopRamp`] until PICK reaches the axis; there the axis's queue is dropped (counted
+//! as taken) with its next slot, and its current segment ends after the periods already
+//! computed (they stay in the period FIFO and run); if the axis had more to compute, the
+//! scheduler forms the ramp from the last period pushed, Δ: v0 = ⌊2^32/(Δ + 1)⌋ and n =
+//! ⌈v0²/(2^8·decel)⌉ by two divides, T = 2n(Δ + 1) by a product, and sets it up as a
+//! decelerating segment into the next slot ([`t_stop_form`] cycles from PICK to its
+//! commit), to run after those periods. An axis that is not moving when the request
+//! waits (idle, not yet released, or in a dwell) is at rest: the request becomes its
+//! hard stop (above). Segments pushed after the request queue behind the ramp. Only a
+//! core built [`TdmCore::with_controlled_stop`] has it.
+//!
 //! **Counters** for the register bus (8 bits each, wrapping, per axis, read through
 //! `sel_axis`): segments taken from the queue (`sel_taken`, counting the ones an abort
 //! flushes), done (`sel_done`: their last period ended) and underruns begun
@@ -67,6 +81,7 @@ use super::root::{root_latency, OffsetRoot};
 use super::seg_queue::SegQueue;
 pub use super::seg_queue::{MAX_QUEUE_DEPTH, SEGMENT_BITS};
 use super::axis_bank::{AxisBank, LATCH_BITS};
+use super::stop_ramp::{StopRamp, LAST_BITS};
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
@@ -94,6 +109,14 @@ pub const fn t_setup(r: usize, decelerating: bool) -> usize {
     4 + (1 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
 
+/// Cycles the scheduler spends forming a controlled stop's ramp, from the PICK that
+/// takes the request to the commit of the ramp's setup (inclusive): two divides (v0,
+/// then n), two products on the pipelined multiplier (v0², n·(Δ + 1)) and the
+/// decelerating setup from its S_ISSUE_VT on. Measured by tests/hdl_core.rs.
+pub const fn t_stop_form(r: usize) -> usize {
+    7 + 2 * div_latency(r) + t_setup(r, true)
+}
+
 // The fallback test reads the quotient's bits 103..64 by literal widths (rust-hdl
 // writes a Rust constant's name into the Verilog).
 const _: () = assert!(DIV_NUM_BITS == 104);
@@ -105,9 +128,9 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 21] = [
+pub const STATES: [&str; 30] = [
     "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "P_START", "P_WAIT", "U_ADD", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
-    "S_DRAIN",
+    "S_DRAIN", "C_V0", "C_V0_WAIT", "C_SQ1", "C_SQ2", "C_N", "C_N_WAIT", "C_T1", "C_T2", "C_T",
 ];
 
 /// Gray code of state number `k`.
@@ -135,6 +158,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub abort: Signal<In, Bit>,
     /// Hard stop of axis i while bit i is high; see the module docs.
     pub stop_axes: Signal<In, Bits<K>>,
+    /// Controlled stop of axis i (bit i, a pulse or a level); see the module docs.
+    pub cstop_axes: Signal<In, Bits<K>>,
+    /// The controlled stop's deceleration, a = `decel`/2^57 steps/tick² (quasi-static,
+    /// at least [`crate::model::stop::stop_decel_min`]).
+    pub decel: Signal<In, Bits<32>>,
     pub start: Signal<In, Bit>,
     pub start_mask: Signal<In, Bits<K>>,
     /// Axes idle with their first period ready (what the start waits for).
@@ -226,6 +254,34 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// then every stop register has a constant input and synthesis removes them (a
     /// request register kept in a loop with PICK would not be provably 0 otherwise).
     c_stops: Constant<Bits<K>>,
+    /// The controlled stop ([`Self::with_controlled_stop`]): its requests' mask (all
+    /// ones, else 0) and a one-bit switch that gates every state and write of it, so
+    /// that a core without it has none of its logic.
+    c_cs: Constant<Bits<K>>,
+    c_cs_on: Constant<Bit>,
+    /// Per-axis requests and last periods ([`StopRamp`]).
+    ramp: StopRamp<K>,
+    /// A pending controlled stop on an axis that is not running becomes its hard stop.
+    cs_hard: Signal<Local, Bits<K>>,
+    cs_sh: Signal<Local, Bits<K>>,
+    nx_cs: Signal<Local, Bit>,
+    pf_cs: DFF<Bit>,
+    pk_cs: Signal<Local, Bit>,
+    /// PICK cuts axis m (its queue and next slot dropped, its current segment ended).
+    axis_cut: Signal<Local, Bit>,
+    /// The scheduler takes axis m's controlled-stop request in this cycle.
+    cs_clear: Signal<Local, Bit>,
+    /// Axis m's stop ramp is being formed (from PICK to its setup's commit).
+    cs_act: DFF<Bit>,
+    /// Axis m's last period + 1, its direction and whether it is at rest (from PICK).
+    s_dl1: DFF<Bits<LAST_BITS>>,
+    s_rest: DFF<Bit>,
+    s_crev: DFF<Bit>,
+    /// n + 2^8·DECEL − 1 and 2^8·DECEL, the ramp's distance quotient's operands.
+    cs_num: Signal<Local, Bits<DIV_NUM_BITS>>,
+    cs_den: Signal<Local, Bits<64>>,
+    c_two32: Constant<Bits<DIV_NUM_BITS>>,
+    pe_delta: Signal<Local, Bits<32>>,
     // Working copy of axis m's context.
     w_kind: DFF<Bits<2>>,
     w_dwell: DFF<Bit>,
@@ -398,6 +454,15 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_promote: Constant<Bits<STATE_BITS>>,
     k_push_dwell: Constant<Bits<STATE_BITS>>,
     k_drain: Constant<Bits<STATE_BITS>>,
+    k_cv0: Constant<Bits<STATE_BITS>>,
+    k_cv0w: Constant<Bits<STATE_BITS>>,
+    k_csq1: Constant<Bits<STATE_BITS>>,
+    k_csq2: Constant<Bits<STATE_BITS>>,
+    k_cn: Constant<Bits<STATE_BITS>>,
+    k_cnw: Constant<Bits<STATE_BITS>>,
+    k_ct1: Constant<Bits<STATE_BITS>>,
+    k_ct2: Constant<Bits<STATE_BITS>>,
+    k_ct: Constant<Bits<STATE_BITS>>,
 }
 
 impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
@@ -408,6 +473,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     pub fn with_axis_stops(mut self) -> Self {
         self.c_stops = Constant::new(((1u64 << K) - 1).into());
         self
+    }
+
+    /// The core with the controlled stop (`cstop_axes`, `decel`) working, and the
+    /// per-axis hard stop it falls back on; [`Self::new`] ignores both inputs.
+    pub fn with_controlled_stop(mut self) -> Self {
+        self.c_cs = Constant::new(((1u64 << K) - 1).into());
+        self.c_cs_on = Constant::new(true);
+        self.with_axis_stops()
     }
 
     pub fn new() -> Self {
@@ -428,6 +501,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cmd_error: Default::default(),
             abort: Default::default(),
             stop_axes: Default::default(),
+            cstop_axes: Default::default(),
+            decel: Default::default(),
             start: Default::default(),
             start_mask: Default::default(),
             ready: Default::default(),
@@ -485,6 +560,24 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             fl_bit: Default::default(),
             c_one_k: Constant::new(1.into()),
             c_stops: Constant::new(0.into()),
+            c_cs: Constant::new(0.into()),
+            c_cs_on: Constant::new(false),
+            ramp: Default::default(),
+            cs_hard: Default::default(),
+            cs_sh: Default::default(),
+            nx_cs: Default::default(),
+            pf_cs: Default::default(),
+            pk_cs: Default::default(),
+            axis_cut: Default::default(),
+            cs_clear: Default::default(),
+            cs_act: Default::default(),
+            s_dl1: Default::default(),
+            s_rest: Default::default(),
+            s_crev: Default::default(),
+            cs_num: Default::default(),
+            cs_den: Default::default(),
+            c_two32: Constant::new(Bits::<DIV_NUM_BITS>::from(1u64 << 32)),
+            pe_delta: Default::default(),
             w_kind: Default::default(),
             w_dwell: Default::default(),
             w_rev: Default::default(),
@@ -603,6 +696,15 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_promote: state("S_PROMOTE"),
             k_push_dwell: state("S_PUSH_DWELL"),
             k_drain: state("S_DRAIN"),
+            k_cv0: state("C_V0"),
+            k_cv0w: state("C_V0_WAIT"),
+            k_csq1: state("C_SQ1"),
+            k_csq2: state("C_SQ2"),
+            k_cn: state("C_N"),
+            k_cnw: state("C_N_WAIT"),
+            k_ct1: state("C_T1"),
+            k_ct2: state("C_T2"),
+            k_ct: state("C_T"),
         }
     }
 
@@ -625,7 +727,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         dff_setup!(
             self, clock, st, m, nm, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, u_q1, u_r1, u_r2, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
-            p_wide, p_ready, last, stop_pend, pf_stop, fl_v, fl_a
+            p_wide, p_ready, last, stop_pend, pf_stop, fl_v, fl_a, pf_cs, cs_act, s_dl1, s_rest, s_crev
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -648,6 +750,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.nwe_now.next = false;
         self.advance.next = false;
         self.axis_flush.next = false;
+        self.axis_cut.next = false;
+        self.cs_clear.next = false;
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
 
@@ -666,7 +770,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.nx_next_valid.next = false;
         self.nx_next_dwell.next = false;
         self.slot_nm.next = false;
-        self.stop_all.next = (self.stop_pend.q.val() | self.stop_axes.val()) & self.c_stops.val();
+        // A controlled stop pending on an axis that is not moving (idle, its move not yet
+        // released, or in a dwell) stops it as the hard stop does: it is at rest, so
+        // there is no motion to ramp down. The hard stop's request latches it.
+        self.cs_hard.next = self.ramp.pend.val() & !self.bank.moving.val() & self.c_cs.val();
+        self.stop_all.next = (self.stop_pend.q.val() | self.stop_axes.val() | self.cs_hard.val()) & self.c_stops.val();
+        self.cs_sh.next = (self.ramp.pend.val() & self.c_cs.val()) >> self.next_m.val();
+        self.nx_cs.next = (self.cs_sh.val() & self.c_one_k.val()).any();
+        self.pf_cs.d.next = self.nx_cs.val();
         self.stop_sh.next = self.stop_all.val() >> self.next_m.val();
         // (Bit 0 by a mask: at K = 1 the Verilog is a scalar, which takes no select.)
         self.nx_stop.next = (self.stop_sh.val() & self.c_one_k.val()).any();
@@ -692,6 +803,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.pf_stop.d.next = self.nx_stop.val();
         if self.c_single.val() {
             self.pk_stop.next = self.nx_stop.val();
+            self.pk_cs.next = self.nx_cs.val();
             self.pk_kind.next = self.nx_kind.val();
             self.pk_queued.next = self.nx_queued.val();
             self.pk_full.next = self.nx_full.val();
@@ -708,6 +820,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pk_slot.next = self.pf_slot.q.val();
             self.pk_sat.next = self.pf_sat.q.val();
             self.pk_stop.next = self.pf_stop.q.val();
+            self.pk_cs.next = self.pf_cs.q.val();
         }
         // Axis m's context word is read at `ra`, set one cycle ahead: in PICK axis m's
         // next slot for S_PROMOTE (a dwell's FIFO entry needs its T), and on every move
@@ -822,7 +935,19 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // P' = round(v·T²·2^4 / (2|D·2^32|)) in S_X; B' = round(T²·2^40 / |D·2^32|) =
         // (T²·2^41 + |D|) / (2|D|) in S_P (T² in s_vt2 by then); else the uniform
         // quotient 2T / 2n.
-        if self.st.q.val() == self.k_x.val() {
+        // The stop ramp's v0 = ⌊2^32/(Δ + 1)⌋ (C_V0) and n = ⌈v0²/(2^8·DECEL)⌉ (C_N, v0²
+        // from the pipelined multiplier).
+        self.cs_den.next = bit_cast::<64, 32>(self.decel.val()) << 8;
+        self.cs_num.next = bit_cast::<DIV_NUM_BITS, 64>(self.narrow.val())
+            + bit_cast::<DIV_NUM_BITS, 64>(self.cs_den.val())
+            - 1;
+        if (self.st.q.val() == self.k_cv0.val()) & self.c_cs_on.val() {
+            self.div.numerator.next = self.c_two32.val();
+            self.div.denominator.next = bit_cast::<64, LAST_BITS>(self.s_dl1.q.val());
+        } else if (self.st.q.val() == self.k_cn.val()) & self.c_cs_on.val() {
+            self.div.numerator.next = self.cs_num.val();
+            self.div.denominator.next = self.cs_den.val();
+        } else if self.st.q.val() == self.k_x.val() {
             self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4)
                 + bit_cast::<DIV_NUM_BITS, 64>(self.s_d.q.val());
             self.div.denominator.next = self.s_d.q.val() << 1;
@@ -852,11 +977,28 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_ur.d.next = self.ctx_ram.r_ur.val();
             self.w_uqs.d.next = self.ctx_ram.r_uqs.val();
             self.w_urs.d.next = self.ctx_ram.r_urs.val();
+            self.s_dl1.d.next = self.ramp.d1.val();
+            self.s_rest.d.next = self.ramp.rest.val();
+            self.s_crev.d.next = self.ramp.rev.val();
             if self.pk_stop.val() {
                 // Axis m is stopped: nothing of it is in the shared unit, so its
-                // queue, context and in-flight entries are flushed here.
+                // queue, context and in-flight entries are flushed here (with a
+                // controlled stop pending on it).
                 self.axis_flush.next = true;
+                self.cs_clear.next = true;
                 self.advance.next = true;
+            } else if self.pk_cs.val() & self.c_cs_on.val() {
+                // A controlled stop of running axis m: its queue and next slot are
+                // dropped and its current segment ends after the periods computed so
+                // far; if it had more to compute, the ramp is formed from its last period.
+                self.axis_cut.next = true;
+                self.cs_clear.next = true;
+                if (self.pk_kind.val() != 0) | self.pk_next_valid.val() | self.pk_queued.val() {
+                    self.cs_act.d.next = true;
+                    self.st.d.next = self.k_cv0.val();
+                } else {
+                    self.advance.next = true;
+                }
             } else if (self.pk_kind.val() != 0) & !self.pk_full.val() {
                 // Axis m's next period.
                 if self.pk_kind.val() == 1 {
@@ -990,7 +1132,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             }
         } else if self.st.q.val() == self.k_commit_setup.val() {
             self.nwe_now.next = true;
-            self.pop_now.next = true;
+            // A stop ramp comes from no queue entry (the queue was dropped in PICK).
+            self.pop_now.next = !self.cs_act.q.val();
+            self.cs_act.d.next = false;
             self.advance.next = true;
             self.st.d.next = self.k_pick.val();
         } else if self.st.q.val() == self.k_promote.val() {
@@ -1057,6 +1201,56 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.commit.next = true;
             self.advance.next = true;
             self.st.d.next = self.k_pick.val();
+        } else if (self.st.q.val() == self.k_cv0.val()) & self.c_cs_on.val() {
+            // The stop ramp (model::stop): at rest (a dwell last, or a very long period)
+            // there is none; else v0 = ⌊2^32/(Δ + 1)⌋.
+            if self.s_rest.q.val() {
+                self.cs_act.d.next = false;
+                self.advance.next = true;
+                self.st.d.next = self.k_pick.val();
+            } else {
+                self.div.start.next = true;
+                self.st.d.next = self.k_cv0w.val();
+            }
+        } else if (self.st.q.val() == self.k_cv0w.val()) & self.c_cs_on.val() {
+            if self.div.valid.val() {
+                // v0 < 2^31; v0² into the pipelined multiplier.
+                self.s_v0.d.next = self.div.quotient.val().get_bits::<32>(0);
+                self.op_a.d.next = self.div.quotient.val().get_bits::<32>(0);
+                self.op_b.d.next = self.div.quotient.val().get_bits::<32>(0);
+                self.st.d.next = self.k_csq1.val();
+            }
+        } else if (self.st.q.val() == self.k_csq1.val()) & self.c_cs_on.val() {
+            self.st.d.next = self.k_csq2.val();
+        } else if (self.st.q.val() == self.k_csq2.val()) & self.c_cs_on.val() {
+            self.st.d.next = self.k_cn.val();
+        } else if (self.st.q.val() == self.k_cn.val()) & self.c_cs_on.val() {
+            // v0² arrived: n = ⌈v0²/(2^8·DECEL)⌉.
+            self.div.start.next = true;
+            self.st.d.next = self.k_cnw.val();
+        } else if (self.st.q.val() == self.k_cnw.val()) & self.c_cs_on.val() {
+            if self.div.valid.val() {
+                // n ≤ 2^24 (DECEL ≥ its minimum); n·(Δ + 1) into the multiplier and the
+                // signed count in the last step's direction.
+                if self.s_crev.q.val() {
+                    self.s_steps.d.next = (!self.div.quotient.val().get_bits::<32>(0)) + 1;
+                } else {
+                    self.s_steps.d.next = self.div.quotient.val().get_bits::<32>(0);
+                }
+                self.op_a.d.next = self.div.quotient.val().get_bits::<32>(0);
+                self.op_b.d.next = bit_cast::<32, LAST_BITS>(self.s_dl1.q.val());
+                self.st.d.next = self.k_ct1.val();
+            }
+        } else if (self.st.q.val() == self.k_ct1.val()) & self.c_cs_on.val() {
+            self.st.d.next = self.k_ct2.val();
+        } else if (self.st.q.val() == self.k_ct2.val()) & self.c_cs_on.val() {
+            self.st.d.next = self.k_ct.val();
+        } else if (self.st.q.val() == self.k_ct.val()) & self.c_cs_on.val() {
+            // T = 2n(Δ + 1) ≤ 2^30: the segment (v0, T, ±n) enters the setup as a queue
+            // head would after S_CHECK (v0·T's operands in op_a and op_b).
+            self.op_a.d.next = self.s_v0.q.val();
+            self.op_b.d.next = self.narrow.val().get_bits::<32>(0) << 1;
+            self.st.d.next = self.k_issue_vt.val();
         } else if self.st.q.val() == self.k_drain.val() {
             // After an abort: wait until no unit still runs an abandoned operation. Like
             // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
@@ -1080,7 +1274,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // The period entry (pe_valid): Δ = E − E_prev from registers (w_e holds the new
         // E, s_eprev the one before; a dwell's T and 0), with its step, direction (a
         // step's only) and last flags.
-        self.pe_entry.next = bit_cast::<ENTRY_BITS, 32>(self.w_e.q.val() - self.s_eprev.q.val())
+        self.pe_delta.next = self.w_e.q.val() - self.s_eprev.q.val();
+        self.pe_entry.next = bit_cast::<ENTRY_BITS, 32>(self.pe_delta.val())
             | (bit_cast::<ENTRY_BITS, 1>(self.pe_step.q.val().into()) << 32)
             | (bit_cast::<ENTRY_BITS, 1>((self.w_rev.q.val() & self.pe_step.q.val()).into()) << 33)
             | (bit_cast::<ENTRY_BITS, 1>(self.pe_last.q.val().into()) << 34);
@@ -1137,7 +1332,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.queues.clock.next = self.clock.val();
         self.queues.reset.next = self.reset.val();
         self.queues.abort.next = self.abort.val();
-        self.queues.flush.next = self.axis_flush.val();
+        self.queues.flush.next = self.axis_flush.val() | self.axis_cut.val();
+        self.ramp.clock.next = self.clock.val();
+        self.ramp.reset.next = self.flush.val();
+        self.ramp.request.next = self.cstop_axes.val() & self.c_cs.val();
+        self.ramp.clear.next = self.cs_clear.val() & self.c_cs_on.val();
+        self.ramp.clear_axis.next = self.m.q.val();
+        self.ramp.last_we.next = self.pe_valid.q.val() & self.c_cs_on.val();
+        self.ramp.last_axis.next = self.m.q.val().get_bits::<4>(0);
+        self.ramp.last_delta.next = self.pe_delta.val();
+        self.ramp.last_step.next = self.pe_step.q.val();
+        self.ramp.last_rev.next = self.w_rev.q.val();
+        self.ramp.raxis.next = self.m.q.val().get_bits::<4>(0);
         // Per-axis stops: kept until PICK flushes the axis (while the request is still
         // high it stays), the FIFO held one cycle more after the flush.
         self.m_bit.next = self.c_one_k.val() << self.m.q.val();
@@ -1167,13 +1373,16 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.full_pick[i].bus.next = self.bank.full.val();
             // Work of axis i not yet turned into entries: a segment in progress, set up
             // or queued (the bank adds the entries in flight for its `more`).
-            self.pend_bus[i].value.next =
-                (self.ctx[i].kind.val() != 0) | self.ctx[i].next_valid.val() | self.q_pick[i].value.val();
+            self.pend_bus[i].value.next = (self.ctx[i].kind.val() != 0)
+                | self.ctx[i].next_valid.val()
+                | self.q_pick[i].value.val()
+                | (self.cs_act.q.val() & (self.m.q.val().index() == i));
             self.ctx[i].clock.next = self.clock.val();
             self.ctx[i].reset.next = self.flush.val() | (self.axis_flush.val() & (self.m.q.val().index() == i));
             self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
             self.ctx[i].nwe.next = self.nwe_now.val() & (self.m.q.val().index() == i);
             self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
+            self.ctx[i].cut.next = self.axis_cut.val() & (self.m.q.val().index() == i);
             self.ctx[i].new_dwell.next = self.w_dwell.q.val();
             self.ctx[i].new_kind.next = self.w_kind.q.val();
         }
@@ -1199,6 +1408,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.abort.val() {
             self.st.d.next = self.k_drain.val();
             self.pe_valid.d.next = false;
+            self.cs_act.d.next = false;
         }
         if self.reset.val() {
             self.st.d.next = self.k_pick.val();
@@ -1214,6 +1424,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pf_slot.d.next = false;
             self.pf_sat.d.next = false;
             self.pf_stop.d.next = false;
+            self.pf_cs.d.next = false;
+            self.cs_act.d.next = false;
             self.stop_pend.d.next = 0.into();
             self.fl_v.d.next = false;
             self.cmd_err.d.next = false;

@@ -49,6 +49,8 @@ macro_rules! core_connect_ports {
             self.ext_go.connect();
             self.abort.connect();
             self.stop_axes.connect();
+            self.cstop_axes.connect();
+            self.decel.connect();
             self.high_min.connect();
             self.low_min.connect();
             self.home_latch.connect();
@@ -92,5 +94,7 @@ pub mod root;
 pub mod seg_queue;
 pub mod status_sync;
 pub mod step_gen;
+pub mod stop_ramp;
+pub mod stop_regs;
 pub mod sync_start;
 pub mod top;

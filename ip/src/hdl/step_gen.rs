@@ -59,6 +59,8 @@ pub struct StepGen {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
+    /// Running an entry that ends with a step (not a dwell's): the axis is moving.
+    pub moving: Signal<Out, Bit>,
     pub done_count: Signal<Out, Bits<8>>,
     pub under_count: Signal<Out, Bits<8>>,
     running: DFF<Bit>,
@@ -105,6 +107,7 @@ impl Default for StepGen {
             position: Default::default(),
             underrun: Default::default(),
             active: Default::default(),
+            moving: Default::default(),
             done_count: Default::default(),
             under_count: Default::default(),
             running: Default::default(),
@@ -165,6 +168,7 @@ impl Logic for StepGen {
         self.position.next = self.pos.q.val();
         self.underrun.next = self.under.q.val();
         self.active.next = self.running.q.val();
+        self.moving.next = self.running.q.val() & self.cur_step.q.val();
         self.done_count.next = self.done_cnt.q.val();
         self.under_count.next = self.under_cnt.q.val();
         self.pop.next = self.load.val();
@@ -285,6 +289,8 @@ pub struct StepAxis<const DEPTH: usize> {
     pub position: Signal<Out, Bits<32>>,
     pub underrun: Signal<Out, Bit>,
     pub active: Signal<Out, Bit>,
+    /// See [`StepGen::moving`].
+    pub moving: Signal<Out, Bit>,
     /// Entries still coming (`more`) or waiting in the FIFO (a move not yet released),
     /// moving, or STEP still high: the axis's BUSY.
     pub busy: Signal<Out, Bit>,
@@ -318,6 +324,7 @@ impl<const DEPTH: usize> Default for StepAxis<DEPTH> {
             position: Default::default(),
             underrun: Default::default(),
             active: Default::default(),
+            moving: Default::default(),
             busy: Default::default(),
             done_count: Default::default(),
             under_count: Default::default(),
@@ -354,6 +361,7 @@ impl<const DEPTH: usize> Logic for StepAxis<DEPTH> {
         self.position.next = self.gen.position.val();
         self.underrun.next = self.gen.underrun.val();
         self.active.next = self.gen.active.val();
+        self.moving.next = self.gen.moving.val();
         self.done_count.next = self.gen.done_count.val();
         self.under_count.next = self.gen.under_count.val();
         // The level after this edge is at least DEPTH: above DEPTH already (one pop

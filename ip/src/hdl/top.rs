@@ -40,6 +40,7 @@ use super::exmc::ExmcSlave;
 use super::io_regs::IoRegs;
 use super::machine_io::MachineIo;
 use super::push_guard::PushGuard;
+use super::stop_regs::StopRegs;
 use super::regfile::{RegFile, CMD_BITS};
 use super::status_sync::{StatusSync, STATUS_BITS};
 use crate::regs::{CoreParams, ADDR_BITS};
@@ -95,6 +96,7 @@ macro_rules! stepper_top {
                 pub $io: MachineIo<K>,
                 pub io_regs: IoRegs<K>,
                 pub guard: PushGuard<K>,
+                pub stop_regs: StopRegs<K>,
             )?
         }
 
@@ -127,8 +129,8 @@ macro_rules! stepper_top {
                     regs: RegFile::new(params),
                     cmd_fifo: Default::default(),
                     status: Default::default(),
-                    // (The machine I/O's stops need the core's per-axis stop.)
-                    core: if false $(|| { let _ = stringify!($io); true })? { $core::new().with_axis_stops() } else { $core::new() },
+                    // (The machine I/O's stops need the core's per-axis and controlled stops.)
+                    core: if false $(|| { let _ = stringify!($io); true })? { $core::new().with_controlled_stop() } else { $core::new() },
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
                     c_push: Default::default(),
@@ -146,6 +148,7 @@ macro_rules! stepper_top {
                         $io: Default::default(),
                         io_regs: Default::default(),
                         guard: Default::default(),
+                        stop_regs: StopRegs::new(params.stop_decel_min()),
                     )?
                 }
             }
@@ -274,6 +277,8 @@ macro_rules! stepper_top {
                 self.status.breset.next = self.rst_bus.sig_out.val();
                 self.core.sel_axis.next = self.status.sel.val();
                 self.core.stop_axes.next = 0.into();
+                self.core.cstop_axes.next = 0.into();
+                self.core.decel.next = 0.into();
                 // Position latches: only the machine I/O drives them.
                 self.core.home_latch.next = 0.into();
                 self.core.probe_latch.next = false;
@@ -365,8 +370,20 @@ macro_rules! stepper_top {
                     self.guard.lim_pos.next = self.io_regs.b_lpos.val();
                     self.guard.alarm.next = self.io_regs.b_alarm.val();
                     self.guard.held_all.next = self.io_regs.b_held.val();
-                    self.guard.stop_ev.next = self.io_regs.b_stop_ev.val();
-                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val();
+                    // (A controlled stop makes the plan stale as the limits' stops do.)
+                    self.guard.stop_ev.next = self.io_regs.b_stop_ev.val() | self.stop_regs.requested.val();
+                    // The controlled stop's registers and their crossing.
+                    self.stop_regs.bus_clock.next = self.bus_clk.val();
+                    self.stop_regs.bus_reset.next = self.rst_bus.sig_out.val();
+                    self.stop_regs.wr.next = self.exmc.wr.val();
+                    self.stop_regs.wr_addr.next = self.exmc.wr_addr.val();
+                    self.stop_regs.wr_data.next = self.exmc.wr_data.val();
+                    self.stop_regs.rd_addr.next = self.exmc.rd_addr.val();
+                    self.stop_regs.enable.next = self.regs.enable.val();
+                    self.stop_regs.clock.next = self.clk.val();
+                    self.core.cstop_axes.next = self.stop_regs.cstop.val();
+                    self.core.decel.next = self.stop_regs.decel.val();
+                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val() | self.stop_regs.rd_data.val();
                     self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
                     // The hard stop holds the abort, except in a cycle that brings a push:
                     // the queue takes it then and the next cycle's abort flushes it and

@@ -9,6 +9,7 @@
 //! * [`planner`]: trapezoid moves to segments;
 //! * [`guard`]: the machine I/O's push checks (limits, soft limits, a held axis) and the planned position;
 //! * [`io`]: machine inputs and safety (filters, e-stop latch, watchdog, latches), clock by clock;
+//! * [`stop`]: the controlled stop's segment, formed from an axis's last period;
 //! * [`pulse`]: STEP high times and DIR changes on the pins, from the output timing;
 //! * [`alternatives`]: other period algorithms, for the accuracy report.
 
@@ -21,6 +22,7 @@ pub mod io;
 pub mod planner;
 pub mod pulse;
 pub mod segment;
+pub mod stop;
 pub mod units;
 
 pub use axis::{AxisRun, FifoEntry, Rejected};

@@ -1,0 +1,109 @@
+//! The controlled stop's per-axis state, beside the scheduler ([`super::core::TdmCore`]
+//! forms the ramp on the shared unit; docs/architecture.md, "Controlled stop").
+//!
+//! * **Requests** (`pend`, bit i): set by `request` bit i (a one-cycle pulse or a
+//!   level), kept until the scheduler takes axis i's request (`clear` with
+//!   `clear_axis`); a request in the same cycle as its clear survives. `reset` empties
+//!   them.
+//! * **Last period** per axis: every period entry the scheduler pushes (`last_we`, with
+//!   `last_axis`, `last_delta` Δ, `last_step` and `last_rev`) is written to a K-word LUT
+//!   RAM as (Δ, direction), Δ taken as 0 (at rest) for a dwell's entry or Δ ≥
+//!   [`crate::model::stop::STOP_REST_PERIOD`]. The scheduler reads axis `raxis`'s word
+//!   combinationally (latency 0): `d1` = Δ + 1, `rest` (Δ = 0) and `rev`. A word is read
+//!   only for an axis that is running, whose move has pushed at least one entry.
+//!
+//! Ports: the above; latency 1 from `request`/`clear` to `pend`, 0 from a write's
+//! edge to its read.
+
+use super::lut_ram::LutRam;
+use rust_hdl::prelude::*;
+
+/// Bits of a stored last period (Δ < 2^24 − 1) and of Δ + 1.
+pub const LAST_BITS: usize = 24;
+const _: () = assert!(LAST_BITS + 1 == 25);
+
+#[derive(LogicBlock)]
+pub struct StopRamp<const K: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub request: Signal<In, Bits<K>>,
+    pub clear: Signal<In, Bit>,
+    pub clear_axis: Signal<In, Bits<8>>,
+    pub pend: Signal<Out, Bits<K>>,
+    pub last_we: Signal<In, Bit>,
+    pub last_axis: Signal<In, Bits<4>>,
+    pub last_delta: Signal<In, Bits<32>>,
+    pub last_step: Signal<In, Bit>,
+    pub last_rev: Signal<In, Bit>,
+    pub raxis: Signal<In, Bits<4>>,
+    pub d1: Signal<Out, Bits<LAST_BITS>>,
+    pub rest: Signal<Out, Bit>,
+    pub rev: Signal<Out, Bit>,
+    r_pend: DFF<Bits<K>>,
+    ram: LutRam<25, 4>,
+    clr_bit: Signal<Local, Bits<K>>,
+    c_one: Constant<Bits<K>>,
+    c_rest: Constant<Bits<32>>,
+    w_delta: Signal<Local, Bits<LAST_BITS>>,
+    r_delta: Signal<Local, Bits<LAST_BITS>>,
+}
+
+impl<const K: usize> Default for StopRamp<K> {
+    fn default() -> Self {
+        assert!((1..=16).contains(&K), "StopRamp: K = {K} outside 1..=16");
+        StopRamp {
+            clock: Default::default(),
+            reset: Default::default(),
+            request: Default::default(),
+            clear: Default::default(),
+            clear_axis: Default::default(),
+            pend: Default::default(),
+            last_we: Default::default(),
+            last_axis: Default::default(),
+            last_delta: Default::default(),
+            last_step: Default::default(),
+            last_rev: Default::default(),
+            raxis: Default::default(),
+            d1: Default::default(),
+            rest: Default::default(),
+            rev: Default::default(),
+            r_pend: Default::default(),
+            ram: Default::default(),
+            clr_bit: Default::default(),
+            c_one: Constant::new(1.into()),
+            c_rest: Constant::new((crate::model::stop::STOP_REST_PERIOD as u64).into()),
+            w_delta: Default::default(),
+            r_delta: Default::default(),
+        }
+    }
+}
+
+impl<const K: usize> Logic for StopRamp<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, r_pend);
+        self.clr_bit.next = 0.into();
+        if self.clear.val() {
+            self.clr_bit.next = self.c_one.val() << self.clear_axis.val();
+        }
+        self.r_pend.d.next = (self.r_pend.q.val() & !self.clr_bit.val()) | self.request.val();
+        if self.reset.val() {
+            self.r_pend.d.next = 0.into();
+        }
+        self.pend.next = self.r_pend.q.val();
+        self.ram.clock.next = self.clock.val();
+        self.ram.we.next = self.last_we.val();
+        self.ram.waddr.next = self.last_axis.val();
+        self.w_delta.next = 0.into();
+        if self.last_step.val() & (self.last_delta.val() < self.c_rest.val()) {
+            self.w_delta.next = self.last_delta.val().get_bits::<LAST_BITS>(0);
+        }
+        self.ram.wdata.next = bit_cast::<25, LAST_BITS>(self.w_delta.val())
+            | (bit_cast::<25, 1>(self.last_rev.val().into()) << 24u64);
+        self.ram.raddr.next = self.raxis.val();
+        self.r_delta.next = self.ram.rdata.val().get_bits::<LAST_BITS>(0);
+        self.d1.next = self.r_delta.val() + 1;
+        self.rest.next = self.r_delta.val() == 0;
+        self.rev.next = self.ram.rdata.val().get_bit(24);
+    }
+}

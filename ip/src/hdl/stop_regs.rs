@@ -1,0 +1,168 @@
+//! The controlled stop's registers (`regs::Feature::Io`), in the bus clock, and the
+//! crossing of its commands to `clk`. A block beside the register file like
+//! [`super::io_regs::IoRegs`]: its reads return 0 outside its own addresses.
+//!
+//! * **STOP** (write): bit i requests a controlled stop of axis i. Requests collect in
+//!   `nxt` (written bits ORed in, so none is lost) and leave as one mask: while no mask
+//!   is crossing, `nxt` moves into `mask` and a toggle flips; the toggle crosses into
+//!   `clk` through two flip-flops and leaves as one cycle of `cstop` = `mask` (stable
+//!   since before the toggle flipped), 3 to 4 `clk` edges after the write commits (plus
+//!   one bus clock when the write waits for the mask before it). The `clk` side's copy
+//!   of the toggle crosses back (two bus-clock flip-flops); the next mask leaves once it
+//!   is seen, so a mask never changes while `clk` may read it. `bus_reset` drops
+//!   requests not yet sent; the toggles themselves are never reset (the `clk` side only
+//!   copies the synchronised toggle), so the two sides agree after a reset of either. A
+//!   request reaching a core held in reset is dropped there.
+//! * **STOP_DECEL_LO/HI**: the deceleration, a = DECEL/2^57 steps/tick²
+//!   ([`crate::model::stop`]). LO stages bits 15:0; a write of HI applies {HI, staged
+//!   LO} unless the core is enabled (CTRL.ENABLE = 1), or the value is below the
+//!   export's minimum ([`crate::model::stop::stop_decel_min`], `c_min`): then it is
+//!   refused (STOP_STATUS.REFUSED) and the deceleration in use stays. Reads return the
+//!   value in use. After reset it is 2^32 − 1 (the hardest). `decel` is that register,
+//!   read in `clk` only while a ramp is formed, which an enabled core alone does.
+//!
+//! Ports: the bus (`wr`, `wr_addr`, `wr_data`, `rd_addr` → `rd_data`, combinational),
+//! `enable`, `requested` (the axes a STOP write names, as it commits); `clock` with
+//! `cstop` (K bits, one cycle) and `decel` (32 bits).
+
+use super::cdc::BitSync;
+use super::regfile::c9;
+use crate::regs::ADDR_BITS;
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct StopRegs<const K: usize> {
+    pub bus_clock: Signal<In, Clock>,
+    pub bus_reset: Signal<In, Bit>,
+    pub wr: Signal<In, Bit>,
+    pub wr_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub wr_data: Signal<In, Bits<16>>,
+    pub rd_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub rd_data: Signal<Out, Bits<16>>,
+    pub enable: Signal<In, Bit>,
+    pub clock: Signal<In, Clock>,
+    pub cstop: Signal<Out, Bits<K>>,
+    pub decel: Signal<Out, Bits<32>>,
+    /// The axes a STOP write names, in the cycle it commits (bus clock): the push guard
+    /// marks their plans stale.
+    pub requested: Signal<Out, Bits<K>>,
+    // Bus clock.
+    nxt: DFF<Bits<K>>,
+    mask: DFF<Bits<K>>,
+    tog: DFF<Bit>,
+    lo: DFF<Bits<16>>,
+    dec: DFF<Bits<32>>,
+    refused: DFF<Bit>,
+    ack: BitSync,
+    busy: Signal<Local, Bit>,
+    req: Signal<Local, Bits<K>>,
+    staged: Signal<Local, Bits<32>>,
+    // clk.
+    tsync: BitSync,
+    tprev: DFF<Bit>,
+    c_min: Constant<Bits<32>>,
+    a_stop: Constant<Bits<ADDR_BITS>>,
+    a_lo: Constant<Bits<ADDR_BITS>>,
+    a_hi: Constant<Bits<ADDR_BITS>>,
+    a_status: Constant<Bits<ADDR_BITS>>,
+}
+
+impl<const K: usize> StopRegs<K> {
+    /// The registers for an export whose smallest accepted deceleration is `decel_min`.
+    pub fn new(decel_min: u32) -> Self {
+        assert!((1..=16).contains(&K), "StopRegs: K = {K} outside 1..=16");
+        StopRegs {
+            bus_clock: Default::default(),
+            bus_reset: Default::default(),
+            wr: Default::default(),
+            wr_addr: Default::default(),
+            wr_data: Default::default(),
+            rd_addr: Default::default(),
+            rd_data: Default::default(),
+            enable: Default::default(),
+            clock: Default::default(),
+            cstop: Default::default(),
+            decel: Default::default(),
+            requested: Default::default(),
+            nxt: Default::default(),
+            mask: Default::default(),
+            tog: Default::default(),
+            lo: Default::default(),
+            dec: Default::default(),
+            refused: Default::default(),
+            ack: Default::default(),
+            busy: Default::default(),
+            req: Default::default(),
+            staged: Default::default(),
+            tsync: Default::default(),
+            tprev: Default::default(),
+            c_min: Constant::new((decel_min as u64).into()),
+            a_stop: c9("STOP"),
+            a_lo: c9("STOP_DECEL_LO"),
+            a_hi: c9("STOP_DECEL_HI"),
+            a_status: c9("STOP_STATUS"),
+        }
+    }
+}
+
+impl<const K: usize> Logic for StopRegs<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, bus_clock, nxt, mask, tog, lo, dec, refused);
+        dff_setup!(self, clock, tprev);
+        // ---- bus clock ----
+        self.ack.clock.next = self.bus_clock.val();
+        self.ack.sig_in.next = self.tprev.q.val();
+        self.busy.next = self.tog.q.val() ^ self.ack.sig_out.val();
+        self.req.next = 0.into();
+        if self.wr.val() & (self.wr_addr.val() == self.a_stop.val()) {
+            self.req.next = self.wr_data.val().get_bits::<K>(0);
+        }
+        self.requested.next = self.req.val();
+        self.nxt.d.next = self.nxt.q.val() | self.req.val();
+        if !self.busy.val() & self.nxt.q.val().any() {
+            self.mask.d.next = self.nxt.q.val();
+            self.tog.d.next = !self.tog.q.val();
+            self.nxt.d.next = self.req.val();
+        }
+        self.staged.next = (bit_cast::<32, 16>(self.wr_data.val()) << 16) | bit_cast::<32, 16>(self.lo.q.val());
+        if self.wr.val() & (self.wr_addr.val() == self.a_lo.val()) {
+            self.lo.d.next = self.wr_data.val();
+        }
+        if self.wr.val() & (self.wr_addr.val() == self.a_hi.val()) {
+            if self.enable.val() | (self.staged.val() < self.c_min.val()) {
+                self.refused.d.next = true;
+            } else {
+                self.dec.d.next = self.staged.val();
+            }
+        }
+        if self.wr.val() & (self.wr_addr.val() == self.a_status.val()) & self.wr_data.val().get_bit(0) {
+            self.refused.d.next = false;
+        }
+        self.rd_data.next = 0.into();
+        if self.rd_addr.val() == self.a_lo.val() {
+            self.rd_data.next = self.dec.q.val().get_bits::<16>(0);
+        }
+        if self.rd_addr.val() == self.a_hi.val() {
+            self.rd_data.next = self.dec.q.val().get_bits::<16>(16);
+        }
+        if self.rd_addr.val() == self.a_status.val() {
+            self.rd_data.next = bit_cast::<16, 1>(self.refused.q.val().into());
+        }
+        if self.bus_reset.val() {
+            self.nxt.d.next = 0.into();
+            self.lo.d.next = 0xFFFF.into();
+            self.dec.d.next = 0xFFFF_FFFFu64.into();
+            self.refused.d.next = false;
+        }
+        // ---- clk ----
+        self.tsync.clock.next = self.clock.val();
+        self.tsync.sig_in.next = self.tog.q.val();
+        self.tprev.d.next = self.tsync.sig_out.val();
+        self.cstop.next = 0.into();
+        if self.tsync.sig_out.val() ^ self.tprev.q.val() {
+            self.cstop.next = self.mask.q.val();
+        }
+        self.decel.next = self.dec.q.val();
+    }
+}
