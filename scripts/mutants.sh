@@ -88,6 +88,10 @@ mutants=(
   "55#ip/src/hdl/push_guard.rs#s/ & \(self.st_taken.val\(\) == self.st_pushed.val\(\)\);/;/#hdl_machine_io#push_guard#the plan is taken from a status word of an axis with pushes the core has not taken"
   "56#ip/src/hdl/push_guard.rs#s/\(self.u_sum.val\(\) > self.u_max.val\(\)\)/(self.u_sum.val() >= self.u_max.val())/#system#soft_limits#the soft maximum is exclusive (a push ending on it is rejected)"
   "57#ip/src/hdl/step_gen.rs#s/self.more.val\(\) \| !self.fifo.empty.val\(\) \| /self.more.val() | /#hdl_axis_bank#axes_released_together#BUSY leaves out periods waiting in the FIFO for START"
+  "58#ip/src/hdl/core.rs#s/self.op_b.d.next = self.narrow.val\(\).get_bits::<32>\(0\) << 1;/self.op_b.d.next = self.narrow.val().get_bits::<32>(0);/#hdl_core#controlled_stop#the stop ramp's T is n(Δ + 1), not 2n(Δ + 1)"
+  "59#ip/src/hdl/stop_ramp.rs#s/self.d1.next = self.r_delta.val\(\) \+ 1;/self.d1.next = self.r_delta.val();/#hdl_core#controlled_stop#the ramp's v0 from Δ instead of Δ + 1"
+  "60#ip/src/hdl/core.rs#s/& !self.bank.moving.val\(\) & self.c_cs.val\(\)/\& !self.bank.active.val() \& self.c_cs.val()/#hdl_core#controlled_stop#a stop in a dwell forms a ramp"
+  "61#ip/src/hdl/stop_regs.rs#s/self.enable.val\(\) \| \(self.staged.val\(\) < self.c_min.val\(\)\)/self.enable.val()/#system#controlled_stop#STOP_DECEL below the minimum is taken"
 )
 
 only=("$@")

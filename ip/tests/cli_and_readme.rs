@@ -412,3 +412,12 @@ fn sim_reuses_the_verilator_build_of_the_same_core() {
     };
     assert_eq!(rel(&k3), rel(&first), "the same move on K = 3, from its release");
 }
+
+/// The README's controlled-stop latency is `t_stop_form` at the export's radix, which
+/// hdl_core::controlled_stop_ramps_down_from_every_kind_of_segment measures.
+#[test]
+fn readme_controlled_stop_latency_is_the_measured_constant() {
+    let n = tdm_stepper::hdl::core::t_stop_form(tdm_stepper::export::RADIX_BITS);
+    let text = readme().split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(text.contains(&format!("forms the ramp in {n} clk cycles")), "README's controlled-stop latency is not {n} cycles");
+}
