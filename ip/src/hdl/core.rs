@@ -58,7 +58,7 @@
 //! as taken) with its next slot, and its current segment ends after the periods already
 //! computed (they stay in the period FIFO and run); if the axis had more to compute, the
 //! scheduler forms the ramp from the last period pushed, Δ: v0 = ⌊2^32/(Δ + 1)⌋ and n =
-//! ⌈v0²/(2^8·decel)⌉ by two divides, T = 2n(Δ + 1) by a product, and sets it up as a
+//! ⌊v0²/(2^8·decel)⌋ + 1 by two divides, T = 2n(Δ + 1) by a product, and sets it up as a
 //! decelerating segment into the next slot ([`t_stop_form`] cycles from PICK to its
 //! commit), to run after those periods. An axis that is not moving when the request
 //! waits (idle, not yet released, or in a dwell) is at rest: the request becomes its
@@ -277,8 +277,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_dl1: DFF<Bits<LAST_BITS>>,
     s_rest: DFF<Bit>,
     s_crev: DFF<Bit>,
-    /// n + 2^8·DECEL − 1 and 2^8·DECEL, the ramp's distance quotient's operands.
+    /// v0² and 2^8·DECEL, the ramp's distance quotient's operands, and n = that + 1.
     cs_num: Signal<Local, Bits<DIV_NUM_BITS>>,
+    cs_n: Signal<Local, Bits<32>>,
     cs_den: Signal<Local, Bits<64>>,
     c_two32: Constant<Bits<DIV_NUM_BITS>>,
     pe_delta: Signal<Local, Bits<32>>,
@@ -575,6 +576,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             s_rest: Default::default(),
             s_crev: Default::default(),
             cs_num: Default::default(),
+            cs_n: Default::default(),
             cs_den: Default::default(),
             c_two32: Constant::new(Bits::<DIV_NUM_BITS>::from(1u64 << 32)),
             pe_delta: Default::default(),
@@ -935,12 +937,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // P' = round(v·T²·2^4 / (2|D·2^32|)) in S_X; B' = round(T²·2^40 / |D·2^32|) =
         // (T²·2^41 + |D|) / (2|D|) in S_P (T² in s_vt2 by then); else the uniform
         // quotient 2T / 2n.
-        // The stop ramp's v0 = ⌊2^32/(Δ + 1)⌋ (C_V0) and n = ⌈v0²/(2^8·DECEL)⌉ (C_N, v0²
+        // The stop ramp's v0 = ⌊2^32/(Δ + 1)⌋ (C_V0) and n − 1 = ⌊v0²/(2^8·DECEL)⌋ (C_N, v0²
         // from the pipelined multiplier).
         self.cs_den.next = bit_cast::<64, 32>(self.decel.val()) << 8;
-        self.cs_num.next = bit_cast::<DIV_NUM_BITS, 64>(self.narrow.val())
-            + bit_cast::<DIV_NUM_BITS, 64>(self.cs_den.val())
-            - 1;
+        self.cs_num.next = bit_cast::<DIV_NUM_BITS, 64>(self.narrow.val());
+        self.cs_n.next = self.div.quotient.val().get_bits::<32>(0) + 1;
         if (self.st.q.val() == self.k_cv0.val()) & self.c_cs_on.val() {
             self.div.numerator.next = self.c_two32.val();
             self.div.denominator.next = bit_cast::<64, LAST_BITS>(self.s_dl1.q.val());
@@ -1225,19 +1226,20 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if (self.st.q.val() == self.k_csq2.val()) & self.c_cs_on.val() {
             self.st.d.next = self.k_cn.val();
         } else if (self.st.q.val() == self.k_cn.val()) & self.c_cs_on.val() {
-            // v0² arrived: n = ⌈v0²/(2^8·DECEL)⌉.
+            // v0² arrived: n = ⌊v0²/(2^8·DECEL)⌋ + 1.
             self.div.start.next = true;
             self.st.d.next = self.k_cnw.val();
         } else if (self.st.q.val() == self.k_cnw.val()) & self.c_cs_on.val() {
             if self.div.valid.val() {
                 // n ≤ 2^24 (DECEL ≥ its minimum); n·(Δ + 1) into the multiplier and the
                 // signed count in the last step's direction.
+                // (−n = ¬(n − 1): the quotient's complement.)
                 if self.s_crev.q.val() {
-                    self.s_steps.d.next = (!self.div.quotient.val().get_bits::<32>(0)) + 1;
+                    self.s_steps.d.next = !self.div.quotient.val().get_bits::<32>(0);
                 } else {
-                    self.s_steps.d.next = self.div.quotient.val().get_bits::<32>(0);
+                    self.s_steps.d.next = self.cs_n.val();
                 }
-                self.op_a.d.next = self.div.quotient.val().get_bits::<32>(0);
+                self.op_a.d.next = self.cs_n.val();
                 self.op_b.d.next = bit_cast::<32, LAST_BITS>(self.s_dl1.q.val());
                 self.st.d.next = self.k_ct1.val();
             }

@@ -8,7 +8,8 @@
 //!
 //! ```text
 //! v0 = ⌊2^32 / (Δ + 1)⌋            (Q0.32 steps/tick, at most 1/(Δ + 1))
-//! n  = ⌈v0² / (256 · DECEL)⌉        (steps; the distance v²/2a rounded up)
+//! n  = ⌊v0² / (256 · DECEL)⌋ + 1    (steps; the distance v²/2a, rounded up, one more
+//!                                    when it is whole: no adder before the divide)
 //! T  = 2 · n · (Δ + 1)              (ticks)
 //! ```
 //!
@@ -40,7 +41,8 @@ pub const STOP_REST_PERIOD: u32 = (1 << 24) - 1;
 pub const DECEL_FRAC_BITS: u32 = 57;
 
 /// The smallest `DECEL` the export accepts: max(⌈RMAX/31⌉, ⌈RMAX² / (256·(2^24 − 1))⌉),
-/// so that a stop from any rate up to RMAX fits one segment (T ≤ 2^30, n ≤ 2^24).
+/// so that a stop from any rate up to RMAX fits one segment (T ≤ 2^30, n ≤ 2^24: n is at
+/// most v0²/(256·DECEL) + 1).
 pub fn stop_decel_min(limits: &Limits) -> u32 {
     let rmax = limits.max_rate() as u128;
     let by_t = rmax.div_ceil(31);
@@ -65,7 +67,7 @@ pub fn stop_segment(delta: u32, decel: u32, reverse: bool) -> Option<Segment> {
     }
     let d1 = delta as u64 + 1;
     let v0 = (1u64 << 32) / d1;
-    let n = ((v0 as u128 * v0 as u128).div_ceil(256 * decel as u128)) as u64;
+    let n = ((v0 as u128 * v0 as u128) / (256 * decel as u128)) as u64 + 1;
     let t = 2 * n * d1;
     let steps = if reverse { -(n as i64) } else { n as i64 };
     Some(Segment::new(v0 as u32, t.min(u32::MAX as u64) as u32, steps.clamp(i32::MIN as i64, i32::MAX as i64) as i32))
