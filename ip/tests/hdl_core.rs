@@ -37,6 +37,11 @@ macro_rules! rust_hdl_trace {
                 u.ext_go.next = (r[9] as u64).into();
                 u.abort.next = r[10] == 1;
                 u.stop_axes.next = (r[11] as u64).into();
+                // The controlled-stop columns, where the stimulus has them (spec_cs).
+                if r.len() > 12 {
+                    u.cstop_axes.next = (r[12] as u64).into();
+                    u.decel.next = (r[13] as u64).into();
+                }
             },
             |u| {
                 vec![
@@ -856,41 +861,7 @@ fn controlled_stop_ramps_down_from_every_kind_of_segment() {
     let got = run_sparse(Simulator::Verilator, &sim_dir("core_cstop", Simulator::Verilator), &generate_verilog(&uut()), &spec_cs::<K>(), &ev, cycles).unwrap();
     let cut_off = windows[RUST_HDL_SCENARIOS - 1].4;
     let ev_short: Vec<_> = ev.iter().filter(|e| e.0 < cut_off).cloned().collect();
-    let reference = run_rust_hdl_sparse(
-        &mut uut(),
-        &ev_short,
-        cut_off,
-        |u, c| u.clock.next = Clock::from(c),
-        |u, r| {
-            u.reset.next = r[0] == 1;
-            u.cmd_valid.next = r[1] == 1;
-            u.cmd_axis.next = (r[2] as u64).into();
-            u.cmd_v0.next = (r[3] as u64).into();
-            u.cmd_t.next = (r[4] as u64).into();
-            u.cmd_steps.next = (r[5] as u64).into();
-            u.start.next = r[6] == 1;
-            u.start_mask.next = (r[7] as u64).into();
-            u.sel_axis.next = (r[8] as u64).into();
-            u.ext_go.next = (r[9] as u64).into();
-            u.abort.next = r[10] == 1;
-            u.stop_axes.next = (r[11] as u64).into();
-            u.cstop_axes.next = (r[12] as u64).into();
-            u.decel.next = (r[13] as u64).into();
-        },
-        |u| {
-            vec![
-                u.step.val().to_u64() as u128,
-                u.dir.val().to_u64() as u128,
-                u.underrun.val().to_u64() as u128,
-                u.busy.val().to_u64() as u128,
-                u.sel_position.val().to_u64() as u128,
-                u.cmd_ready.val() as u128,
-                u.fsm_state.val().to_u64() as u128,
-                u.sel_taken.val().to_u64() as u128,
-                u.sel_done.val().to_u64() as u128,
-            ]
-        },
-    );
+    let reference = rust_hdl_trace!(uut(), &ev_short, cut_off);
     let short: Vec<Change> = got.iter().filter(|c| c.0 < cut_off).cloned().collect();
     same_traces(&short, &reference, "controlled stop");
 
