@@ -351,7 +351,7 @@ pub fn table() -> Vec<Register> {
                 f("WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
                 f("PROBE", 2, 1, W1c, "the probe latch took every axis's position (PROBE_POS)"),
                 f("HOME", 3, 1, W1c, "an axis's home latch took its position (IO_AXIS.HOME_LATCHED says which); writing 1 also clears every HOME_LATCHED"),
-                f("STOP", 4, 1, W1c, "a moving axis was stopped by a limit in its direction of motion or by its alarm (IO_AXIS.STOPPED says which); writing 1 also clears every STOPPED"),
+                f("STOP", 4, 1, W1c, "a moving axis was stopped by a limit in its direction of motion, its alarm, its stop on home or a controlled watchdog trip (IO_AXIS.STOPPED says which); writing 1 also clears every STOPPED"),
             ],
             "Machine I/O events; under IRQ_MASK_IO they raise the irq line (GSTATUS.IRQ shows the other events' part of it only).",
         ),
@@ -398,8 +398,23 @@ pub fn table() -> Vec<Register> {
         ),
         io_reg(
             "STOP_STATUS", 0x36, false, 0,
-            vec![f("REFUSED", 0, 1, W1c, "a STOP_DECEL_HI write was refused (the core enabled, or the value below the minimum)")],
+            vec![f("REFUSED", 0, 1, W1c, "a STOP_DECEL_HI or STOP_MODE write was refused (the core enabled, or the value below the minimum)")],
             "Controlled stop status.",
+        ),
+        io_reg(
+            "STOP_MODE", 0x37, false, 0,
+            vec![
+                f("LIMITS", 0, 1, Rw, "1: a limit stops its axis with the controlled stop; 0: with the hard stop"),
+                f("ALARM", 1, 1, Rw, "1: an alarm stops its axis with the controlled stop (drv_enable stays high until the axis is at rest); 0: hard"),
+                f("WATCHDOG", 2, 1, Rw, "1: a watchdog trip ramps every axis down, then stops hard (drv_enable low) once none moves; 0: hard at once"),
+                f("HOME", 3, 1, Rw, "1: the stop on home (STOP_HOME) is the controlled stop; 0: hard"),
+            ],
+            "Which stop each source takes. Written only while CTRL.ENABLE = 0 (else refused: STOP_STATUS.REFUSED). A limit, alarm or watchdog in controlled mode ramps the axis down once and keeps it stopped while it holds: segments pushed meanwhile are dropped (counted as taken).",
+        ),
+        io_reg(
+            "STOP_HOME", 0x38, false, 0,
+            vec![f("AXES", 0, 16, Rw, "bit i: stop axis i when its home latch fires while it moves (bits of axes the core lacks read 0)")],
+            "Stop on home: a homing move ends at the home latch (hard or controlled, STOP_MODE.HOME); HOME_POS holds the latched position and POS − HOME_POS at rest is the overshoot. Written at any time; it reaches clk 2 to 3 clk ticks after the write.",
         ),
         io_reg(
             "IO_AXIS", 0xA, true, 0,
@@ -410,7 +425,7 @@ pub fn table() -> Vec<Register> {
                 f("ALARM", 3, 1, Ro, "the filtered alarm input is active (drv_enable of the axis is low)"),
                 f("DRV_ENABLE", 4, 1, Ro, "the axis's drv_enable output"),
                 f("HOME_LATCHED", 5, 1, Ro, "the axis's home latch took its position since IRQ_IO.HOME was last cleared"),
-                f("STOPPED", 6, 1, Ro, "the axis was stopped (hard) by a limit or its alarm since IRQ_IO.STOP was last cleared; its queue was flushed and POS is where it stopped"),
+                f("STOPPED", 6, 1, Ro, "the axis was stopped by a limit, its alarm, its stop on home or a controlled watchdog trip (hard or controlled, STOP_MODE) since IRQ_IO.STOP was last cleared; its queue was flushed and POS, once BUSY is 0, is where it came to rest"),
             ],
             "Machine I/O inputs of the axis, filtered, about 3 bus clocks behind clk. The e-stop, limit and alarm inputs read active from a reset until their filters have seen them inactive.",
         ),

@@ -790,6 +790,9 @@ fn spec_cs<const K: usize>() -> TbSpec {
 /// stop does, after the dwell's entry); the axis ends at rest (BUSY low) with its position the
 /// edges emitted, and no underrun. The scheduler's state trace shows the ramp's
 /// formation taking `t_stop_form(R)` cycles from the PICK that took the request.
+/// In the first (accelerating) the request is held as a level past the ramp's end, as
+/// a limit in controlled mode holds it, and a segment is pushed while the ramp runs:
+/// the ramp is not cut again and the segment is dropped (StopRamp's `stopping`).
 /// rust-hdl and Verilator give the same trace.
 #[test]
 fn controlled_stop_ramps_down_from_every_kind_of_segment() {
@@ -848,10 +851,20 @@ fn controlled_stop_ramps_down_from_every_kind_of_segment() {
         let stop = c + 400 + at;
         ev.push((c + 1, row(None, false, 0)));
         ev.push((stop, row(None, false, 0b10)));
-        ev.push((stop + 1, row(None, false, 0)));
         let slowest = run.fifo.iter().map(|e| e.ticks as u64).max().unwrap();
         let ramp = run.fifo.iter().filter(|e| e.step).filter_map(|e| stop_segment(e.ticks, decel, e.reverse)).map(|s| s.t_ticks as u64).max().unwrap_or(0);
         let end = stop + (DEPTH as u64 + 3) * slowest + ramp + 4000;
+        if k == 0 {
+            // The request held as a level (a limit's, in controlled mode) past the
+            // ramp's end, and a segment pushed while the ramp runs: the ramp is not cut
+            // again and the segment is dropped (the edges are one cut_run's).
+            let late = core_feed(&uniform)[0];
+            ev.push((stop + 2000, row(Some((1, &late)), false, 0b10)));
+            ev.push((stop + 2001, row(None, false, 0b10)));
+            ev.push((end - 3000, row(None, false, 0)));
+        } else {
+            ev.push((stop + 1, row(None, false, 0)));
+        }
         windows.push((*what, run, c, stop, end));
         c = end;
     }

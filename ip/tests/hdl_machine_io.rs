@@ -148,6 +148,8 @@ fn io_row(reset: bool, run: bool, pins: &IoPins, cfg: &IoConfig, cmd: &IoCommand
         cmd.wd_rearm as u128,
         pins.dir as u128,
         pins.active as u128,
+        cfg.stop_mode as u128,
+        cfg.home_stop as u128,
     ]
 }
 
@@ -159,6 +161,8 @@ fn unrow(r: &[u128]) -> (bool, bool, IoPins, IoConfig, IoCommands) {
         prescale: r[10] as u16,
         edges: r[11] as u8,
         wd_timeout: r[12] as u16,
+        stop_mode: r[18] as u8,
+        home_stop: r[19] as u32,
     };
     let pins = IoPins {
         estop_n: r[2] == 1,
@@ -193,6 +197,8 @@ fn set_io(u: &mut MachineIo<K>, r: &[u128]) {
     u.wd_rearm.next = r[15] == 1;
     u.dir.next = Bits::<K>::from(r[16] as u64);
     u.active.next = Bits::<K>::from(r[17] as u64);
+    u.stop_mode.next = Bits::<4>::from(r[18] as u64);
+    u.home_stop.next = Bits::<K>::from(r[19] as u64);
 }
 
 fn get_io(u: &MachineIo<K>) -> Vec<u128> {
@@ -211,6 +217,7 @@ fn get_io(u: &MachineIo<K>) -> Vec<u128> {
         u.probe_latch.val() as u128,
         u.axis_stop.val().to_u64() as u128,
         u.stop_tog.val().to_u64() as u128,
+        u.axis_cstop.val().to_u64() as u128,
     ]
 }
 
@@ -230,6 +237,7 @@ fn model_out(o: &tdm_stepper::model::io::IoOutputs) -> Vec<u128> {
         o.probe_latch as u128,
         o.axis_stop as u128,
         o.stop_tog as u128,
+        o.axis_cstop as u128,
     ]
 }
 
@@ -269,6 +277,8 @@ fn io_spec() -> TbSpec {
             Port::new("wd_rearm", 1),
             Port::new("dir", K),
             Port::new("active", K),
+            Port::new("stop_mode", 4),
+            Port::new("home_stop", K),
         ],
         outputs: vec![
             Port::new("hard_stop", 1),
@@ -285,6 +295,7 @@ fn io_spec() -> TbSpec {
             Port::new("probe_latch", 1),
             Port::new("axis_stop", K),
             Port::new("stop_tog", K),
+            Port::new("axis_cstop", K),
         ],
     }
 }
@@ -301,6 +312,9 @@ fn machine_io_equals_the_model_three_ways() {
             prescale: if phase % 2 == 0 { 0 } else { (rng.next() % 4) as u16 },
             edges: (rng.next() % 4) as u8,
             wd_timeout: if phase % 4 == 3 { 0 } else { 1 + (rng.next() % 2) as u16 },
+            // Every stop mode (hard in phase 0), stop on home on some axes.
+            stop_mode: if phase == 0 { 0 } else { (rng.next() % 16) as u8 },
+            home_stop: (rng.next() % (1 << K)) as u32,
         };
         for k in 0..2500u64 {
             let estop_n = gens[0].next(&mut rng, 900);
@@ -322,7 +336,7 @@ fn machine_io_equals_the_model_three_ways() {
             let cmd = IoCommands {
                 estop_rearm: rng.next() % 200 == 0,
                 wd_feed: k % feed_every == feed_every - 1 && rng.next() % 4 != 0,
-                wd_rearm: rng.next() % 700 == 0,
+                wd_rearm: rng.next() % 2000 == 0,
             };
             let reset = (phase == 0 && k < 3) || (k < 2 && rng.next() % 4 == 0);
             rows.push(io_row(reset, k % 1000 != 999, &pins, &cfg, &cmd));
@@ -337,6 +351,8 @@ fn machine_io_equals_the_model_three_ways() {
     assert!(count(5) > 1000, "drivers enabled: {}", count(5));
     let tog_changes = want.windows(2).filter(|w| w[0][13].is_some() && w[0][13] != w[1][13]).count();
     assert!(count(12) > 1000 && count(12) < rows.len() - 1000 && tog_changes > 50, "axis stops: {} cycles, {tog_changes} events", count(12));
+    let cs_cycles = count(14);
+    assert!(cs_cycles > 1000 && cs_cycles < rows.len() - 1000, "controlled stop requests: {cs_cycles} cycles");
     three_ways("machine_io", io_uut, |u, c| u.clock.next = Clock::from(c), set_io, get_io, &io_spec(), &rows, &want);
 }
 
@@ -816,4 +832,63 @@ fn push_guard_equals_the_model_three_ways() {
         &rows.iter().map(|r| unpack_offer(r)).collect::<Vec<_>>(),
         &want,
     );
+}
+
+const OUT_AXIS_STOP: usize = 12;
+const OUT_AXIS_CSTOP: usize = 14;
+
+/// STOP_MODE routes each source to the hard or the controlled stop: a limit toward
+/// which axis 0 moves, axis 1's alarm, axis 2's home latch (armed), the watchdog.
+#[test]
+fn stop_modes_route_each_source_to_the_hard_or_the_controlled_stop() {
+    use tdm_stepper::model::io::{MODE_ALARM, MODE_HOME, MODE_LIMITS, MODE_WATCHDOG};
+    for mode in [0u8, MODE_LIMITS | MODE_HOME, MODE_ALARM | MODE_WATCHDOG, 0xF] {
+        let cfg = IoConfig { polarity: 1, stop_mode: mode, home_stop: 0b100, wd_timeout: 1, ..Default::default() };
+        let wd = WATCHDOG_UNIT_TICKS as usize;
+        // Every axis active until 2000 (the ramps), then at rest; fed until 600.
+        let out = scripted(cfg, 2100, |c| {
+            let pins = IoPins {
+                limit_pos: ((100..150).contains(&c) as u32) << 0,
+                alarm: ((300..350).contains(&c) as u32) << 1,
+                home: ((500..900).contains(&c) as u32) << 2,
+                active: if c < 2000 { 0b111 } else { 0 },
+                ..released()
+            };
+            let cmd = IoCommands { estop_rearm: c == 10, wd_rearm: c == 10, wd_feed: c > 10 && c <= 600 && c % 500 == 0 };
+            (pins, cmd)
+        });
+        let rows = |mask: u128, col: usize, r: std::ops::Range<usize>| r.filter(|&i| out[i][col] & mask != 0).collect::<Vec<_>>();
+        let cols = |m: u8| if mode & m == 0 { (OUT_AXIS_STOP, OUT_AXIS_CSTOP) } else { (OUT_AXIS_CSTOP, OUT_AXIS_STOP) };
+        // The limit: pin at 100, level from row 103, toward it two cycles, registered (the
+        // limits read active from the reset until filtered: skip those rows).
+        // (on: the stop this source's mode picks; off: the other.)
+        let (on, off) = cols(MODE_LIMITS);
+        assert_eq!(rows(1, on, 20..400), (105..154).collect::<Vec<_>>(), "mode {mode:#x}: the limit");
+        assert!(rows(1, off, 20..400).is_empty(), "mode {mode:#x}: the limit, other stop");
+        let (on, off) = cols(MODE_ALARM);
+        assert_eq!(rows(2, on, 20..450), (304..354).collect::<Vec<_>>(), "mode {mode:#x}: the alarm");
+        assert!(rows(2, off, 20..450).is_empty(), "mode {mode:#x}: the alarm, other stop");
+        // A controlled alarm keeps the axis's enable while it moves.
+        let drv1 = out[340][OUT_DRV] >> 1 & 1;
+        assert_eq!(drv1, (mode & MODE_ALARM != 0) as u128, "mode {mode:#x}: drv_enable during the alarm");
+        // Home: the strobe in the cycle before the level (502 → 503), the stop one cycle later.
+        let (on, off) = cols(MODE_HOME);
+        assert_eq!(rows(4, on, 450..700), vec![503], "mode {mode:#x}: the stop on home");
+        assert!(rows(4, off, 450..700).is_empty(), "mode {mode:#x}: home, other stop");
+        // The watchdog: fed at 500, trips at 500 + wd + 1.
+        let trip = 500 + wd + 1;
+        assert_eq!(out[trip][OUT_TRIPPED], 1);
+        assert_eq!(out[trip - 1][OUT_TRIPPED], 0);
+        if mode & MODE_WATCHDOG == 0 {
+            assert_eq!(out[trip][OUT_HARD], 1, "mode {mode:#x}: a hard trip stops at once");
+            assert!(rows(7, OUT_AXIS_CSTOP, trip..2100).is_empty());
+        } else {
+            // Every axis asked to ramp down (registered), the hard stop only at rest.
+            assert!(out[trip + 1..2000].iter().all(|o| o[OUT_AXIS_CSTOP] == 0b111 && o[OUT_HARD] == 0), "mode {mode:#x}: ramps");
+            assert!(out[trip + 2..2000].iter().all(|o| o[OUT_DRV] == 0b111), "mode {mode:#x}: enabled while ramping");
+            assert_eq!(out[2000][OUT_HARD], 0);
+            assert_eq!(out[2001][OUT_HARD], 1, "mode {mode:#x}: hard once no axis is active");
+            assert_eq!(out[2002][OUT_DRV], 0);
+        }
+    }
 }

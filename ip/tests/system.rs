@@ -1722,3 +1722,136 @@ fn a_controlled_stop_through_the_bus_ramps_down_from_the_axis_speed() {
     let rh = rust_hdl_io::<K>(&b, cycles, &io_pins(true), &[]);
     check("rust-hdl", &rh);
 }
+
+/// The edges `r` of an axis that a controlled stop cut: the model's [`cut_run`] of `run`
+/// for the one cut within DEPTH + 3 entries of the `emitted` edges (two fewer, for a
+/// request time known to a few ticks) that gives exactly these edges.
+fn the_stop_ramp(sim: &str, r: &[u64], run: &AxisRun, emitted: usize, decel: u32) -> AxisRun {
+    use tdm_stepper::model::stop::cut_run;
+    let limits = Limits::default();
+    let l0 = r[0] as i64 - 1 - run.edge_ticks[0] as i64;
+    let e0 = (0..=run.fifo.len()).find(|&e| run.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
+    let cut = (e0.saturating_sub(2)..=e0 + DEPTH + 3)
+        .find(|&c| {
+            let m = cut_run(run, c, decel, &limits);
+            m.edge_ticks.len() == r.len() && m.edge_ticks.iter().zip(r).all(|(&e, &g)| g as i64 == l0 + 1 + e as i64)
+        })
+        .unwrap_or_else(|| panic!("{sim}: no cut near {e0} entries gives the {} edges", r.len()));
+    let m = cut_run(run, cut, decel, &limits);
+    assert_eq!(m.accepted.len(), 1, "{sim}: a ramp");
+    assert_ne!(r.len(), run.edge_ticks.len(), "{sim}: the motion changed");
+    m
+}
+
+/// STOP_MODE through the bus (K = 2, Verilator; the blocks are checked three ways in
+/// hdl_machine_io and hdl_core). With the limits and the stop on home in controlled
+/// mode, axis 0 running into its active limit_pos and axis 1 crossing its home switch
+/// (armed in STOP_HOME) each ramp down at STOP_DECEL: their edges are the model's stop
+/// after the periods already computed, the positions at rest are the edges emitted,
+/// HOME_POS is the position when home changed and POS − HOME_POS the ramp's overshoot;
+/// IO_AXIS.STOPPED is set; STOP_MODE is refused while enabled. Then, with the watchdog
+/// in controlled mode, a trip ramps both axes down and drv_enable drops only after
+/// their last edges.
+#[test]
+fn stop_modes_through_the_bus_ramp_down_on_a_limit_on_home_and_on_the_watchdog() {
+    use tdm_stepper::model::io::{MODE_HOME, MODE_LIMITS, MODE_WATCHDOG};
+    use tdm_stepper::model::planner;
+    const K: usize = 2;
+    let limits = Limits::default();
+    let decel: u32 = 0xF000_0000;
+    let tick_ps = 2 * CLOCKS.clk_half_ps;
+    let m0 = planner::trapezoid_by_ticks(30, [12_000, 8_000, 12_000], &limits).unwrap();
+    let m1 = planner::trapezoid_by_ticks(-60, [16_000, 20_000, 16_000], &limits).unwrap();
+    let runs = [AxisRun::run(&m0, &limits), AxisRun::run(&m1, &limits)];
+    let setup = |b: &mut BusModel, mode: u8| {
+        b.write_reg("STOP_DECEL_LO", 0, decel as u16);
+        b.write_reg("STOP_DECEL_HI", 0, (decel >> 16) as u16);
+        b.write_reg("STOP_MODE", 0, mode as u16);
+        b.enable(ENABLE_WAIT);
+        b.write_reg("IO_CMD", 0, 0b101);
+        b.idle(50);
+        for s in &m0 {
+            b.push_segment(0, s);
+        }
+        for s in &m1 {
+            b.push_segment(1, s);
+        }
+        b.idle(10);
+    };
+
+    // A limit and home.
+    let mut b = bus();
+    setup(&mut b, MODE_LIMITS | MODE_HOME);
+    b.write_reg("STOP_MODE", 0, 0);
+    let refused = (b.read_reg("STOP_STATUS", 0), b.read_reg("STOP_MODE", 0));
+    b.write_reg("STOP_STATUS", 0, 1);
+    b.write_reg("STOP_HOME", 0, 0b10);
+    let armed = b.read_reg("STOP_HOME", 0);
+    let t_start = b.now_ps();
+    b.write_reg("START", 0, 0b11);
+    let t_lim = t_start + (runs[0].edge_ticks[12] + 300) * tick_ps;
+    let t_home = t_start + (runs[1].edge_ticks[25] + 300) * tick_ps;
+    b.idle_until_ps(t_home + 150_000 * tick_ps);
+    let rest = [(b.read_position(0), b.read_reg("IO_AXIS", 0)), (b.read_position(1), b.read_reg("IO_AXIS", 1))];
+    let home = (b.read_reg("HOME_POS_LO", 1), b.read_reg("HOME_POS_HI", 1));
+    let busy = b.read_reg("BUSY", 0);
+    let cycles = cycles_after(&b, 100);
+    let pins = vec![(t_lim, vec![1, 0, 0, 0b01, 0, 0]), (t_home, vec![1, 0, 0, 0b01, 0b10, 0])];
+    let t = verilator_io::<K>("io_stop_modes", &b, cycles, &io_pins(true), &pins);
+    let v = |id| b.value(&t, id).expect("read returned x");
+    assert_eq!((v(refused.0) & 1, v(refused.1)), (1, (MODE_LIMITS | MODE_HOME) as u16), "STOP_MODE refused while enabled");
+    assert_eq!(v(armed), 0b10, "STOP_HOME reads back");
+    let window = clk_cycle_at(t_start)..cycles;
+    let mut ramps = Vec::new();
+    for (a, t_pin) in [(0, t_lim), (1, t_home)] {
+        let r: Vec<u64> = rises(&t, a).into_iter().filter(|c| window.contains(c)).collect();
+        let c_pin = clk_cycle_at(t_pin);
+        assert!(!r.iter().any(|&c| c >= c_pin && c <= c_pin + 5), "axis {a}: an edge at the pin (move the pin)");
+        let emitted = r.iter().filter(|&&c| c < c_pin).count();
+        let m = the_stop_ramp(&format!("axis {a}"), &r, &runs[a], emitted, decel);
+        assert_eq!(position(&b, &t, rest[a].0), Some(m.position as i32), "axis {a}: the position at rest is the edges emitted");
+        assert_eq!(v(rest[a].1) >> 6 & 1, 1, "axis {a}: IO_AXIS.STOPPED");
+        ramps.push((emitted, m));
+    }
+    let (emitted1, m1r) = &ramps[1];
+    assert_eq!(position(&b, &t, home), Some(-(*emitted1 as i32)), "HOME_POS: the edges before home changed");
+    // The overshoot POS − HOME_POS: the ramp's steps past the switch, in the move's direction.
+    let overshoot = m1r.position - -(*emitted1 as i64);
+    assert!(overshoot < 0, "the overshoot POS − HOME_POS: {overshoot}");
+    assert_eq!(v(busy), 0, "both axes at rest");
+
+    // The watchdog: fed every 1,000 ticks, then starved, to trip near axis 0's 10th edge.
+    let wd_ticks = 2 * tdm_stepper::model::io::WATCHDOG_UNIT_TICKS;
+    let mut b = bus();
+    b.write_reg("WD_TIMEOUT", 0, 2);
+    setup(&mut b, MODE_WATCHDOG);
+    let t_start = b.now_ps();
+    b.write_reg("START", 0, 0b11);
+    let mut last_feed = t_start;
+    while last_feed + (wd_ticks + 1_000) * tick_ps < t_start + runs[0].edge_ticks[10] * tick_ps {
+        b.idle_until_ps(last_feed + 1_000 * tick_ps);
+        b.write_reg("IO_CMD", 0, 0b010);
+        last_feed = b.now_ps();
+    }
+    b.idle_until_ps(last_feed + 150_000 * tick_ps);
+    let tripped = (b.read_reg("IO_STATUS", 0), b.read_position(0), b.read_position(1), b.read_reg("BUSY", 0));
+    let cycles = cycles_after(&b, 100);
+    let t = verilator_io::<K>("io_stop_modes", &b, cycles, &io_pins(true), &[]);
+    let v = |id| b.value(&t, id).expect("read returned x");
+    let trip = clk_cycle_at(last_feed) + wd_ticks;
+    let window = clk_cycle_at(t_start)..cycles;
+    let mut last_edge = 0;
+    for a in 0..K {
+        let r: Vec<u64> = rises(&t, a).into_iter().filter(|c| window.contains(c)).collect();
+        let emitted = r.iter().filter(|&&c| c < trip).count();
+        let m = the_stop_ramp(&format!("watchdog, axis {a}"), &r, &runs[a], emitted, decel);
+        assert_eq!(position(&b, &t, [tripped.1, tripped.2][a]), Some(m.position as i32), "watchdog, axis {a}: the position at rest");
+        last_edge = last_edge.max(*r.last().unwrap());
+    }
+    assert_eq!(v(tripped.0) & 0b100, 0b100, "IO_STATUS.WATCHDOG");
+    assert_eq!(v(tripped.3), 0, "at rest");
+    // drv_enable (watched column 3) stays high through the ramps, drops after the last edge.
+    let drop = t.changes.iter().find(|(c, s)| *c > trip && s[3] == Some(0)).expect("drv_enable never dropped").0;
+    assert!(drop > last_edge && drop < last_edge + 200, "drv_enable dropped at clk {drop}, the last edge at {last_edge}");
+    assert!(t.changes.iter().filter(|(c, _)| *c > clk_cycle_at(t_start) + 100 && *c < drop).all(|(_, s)| s[3] == Some(3)), "drv_enable high while ramping");
+}

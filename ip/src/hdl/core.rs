@@ -266,6 +266,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     cs_sh: Signal<Local, Bits<K>>,
     nx_cs: Signal<Local, Bit>,
     pf_cs: DFF<Bit>,
+    cd_sh: Signal<Local, Bits<K>>,
+    nx_cd: Signal<Local, Bit>,
+    pf_cd: DFF<Bit>,
+    pk_cd: Signal<Local, Bit>,
+    axis_drop: Signal<Local, Bit>,
     pk_cs: Signal<Local, Bit>,
     /// PICK cuts axis m (its queue and next slot dropped, its current segment ended).
     axis_cut: Signal<Local, Bit>,
@@ -568,6 +573,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cs_sh: Default::default(),
             nx_cs: Default::default(),
             pf_cs: Default::default(),
+            cd_sh: Default::default(),
+            nx_cd: Default::default(),
+            pf_cd: Default::default(),
+            pk_cd: Default::default(),
+            axis_drop: Default::default(),
             pk_cs: Default::default(),
             axis_cut: Default::default(),
             cs_clear: Default::default(),
@@ -729,7 +739,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         dff_setup!(
             self, clock, st, m, nm, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
             w_uqs, w_urs, u_q1, u_r1, u_r2, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
-            p_wide, p_ready, last, stop_pend, pf_stop, fl_v, fl_a, pf_cs, cs_act, s_dl1, s_rest, s_crev
+            p_wide, p_ready, last, stop_pend, pf_stop, fl_v, fl_a, pf_cs, pf_cd, cs_act, s_dl1, s_rest, s_crev
         );
         self.mulw.clock.next = self.clock.val();
         // The pipelined multiplier's operands come from registers, loaded one state
@@ -753,6 +763,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.advance.next = false;
         self.axis_flush.next = false;
         self.axis_cut.next = false;
+        self.axis_drop.next = false;
         self.cs_clear.next = false;
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
@@ -777,9 +788,13 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         // there is no motion to ramp down. The hard stop's request latches it.
         self.cs_hard.next = self.ramp.pend.val() & !self.bank.moving.val() & self.c_cs.val();
         self.stop_all.next = (self.stop_pend.q.val() | self.stop_axes.val() | self.cs_hard.val()) & self.c_stops.val();
-        self.cs_sh.next = (self.ramp.pend.val() & self.c_cs.val()) >> self.next_m.val();
+        // A request on an axis already ramping down cuts nothing: it drops the queue.
+        self.cs_sh.next = (self.ramp.pend.val() & !self.ramp.stopping.val() & self.c_cs.val()) >> self.next_m.val();
         self.nx_cs.next = (self.cs_sh.val() & self.c_one_k.val()).any();
         self.pf_cs.d.next = self.nx_cs.val();
+        self.cd_sh.next = (self.ramp.pend.val() & self.ramp.stopping.val() & self.c_cs.val()) >> self.next_m.val();
+        self.nx_cd.next = (self.cd_sh.val() & self.c_one_k.val()).any();
+        self.pf_cd.d.next = self.nx_cd.val();
         self.stop_sh.next = self.stop_all.val() >> self.next_m.val();
         // (Bit 0 by a mask: at K = 1 the Verilog is a scalar, which takes no select.)
         self.nx_stop.next = (self.stop_sh.val() & self.c_one_k.val()).any();
@@ -806,6 +821,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         if self.c_single.val() {
             self.pk_stop.next = self.nx_stop.val();
             self.pk_cs.next = self.nx_cs.val();
+            self.pk_cd.next = self.nx_cd.val();
             self.pk_kind.next = self.nx_kind.val();
             self.pk_queued.next = self.nx_queued.val();
             self.pk_full.next = self.nx_full.val();
@@ -823,6 +839,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pk_sat.next = self.pf_sat.q.val();
             self.pk_stop.next = self.pf_stop.q.val();
             self.pk_cs.next = self.pf_cs.q.val();
+            self.pk_cd.next = self.pf_cd.q.val();
         }
         // Axis m's context word is read at `ra`, set one cycle ahead: in PICK axis m's
         // next slot for S_PROMOTE (a dwell's FIFO entry needs its T), and on every move
@@ -1000,6 +1017,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 } else {
                     self.advance.next = true;
                 }
+            } else if self.pk_cd.val() & self.pk_queued.val() & self.c_cs_on.val() {
+                // A stop request on axis m while it ramps down: what was pushed behind
+                // the ramp is dropped (counted as taken); the ramp runs on.
+                self.axis_drop.next = true;
+                self.cs_clear.next = true;
+                self.advance.next = true;
             } else if (self.pk_kind.val() != 0) & !self.pk_full.val() {
                 // Axis m's next period.
                 if self.pk_kind.val() == 1 {
@@ -1334,7 +1357,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.queues.clock.next = self.clock.val();
         self.queues.reset.next = self.reset.val();
         self.queues.abort.next = self.abort.val();
-        self.queues.flush.next = self.axis_flush.val() | self.axis_cut.val();
+        self.queues.flush.next = self.axis_flush.val() | self.axis_cut.val() | self.axis_drop.val();
         self.ramp.clock.next = self.clock.val();
         self.ramp.reset.next = self.flush.val();
         self.ramp.request.next = self.cstop_axes.val() & self.c_cs.val();
@@ -1346,6 +1369,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.ramp.last_step.next = self.pe_step.q.val();
         self.ramp.last_rev.next = self.w_rev.q.val();
         self.ramp.raxis.next = self.m.q.val().get_bits::<4>(0);
+        self.ramp.set_next.next = (self.st.q.val() == self.k_commit_setup.val()) & self.cs_act.q.val() & self.c_cs_on.val();
+        self.ramp.promote.next = self.promote_now.val() & self.c_cs_on.val();
+        self.ramp.active.next = self.bank.active.val();
         // Per-axis stops: kept until PICK flushes the axis (while the request is still
         // high it stays), the FIFO held one cycle more after the flush.
         self.m_bit.next = self.c_one_k.val() << self.m.q.val();
@@ -1427,6 +1453,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.pf_sat.d.next = false;
             self.pf_stop.d.next = false;
             self.pf_cs.d.next = false;
+            self.pf_cd.d.next = false;
             self.cs_act.d.next = false;
             self.stop_pend.d.next = 0.into();
             self.fl_v.d.next = false;

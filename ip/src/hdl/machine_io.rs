@@ -48,6 +48,16 @@
 //!   limit pin first sampled at edge e0 and the axis moving toward it, it rises after
 //!   edge e0 + 3 + n. `stop_tog` (bit a) flips each time it stops a moving axis.
 //!
+//! * `axis_cstop` (bit a, registered): the controlled stop's request, from the sources
+//!   `stop_mode` puts in controlled mode (bit 0 the limits, 1 the alarm, 2 the watchdog,
+//!   3 the stop on home; 0 = hard, in `axis_stop`): a limit or an alarm for as long as
+//!   it holds, a watchdog trip on every axis for as long as it lasts. A controlled
+//!   watchdog trip raises `hard_stop` only once no axis is `active` (a tick later); a
+//!   controlled alarm keeps its axis's `drv_enable` while the axis is `active`.
+//!   `home_stop` bit a arms the stop on home: axis a's home latch strobe while it is
+//!   `active` requests its stop for one cycle, the next. `stop_tog` flips when either
+//!   request stops a moving axis. `model::io` states the same.
+//!
 //! Cost: 7 flip-flops per input (4K + 2), 16 for the prescaler, 27 for the watchdog,
 //! 1 for the e-stop latch and K for the enables.
 
@@ -91,6 +101,14 @@ pub struct MachineIo<const K: usize> {
     pub active: Signal<In, Bits<K>>,
     pub axis_stop: Signal<Out, Bits<K>>,
     pub stop_tog: Signal<Out, Bits<K>>,
+    pub stop_mode: Signal<In, Bits<4>>,
+    pub home_stop: Signal<In, Bits<K>>,
+    pub axis_cstop: Signal<Out, Bits<K>>,
+    cs_q: DFF<Bits<K>>,
+    wd_rest: DFF<Bit>,
+    hs_pick: [BitPick<K>; K],
+    cs_bus: [BitInsert<K>; K],
+    cs_new: Signal<Local, Bits<K>>,
     toward_q: DFF<Bits<K>>,
     stop_q: DFF<Bits<K>>,
     tog_q: DFF<Bits<K>>,
@@ -162,6 +180,14 @@ impl<const K: usize> Default for MachineIo<K> {
             active: Default::default(),
             axis_stop: Default::default(),
             stop_tog: Default::default(),
+            stop_mode: Default::default(),
+            home_stop: Default::default(),
+            axis_cstop: Default::default(),
+            cs_q: Default::default(),
+            wd_rest: Default::default(),
+            hs_pick: std::array::from_fn(BitPick::new),
+            cs_bus: std::array::from_fn(BitInsert::new),
+            cs_new: Default::default(),
             toward_q: Default::default(),
             stop_q: Default::default(),
             tog_q: Default::default(),
@@ -221,6 +247,8 @@ impl<const K: usize> MachineIo<K> {
         self.wd_rearm.connect();
         self.dir.connect();
         self.active.connect();
+        self.stop_mode.connect();
+        self.home_stop.connect();
         self.connect_all();
     }
 }
@@ -228,7 +256,7 @@ impl<const K: usize> MachineIo<K> {
 impl<const K: usize> Logic for MachineIo<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, prescaler, latched, wd_count, tripped, drv, toward_q, stop_q, tog_q);
+        dff_setup!(self, clock, prescaler, latched, wd_count, tripped, drv, toward_q, stop_q, tog_q, cs_q, wd_rest);
         // The filters' shared sample strobe.
         self.sample.next = self.prescaler.q.val() >= self.prescale.val();
         if self.sample.val() {
@@ -257,7 +285,12 @@ impl<const K: usize> Logic for MachineIo<K> {
         }
 
         // Category 0: the filtered e-stop, its latch, the watchdog.
-        self.hard.next = self.latched.q.val() | self.estop_f.active.val() | self.tripped.q.val();
+        // (A controlled watchdog trip stops hard once no axis is active: the ramps run.)
+        self.hard.next = self.latched.q.val()
+            | self.estop_f.active.val()
+            | (self.tripped.q.val() & !self.stop_mode.val().get_bit(2))
+            | self.wd_rest.q.val();
+        self.wd_rest.d.next = self.tripped.q.val() & self.stop_mode.val().get_bit(2) & !self.active.val().any();
         self.hard_stop.next = self.hard.val();
         self.estop_latched.next = self.latched.q.val();
         self.latched.d.next = self.estop_f.active.val() | (self.latched.q.val() & !self.estop_rearm.val());
@@ -312,33 +345,55 @@ impl<const K: usize> Logic for MachineIo<K> {
             if self.edges.val().get_bit(0) {
                 self.latch_bus[i].value.next = self.home_f[i].fall.val();
             }
-            self.drv_bus[i].value.next = self.run.val() & !self.hard.val() & !self.alarm_f[i].active.val();
-            // The per-axis stop (see the module docs).
+            self.drv_bus[i].value.next = self.run.val()
+                & !self.hard.val()
+                & !(self.alarm_f[i].active.val() & (!self.stop_mode.val().get_bit(1) | !self.act_pick[i].value.val()));
+            // The per-axis stops (see the module docs): a limit toward which the axis
+            // moves, its alarm, its home latch when armed; each hard or controlled.
             self.dir_pick[i].bus.next = self.dir.val();
             self.act_pick[i].bus.next = self.active.val();
             self.toward_pick[i].bus.next = self.toward_q.q.val();
+            self.hs_pick[i].bus.next = self.home_stop.val();
             self.toward_bus[i].value.next = self.act_pick[i].value.val()
                 & ((!self.dir_pick[i].value.val() & self.lpos_f[i].active.val())
                     | (self.dir_pick[i].value.val() & self.lneg_f[i].active.val()));
-            self.stop_bus[i].value.next = (self.act_pick[i].value.val()
-                & ((!self.dir_pick[i].value.val() & self.lpos_f[i].active.val())
-                    | (self.dir_pick[i].value.val() & self.lneg_f[i].active.val()))
-                & self.toward_pick[i].value.val())
-                | self.alarm_f[i].active.val();
+            self.stop_bus[i].value.next = (self.toward_bus[i].value.val()
+                & self.toward_pick[i].value.val()
+                & !self.stop_mode.val().get_bit(0))
+                | (self.alarm_f[i].active.val() & !self.stop_mode.val().get_bit(1))
+                | (self.latch_bus[i].value.val()
+                    & self.hs_pick[i].value.val()
+                    & self.act_pick[i].value.val()
+                    & !self.stop_mode.val().get_bit(3));
+            self.cs_bus[i].value.next = (self.toward_bus[i].value.val()
+                & self.toward_pick[i].value.val()
+                & self.stop_mode.val().get_bit(0))
+                | (self.alarm_f[i].active.val() & self.stop_mode.val().get_bit(1))
+                | (self.latch_bus[i].value.val()
+                    & self.hs_pick[i].value.val()
+                    & self.act_pick[i].value.val()
+                    & self.stop_mode.val().get_bit(3))
+                | (self.tripped.q.val() & self.stop_mode.val().get_bit(2));
         }
         self.toward_bus[0].bus_in.next = 0.into();
         self.stop_bus[0].bus_in.next = 0.into();
+        self.cs_bus[0].bus_in.next = 0.into();
         for i in 1..K {
             self.toward_bus[i].bus_in.next = self.toward_bus[i - 1].bus_out.val();
             self.stop_bus[i].bus_in.next = self.stop_bus[i - 1].bus_out.val();
+            self.cs_bus[i].bus_in.next = self.cs_bus[i - 1].bus_out.val();
         }
         for i in 0..K {
             self.toward_q.d.next = self.toward_bus[i].bus_out.val();
             self.stop_new.next = self.stop_bus[i].bus_out.val();
+            self.cs_new.next = self.cs_bus[i].bus_out.val();
         }
         self.stop_q.d.next = self.stop_new.val();
-        self.tog_q.d.next = self.tog_q.q.val() ^ (self.stop_new.val() & !self.stop_q.q.val() & self.active.val());
+        self.cs_q.d.next = self.cs_new.val();
+        self.tog_q.d.next = self.tog_q.q.val()
+            ^ ((self.stop_new.val() | self.cs_new.val()) & !(self.stop_q.q.val() | self.cs_q.q.val()) & self.active.val());
         self.axis_stop.next = self.stop_q.q.val();
+        self.axis_cstop.next = self.cs_q.q.val();
         self.stop_tog.next = self.tog_q.q.val();
         self.lneg_bus[0].bus_in.next = 0.into();
         self.lpos_bus[0].bus_in.next = 0.into();
@@ -374,6 +429,8 @@ impl<const K: usize> Logic for MachineIo<K> {
             self.toward_q.d.next = 0.into();
             self.stop_q.d.next = 0.into();
             self.tog_q.d.next = 0.into();
+            self.cs_q.d.next = 0.into();
+            self.wd_rest.d.next = false;
         }
     }
 }

@@ -12,6 +12,13 @@
 //!   combinationally (latency 0): `d1` = Δ + 1, `rest` (Δ = 0) and `rev`. A word is read
 //!   only for an axis that is running, whose move has pushed at least one entry.
 //!
+//! * **Ramping** (`stopping`, bit i): a stop ramp of axis i is in its next slot
+//!   (`set_next`, at the ramp's commit, axis `clear_axis`) or is its current segment
+//!   (moved there by `promote` of axis `clear_axis`; the next promote of the axis ends
+//!   it). Both bits clear while the axis is not `active`, and on `reset`. The scheduler
+//!   does not cut a ramp: a request on a stopping axis drops what is queued behind the
+//!   ramp instead.
+//!
 //! Ports: the above; latency 1 from `request`/`clear` to `pend`, 0 from a write's
 //! edge to its read.
 
@@ -30,6 +37,12 @@ pub struct StopRamp<const K: usize> {
     pub clear: Signal<In, Bit>,
     pub clear_axis: Signal<In, Bits<8>>,
     pub pend: Signal<Out, Bits<K>>,
+    pub set_next: Signal<In, Bit>,
+    pub promote: Signal<In, Bit>,
+    pub active: Signal<In, Bits<K>>,
+    pub stopping: Signal<Out, Bits<K>>,
+    r_next: DFF<Bits<K>>,
+    r_cur: DFF<Bits<K>>,
     pub last_we: Signal<In, Bit>,
     pub last_axis: Signal<In, Bits<4>>,
     pub last_delta: Signal<In, Bits<32>>,
@@ -42,6 +55,7 @@ pub struct StopRamp<const K: usize> {
     r_pend: DFF<Bits<K>>,
     ram: LutRam<25, 4>,
     clr_bit: Signal<Local, Bits<K>>,
+    m_bit: Signal<Local, Bits<K>>,
     c_one: Constant<Bits<K>>,
     c_rest: Constant<Bits<32>>,
     w_delta: Signal<Local, Bits<LAST_BITS>>,
@@ -58,6 +72,12 @@ impl<const K: usize> Default for StopRamp<K> {
             clear: Default::default(),
             clear_axis: Default::default(),
             pend: Default::default(),
+            set_next: Default::default(),
+            promote: Default::default(),
+            active: Default::default(),
+            stopping: Default::default(),
+            r_next: Default::default(),
+            r_cur: Default::default(),
             last_we: Default::default(),
             last_axis: Default::default(),
             last_delta: Default::default(),
@@ -70,6 +90,7 @@ impl<const K: usize> Default for StopRamp<K> {
             r_pend: Default::default(),
             ram: Default::default(),
             clr_bit: Default::default(),
+            m_bit: Default::default(),
             c_one: Constant::new(1.into()),
             c_rest: Constant::new((crate::model::stop::STOP_REST_PERIOD as u64).into()),
             w_delta: Default::default(),
@@ -81,16 +102,30 @@ impl<const K: usize> Default for StopRamp<K> {
 impl<const K: usize> Logic for StopRamp<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, r_pend);
+        dff_setup!(self, clock, r_pend, r_next, r_cur);
+        self.m_bit.next = self.c_one.val() << self.clear_axis.val();
         self.clr_bit.next = 0.into();
         if self.clear.val() {
-            self.clr_bit.next = self.c_one.val() << self.clear_axis.val();
+            self.clr_bit.next = self.m_bit.val();
         }
         self.r_pend.d.next = (self.r_pend.q.val() & !self.clr_bit.val()) | self.request.val();
+        self.r_next.d.next = self.r_next.q.val() & self.active.val();
+        self.r_cur.d.next = self.r_cur.q.val() & self.active.val();
+        if self.promote.val() {
+            self.r_next.d.next = self.r_next.q.val() & self.active.val() & !self.m_bit.val();
+            self.r_cur.d.next = (self.r_cur.q.val() & self.active.val() & !self.m_bit.val())
+                | (self.r_next.q.val() & self.m_bit.val());
+        }
+        if self.set_next.val() {
+            self.r_next.d.next = (self.r_next.q.val() & self.active.val()) | self.m_bit.val();
+        }
         if self.reset.val() {
             self.r_pend.d.next = 0.into();
+            self.r_next.d.next = 0.into();
+            self.r_cur.d.next = 0.into();
         }
         self.pend.next = self.r_pend.q.val();
+        self.stopping.next = self.r_next.q.val() | self.r_cur.q.val();
         self.ram.clock.next = self.clock.val();
         self.ram.we.next = self.last_we.val();
         self.ram.waddr.next = self.last_axis.val();

@@ -20,12 +20,19 @@
 //!   refused (STOP_STATUS.REFUSED) and the deceleration in use stays. Reads return the
 //!   value in use. After reset it is 2^32 − 1 (the hardest). `decel` is that register,
 //!   read in `clk` only while a ramp is formed, which an enabled core alone does.
+//! * **STOP_MODE** (bits 3..0: the limits, the alarm, the watchdog, the stop on home;
+//!   1 = the controlled stop, 0 = the hard stop; `model::io`): configuration, written
+//!   only while CTRL.ENABLE = 0 (else refused: STOP_STATUS.REFUSED), so `mode` is static
+//!   whenever the core runs and goes to `clk` as a wire. 0 after reset.
+//! * **STOP_HOME** (bit a: stop axis a on its home latch): written at any time; each bit
+//!   crosses into `clk` through two flip-flops (`home_arm`, 2 to 3 `clk` edges after the
+//!   write). 0 after reset.
 //!
 //! Ports: the bus (`wr`, `wr_addr`, `wr_data`, `rd_addr` → `rd_data`, combinational),
 //! `enable`, `requested` (the axes a STOP write names, as it commits); `clock` with
-//! `cstop` (K bits, one cycle) and `decel` (32 bits).
+//! `cstop` (K bits, one cycle), `decel` (32 bits), `mode` (4 bits) and `home_arm` (K bits).
 
-use super::cdc::BitSync;
+use super::cdc::{BitSync, BitsSync};
 use super::regfile::c9;
 use crate::regs::ADDR_BITS;
 use rust_hdl::prelude::*;
@@ -46,7 +53,12 @@ pub struct StopRegs<const K: usize> {
     /// The axes a STOP write names, in the cycle it commits (bus clock): the push guard
     /// marks their plans stale.
     pub requested: Signal<Out, Bits<K>>,
+    pub mode: Signal<Out, Bits<4>>,
+    pub home_arm: Signal<Out, Bits<K>>,
     // Bus clock.
+    mode_r: DFF<Bits<4>>,
+    home_r: DFF<Bits<K>>,
+    home_sync: BitsSync<K>,
     nxt: DFF<Bits<K>>,
     mask: DFF<Bits<K>>,
     tog: DFF<Bit>,
@@ -65,6 +77,8 @@ pub struct StopRegs<const K: usize> {
     a_lo: Constant<Bits<ADDR_BITS>>,
     a_hi: Constant<Bits<ADDR_BITS>>,
     a_status: Constant<Bits<ADDR_BITS>>,
+    a_mode: Constant<Bits<ADDR_BITS>>,
+    a_home: Constant<Bits<ADDR_BITS>>,
 }
 
 impl<const K: usize> StopRegs<K> {
@@ -84,6 +98,11 @@ impl<const K: usize> StopRegs<K> {
             cstop: Default::default(),
             decel: Default::default(),
             requested: Default::default(),
+            mode: Default::default(),
+            home_arm: Default::default(),
+            mode_r: Default::default(),
+            home_r: Default::default(),
+            home_sync: Default::default(),
             nxt: Default::default(),
             mask: Default::default(),
             tog: Default::default(),
@@ -101,6 +120,8 @@ impl<const K: usize> StopRegs<K> {
             a_lo: c9("STOP_DECEL_LO"),
             a_hi: c9("STOP_DECEL_HI"),
             a_status: c9("STOP_STATUS"),
+            a_mode: c9("STOP_MODE"),
+            a_home: c9("STOP_HOME"),
         }
     }
 }
@@ -108,7 +129,7 @@ impl<const K: usize> StopRegs<K> {
 impl<const K: usize> Logic for StopRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, bus_clock, nxt, mask, tog, lo, dec, refused);
+        dff_setup!(self, bus_clock, nxt, mask, tog, lo, dec, refused, mode_r, home_r);
         dff_setup!(self, clock, tprev);
         // ---- bus clock ----
         self.ack.clock.next = self.bus_clock.val();
@@ -136,6 +157,16 @@ impl<const K: usize> Logic for StopRegs<K> {
                 self.dec.d.next = self.staged.val();
             }
         }
+        if self.wr.val() & (self.wr_addr.val() == self.a_mode.val()) {
+            if self.enable.val() {
+                self.refused.d.next = true;
+            } else {
+                self.mode_r.d.next = self.wr_data.val().get_bits::<4>(0);
+            }
+        }
+        if self.wr.val() & (self.wr_addr.val() == self.a_home.val()) {
+            self.home_r.d.next = self.wr_data.val().get_bits::<K>(0);
+        }
         if self.wr.val() & (self.wr_addr.val() == self.a_status.val()) & self.wr_data.val().get_bit(0) {
             self.refused.d.next = false;
         }
@@ -146,6 +177,12 @@ impl<const K: usize> Logic for StopRegs<K> {
         if self.rd_addr.val() == self.a_hi.val() {
             self.rd_data.next = self.dec.q.val().get_bits::<16>(16);
         }
+        if self.rd_addr.val() == self.a_mode.val() {
+            self.rd_data.next = bit_cast::<16, 4>(self.mode_r.q.val());
+        }
+        if self.rd_addr.val() == self.a_home.val() {
+            self.rd_data.next = bit_cast::<16, K>(self.home_r.q.val());
+        }
         if self.rd_addr.val() == self.a_status.val() {
             self.rd_data.next = bit_cast::<16, 1>(self.refused.q.val().into());
         }
@@ -154,8 +191,14 @@ impl<const K: usize> Logic for StopRegs<K> {
             self.lo.d.next = 0xFFFF.into();
             self.dec.d.next = 0xFFFF_FFFFu64.into();
             self.refused.d.next = false;
+            self.mode_r.d.next = 0.into();
+            self.home_r.d.next = 0.into();
         }
         // ---- clk ----
+        self.home_sync.clock.next = self.clock.val();
+        self.home_sync.sig_in.next = self.home_r.q.val();
+        self.home_arm.next = self.home_sync.sig_out.val();
+        self.mode.next = self.mode_r.q.val();
         self.tsync.clock.next = self.clock.val();
         self.tsync.sig_in.next = self.tog.q.val();
         self.tprev.d.next = self.tsync.sig_out.val();

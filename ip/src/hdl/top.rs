@@ -339,7 +339,7 @@ macro_rules! stepper_top {
                     self.core.probe_latch.next = self.$io.probe_latch.val();
                     self.core.lsel_axis.next = self.io_regs.lsel.val();
                     self.io_regs.lword.next = self.core.lsel_word.val();
-                    // Limits and alarms stop their axes.
+                    // Limits, alarms and the stop on home stop their axes (hard here).
                     self.$io.dir.next = self.core.dir.val();
                     self.$io.active.next = self.core.active.val();
                     self.core.stop_axes.next = self.$io.axis_stop.val();
@@ -381,7 +381,10 @@ macro_rules! stepper_top {
                     self.stop_regs.rd_addr.next = self.exmc.rd_addr.val();
                     self.stop_regs.enable.next = self.regs.enable.val();
                     self.stop_regs.clock.next = self.clk.val();
-                    self.core.cstop_axes.next = self.stop_regs.cstop.val();
+                    // The host's STOP, and the sources STOP_MODE puts in controlled mode.
+                    self.core.cstop_axes.next = self.stop_regs.cstop.val() | self.$io.axis_cstop.val();
+                    self.$io.stop_mode.next = self.stop_regs.mode.val();
+                    self.$io.home_stop.next = self.stop_regs.home_arm.val();
                     self.core.decel.next = self.stop_regs.decel.val();
                     self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val() | self.stop_regs.rd_data.val();
                     self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
@@ -391,7 +394,7 @@ macro_rules! stepper_top {
                     // push uncounted, and LEVEL would never come back to 0). A START does
                     // nothing while the hard stop holds.
                     self.core.abort.next = self.c_abort.q.val() | (self.$io.hard_stop.val() & !self.c_push.q.val());
-                    self.core.start.next = self.c_start.q.val() & !self.$io.hard_stop.val();
+                    self.core.start.next = self.c_start.q.val() & !self.$io.hard_stop.val() & !self.$io.wd_tripped.val();
                 )?
             }
         }

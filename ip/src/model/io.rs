@@ -26,6 +26,17 @@
 //! registered): axis a moving (the core's `active`) toward an active limit (DIR 0
 //! toward `limit_pos`, 1 toward `limit_neg`) in this cycle and the one before, or its
 //! alarm active; `stop_tog` flips when it stops a moving axis (the event).
+//!
+//! **Stop modes** ([`IoConfig::stop_mode`], STOP_MODE): each source of a stop (the
+//! limits, the alarm, the watchdog, the stop on home) takes the hard stop or the
+//! controlled stop. A source in controlled mode drives `axis_cstop` (bit a, registered)
+//! instead of `axis_stop`: the limit's and the alarm's for as long as they hold, the
+//! watchdog's on every axis for as long as it is tripped; the core ramps each axis down
+//! once and keeps it stopped while the request holds. A controlled watchdog trip raises
+//! `hard_stop` only once no axis is `active` (registered, a tick later), so the ramps
+//! run; a controlled alarm keeps the axis's `drv_enable` while it is `active`. **Stop on
+//! home** ([`IoConfig::home_stop`], bit a): the home latch's strobe on a moving axis
+//! stops it one tick later (a one-cycle request), hard or controlled.
 
 /// Largest filter length, in filter samples (the 4-bit field of each group).
 pub const FILTER_MAX_SAMPLES: u8 = 15;
@@ -40,6 +51,13 @@ pub const G_ALARM: usize = 5;
 /// The watchdog's timeout unit, clk ticks.
 pub const WATCHDOG_UNIT_BITS: u32 = 10;
 pub const WATCHDOG_UNIT_TICKS: u64 = 1 << WATCHDOG_UNIT_BITS;
+/// STOP_MODE bits: 1 = the source takes the controlled stop, 0 = the hard stop.
+pub const MODE_LIMITS: u8 = 1;
+pub const MODE_ALARM: u8 = 2;
+pub const MODE_WATCHDOG: u8 = 4;
+pub const MODE_HOME: u8 = 8;
+/// STOP_MODE's width.
+pub const MODE_BITS: u32 = 4;
 
 /// Clk edges from the edge that first samples a pin change to the edge on which the
 /// filtered level changes, with the prescaler at 0 (a sample every tick) and `n`
@@ -108,6 +126,11 @@ pub struct IoConfig {
     pub edges: u8,
     /// Watchdog timeout in units of [`WATCHDOG_UNIT_TICKS`]; 0 = off.
     pub wd_timeout: u16,
+    /// [`MODE_LIMITS`] | [`MODE_ALARM`] | [`MODE_WATCHDOG`] | [`MODE_HOME`]: the
+    /// sources that take the controlled stop.
+    pub stop_mode: u8,
+    /// Bit a: stop axis a on its home latch (it may change while the core runs).
+    pub home_stop: u32,
 }
 
 impl IoConfig {
@@ -159,7 +182,9 @@ pub struct IoOutputs {
     pub probe_latch: bool,
     /// Bit a: axis a is held in a hard stop by its inputs ([`MachineIoModel`]).
     pub axis_stop: u32,
-    /// Bit a flips each time `axis_stop` stops a moving axis a.
+    /// Bit a: axis a is asked for a controlled stop by its inputs or the watchdog.
+    pub axis_cstop: u32,
+    /// Bit a flips each time `axis_stop` or `axis_cstop` stops a moving axis a.
     pub stop_tog: u32,
 }
 
@@ -179,7 +204,10 @@ pub struct MachineIoModel {
     /// Per axis, registered: moving toward an active limit, the stop, its toggle.
     toward: u32,
     axis_stop: u32,
+    axis_cstop: u32,
     stop_tog: u32,
+    /// A controlled watchdog trip with no axis active (registered).
+    wd_rest: bool,
 }
 
 impl MachineIoModel {
@@ -198,8 +226,14 @@ impl MachineIoModel {
             drv_enable: 0,
             toward: 0,
             axis_stop: 0,
+            axis_cstop: 0,
             stop_tog: 0,
+            wd_rest: false,
         }
+    }
+
+    fn hard(&self, cfg: &IoConfig) -> bool {
+        self.estop_latched || self.estop.level || (self.wd_tripped && cfg.stop_mode & MODE_WATCHDOG == 0) || self.wd_rest
     }
 
     fn sample(&self, cfg: &IoConfig) -> bool {
@@ -222,7 +256,7 @@ impl MachineIoModel {
         });
         let probe_to = cfg.edges >> 1 & 1 == 0;
         IoOutputs {
-            hard_stop: self.estop_latched || self.estop.level || self.wd_tripped,
+            hard_stop: self.hard(cfg),
             estop_latched: self.estop_latched,
             estop_active: self.estop.level,
             probe_active: self.probe.level,
@@ -235,6 +269,7 @@ impl MachineIoModel {
             home_latch,
             probe_latch: self.probe.changes(inv(G_PROBE), s, cfg.filter[G_PROBE]) && self.probe.level != probe_to,
             axis_stop: self.axis_stop,
+            axis_cstop: self.axis_cstop,
             stop_tog: self.stop_tog,
         }
     }
@@ -243,20 +278,36 @@ impl MachineIoModel {
     pub fn clock(&mut self, cfg: &IoConfig, pins: &IoPins, cmd: &IoCommands, run: bool, reset: bool) {
         let s = self.sample(cfg);
         let inv = |g: usize| cfg.polarity >> g & 1 == 1;
-        let hard = self.estop_latched || self.estop.level || self.wd_tripped;
-        // Registered enables: the state of this cycle.
-        self.drv_enable = self.bits(|a| run && !hard && !self.axis_inputs[a][3].level);
+        let hard = self.hard(cfg);
+        let ctl = |m: u8| cfg.stop_mode & m != 0;
+        let active = |a: usize| pins.active >> a & 1 == 1;
+        // Registered enables: the state of this cycle (a controlled alarm keeps the
+        // enable while its axis is active: the ramp runs).
+        self.drv_enable =
+            self.bits(|a| run && !hard && !(self.axis_inputs[a][3].level && (!ctl(MODE_ALARM) || !active(a))));
         // The per-axis stop: moving toward an active limit (DIR 0 toward limit_pos, 1
         // toward limit_neg) in this cycle and the one before (a segment that starts
-        // away from the limit shows the old DIR for one tick), or the alarm active.
+        // away from the limit shows the old DIR for one tick), the alarm active, or the
+        // home latch on a moving axis armed to stop on it.
         let toward = self.bits(|a| {
-            let (d, act) = (pins.dir >> a & 1 == 1, pins.active >> a & 1 == 1);
-            act && ((!d && self.axis_inputs[a][1].level) || (d && self.axis_inputs[a][0].level))
+            let d = pins.dir >> a & 1 == 1;
+            active(a) && ((!d && self.axis_inputs[a][1].level) || (d && self.axis_inputs[a][0].level))
         });
-        let stop = (toward & self.toward) | self.bits(|a| self.axis_inputs[a][3].level);
-        self.stop_tog ^= stop & !self.axis_stop & pins.active;
+        let limit = toward & self.toward;
+        let alarm = self.bits(|a| self.axis_inputs[a][3].level);
+        let hit = self.outputs(cfg).home_latch & cfg.home_stop & pins.active;
+        let pick = |m: u8, w: u32, controlled: bool| if ctl(m) == controlled { w } else { 0 };
+        let stop = pick(MODE_LIMITS, limit, false) | pick(MODE_ALARM, alarm, false) | pick(MODE_HOME, hit, false);
+        let all = self.bits(|_| true);
+        let cstop = pick(MODE_LIMITS, limit, true)
+            | pick(MODE_ALARM, alarm, true)
+            | pick(MODE_HOME, hit, true)
+            | if self.wd_tripped && ctl(MODE_WATCHDOG) { all } else { 0 };
+        self.stop_tog ^= (stop | cstop) & !(self.axis_stop | self.axis_cstop) & pins.active;
         self.axis_stop = stop;
+        self.axis_cstop = cstop;
         self.toward = toward;
+        self.wd_rest = self.wd_tripped && ctl(MODE_WATCHDOG) && pins.active == 0;
         let estop_active = self.estop.level;
         self.estop_latched = estop_active || (self.estop_latched && !cmd.estop_rearm);
         let unit_end = (cfg.wd_timeout as u32) << WATCHDOG_UNIT_BITS;
@@ -290,7 +341,9 @@ impl MachineIoModel {
             self.drv_enable = 0;
             self.toward = 0;
             self.axis_stop = 0;
+            self.axis_cstop = 0;
             self.stop_tog = 0;
+            self.wd_rest = false;
         }
     }
 }
