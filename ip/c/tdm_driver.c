@@ -307,3 +307,228 @@ tdm_events tdm_irq_service(tdm_dev *dev)
     }
     return ev;
 }
+
+#if defined(TDM_IO_CMD)
+#include "tdm_planner.h"
+
+int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg)
+{
+    unsigned g;
+    uint16_t refused;
+    if (cfg == 0 || cfg->stop_mode > 15u || (cfg->stop_decel != 0u && cfg->stop_decel < TDM_STOP_DECEL_MIN)) {
+        return TDM_E_ARG;
+    }
+    for (g = 0; g < 6u; g++) {
+        if (cfg->filter[g] > 15u) {
+            return TDM_E_ARG;
+        }
+    }
+    if (tdm_read(dev, TDM_GSTATUS) & TDM_GSTATUS_ENABLED_MASK) {
+        return TDM_E_REFUSED;
+    }
+    tdm_write(dev, TDM_IO_STATUS, TDM_IO_STATUS_REFUSED_MASK);
+    tdm_write(dev, TDM_STOP_STATUS, TDM_STOP_STATUS_REFUSED_MASK);
+    tdm_write(dev, TDM_IO_POLARITY, cfg->polarity);
+    tdm_write(dev, TDM_IO_FILTER_LO, (uint16_t)(cfg->filter[0] | cfg->filter[1] << 4 | cfg->filter[2] << 8 | cfg->filter[3] << 12));
+    tdm_write(dev, TDM_IO_FILTER_HI, (uint16_t)(cfg->filter[4] | cfg->filter[5] << 4));
+    tdm_write(dev, TDM_IO_PRESCALE, cfg->prescale);
+    tdm_write(dev, TDM_IO_EDGES, cfg->edges);
+    tdm_write(dev, TDM_WD_TIMEOUT, cfg->wd_timeout);
+    if (cfg->stop_decel != 0u) {
+        tdm_write(dev, TDM_STOP_DECEL_LO, (uint16_t)(cfg->stop_decel & 0xFFFFu));
+        tdm_write(dev, TDM_STOP_DECEL_HI, (uint16_t)(cfg->stop_decel >> 16));
+    }
+    tdm_write(dev, TDM_STOP_MODE, cfg->stop_mode);
+    refused = (uint16_t)((tdm_read(dev, TDM_IO_STATUS) & TDM_IO_STATUS_REFUSED_MASK)
+                         | (tdm_read(dev, TDM_STOP_STATUS) & TDM_STOP_STATUS_REFUSED_MASK));
+    return refused ? TDM_E_REFUSED : 0;
+}
+
+int tdm_io_arm(tdm_dev *dev, unsigned long poll_limit)
+{
+    unsigned long i;
+    for (i = 0; tdm_read(dev, TDM_IO_STATUS) & TDM_IO_STATUS_ESTOP_IN_MASK; i++) {
+        if (i >= poll_limit) {
+            return TDM_E_HALTED;
+        }
+    }
+    tdm_write(dev, TDM_IO_CMD, (uint16_t)(TDM_IO_CMD_ESTOP_REARM_MASK | TDM_IO_CMD_WD_REARM_MASK));
+    for (i = 0; i < poll_limit; i++) {
+        if ((tdm_read(dev, TDM_IO_STATUS) & (TDM_IO_STATUS_ESTOP_MASK | TDM_IO_STATUS_WATCHDOG_MASK)) == 0u) {
+            return 0;
+        }
+    }
+    return TDM_E_HALTED;
+}
+
+void tdm_wd_feed(tdm_dev *dev)
+{
+    tdm_write(dev, TDM_IO_CMD, TDM_IO_CMD_WD_FEED_MASK);
+}
+
+int tdm_soft_limits(tdm_dev *dev, unsigned axis, int32_t min, int32_t max, int enable)
+{
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if (enable && min > max) {
+        return TDM_E_ARG;
+    }
+    tdm_write(dev, TDM_SL_STATUS, TDM_SL_STATUS_REFUSED_MASK);
+    tdm_write(dev, TDM_SL_AXIS, (uint16_t)axis);
+    tdm_write(dev, TDM_SL_MIN_LO, (uint16_t)((uint32_t)min & 0xFFFFu));
+    tdm_write(dev, TDM_SL_MIN_HI, (uint16_t)((uint32_t)min >> 16));
+    tdm_write(dev, TDM_SL_MAX_LO, (uint16_t)((uint32_t)max & 0xFFFFu));
+    tdm_write(dev, TDM_SL_MAX_HI, (uint16_t)((uint32_t)max >> 16));
+    tdm_write(dev, TDM_SL_APPLY, enable ? TDM_SL_APPLY_ENABLE_MASK : 0u);
+    return (tdm_read(dev, TDM_SL_STATUS) & TDM_SL_STATUS_REFUSED_MASK) ? TDM_E_REFUSED : 0;
+}
+
+static int axis_mask_ok(const tdm_dev *dev, uint16_t mask)
+{
+    return (mask & ~(uint16_t)((1ul << dev->axes) - 1u)) == 0u;
+}
+
+int tdm_stop(tdm_dev *dev, uint16_t mask)
+{
+    if (mask == 0u || !axis_mask_ok(dev, mask)) {
+        return TDM_E_AXIS;
+    }
+    tdm_write(dev, TDM_STOP, mask);
+    return 0;
+}
+
+int tdm_stop_on_home(tdm_dev *dev, uint16_t mask)
+{
+    if (!axis_mask_ok(dev, mask)) {
+        return TDM_E_AXIS;
+    }
+    tdm_write(dev, TDM_STOP_HOME, mask);
+    return 0;
+}
+
+static int32_t read_latched(tdm_dev *dev, uint32_t lo, uint32_t hi)
+{
+    uint32_t l = tdm_read(dev, lo); /* latches the high half */
+    uint32_t h = tdm_read(dev, hi);
+    return (int32_t)((h << 16) | l);
+}
+
+int32_t tdm_home_position(tdm_dev *dev, unsigned axis)
+{
+    return axis < dev->axes ? read_latched(dev, TDM_HOME_POS_LO(axis), TDM_HOME_POS_HI(axis)) : 0;
+}
+
+int32_t tdm_probe_position(tdm_dev *dev, unsigned axis)
+{
+    return axis < dev->axes ? read_latched(dev, TDM_PROBE_POS_LO(axis), TDM_PROBE_POS_HI(axis)) : 0;
+}
+
+tdm_io_events tdm_io_service(tdm_dev *dev)
+{
+    tdm_io_events ev = {0, 0, 0, 0, 0};
+    uint16_t irq = tdm_read(dev, TDM_IRQ_IO);
+    unsigned a;
+    ev.estop = (uint8_t)((irq & TDM_IRQ_IO_ESTOP_MASK) != 0u);
+    ev.watchdog = (uint8_t)((irq & TDM_IRQ_IO_WATCHDOG_MASK) != 0u);
+    ev.probe = (uint8_t)((irq & TDM_IRQ_IO_PROBE_MASK) != 0u);
+    if (irq & (TDM_IRQ_IO_HOME_MASK | TDM_IRQ_IO_STOP_MASK)) {
+        for (a = 0; a < dev->axes; a++) {
+            uint16_t v = tdm_read(dev, TDM_IO_AXIS(a));
+            if (v & TDM_IO_AXIS_HOME_LATCHED_MASK) {
+                ev.home |= (uint16_t)(1u << a);
+            }
+            if (v & TDM_IO_AXIS_STOPPED_MASK) {
+                ev.stopped |= (uint16_t)(1u << a);
+            }
+        }
+    }
+    if (irq) {
+        tdm_write(dev, TDM_IRQ_IO, irq);
+    }
+    return ev;
+}
+
+/* A rest-to-rest move of `steps` at speed and accel, pushed, started and waited for. */
+static int home_move(tdm_dev *dev, unsigned axis, int32_t steps, uint32_t speed, const tdm_home_params *p)
+{
+    tdm_segment segs[3];
+    unsigned count;
+    unsigned bad;
+    unsigned taken;
+    tdm_axis_status st;
+    int rc;
+    if (steps == 0) {
+        return 0;
+    }
+    rc = tdm_plan_rates(steps, speed, p->accel, p->accel, dev->clock_hz, dev->max_rate, segs, &count, &bad);
+    if (rc != 0) {
+        return rc;
+    }
+    tdm_clear_status(dev, axis);
+    rc = tdm_push_some(dev, axis, segs, count, &taken);
+    if (rc != 0) {
+        return rc;
+    }
+    if (taken != count) {
+        return TDM_E_FULL;
+    }
+    st = tdm_status(dev, axis);
+    if (st.error) {
+        return st.error_code;
+    }
+    rc = tdm_start(dev, (uint16_t)(1u << axis));
+    if (rc != 0) {
+        return rc;
+    }
+    return tdm_wait_idle(dev, (uint16_t)(1u << axis), p->poll_limit);
+}
+
+int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *home_pos)
+{
+    uint16_t bit;
+    uint16_t armed;
+    int32_t h;
+    int32_t dir;
+    int rc;
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if (p == 0 || home_pos == 0 || (p->dir != 1 && p->dir != -1) || p->max_travel == 0u
+        || p->max_travel > 0x7FFFFFFFul || p->backoff == 0u || p->backoff > 0x7FFFFFFFul) {
+        return TDM_E_ARG;
+    }
+    dir = p->dir;
+    bit = (uint16_t)(1u << axis);
+    /* Already on the switch: leave it first, so the search sees it become active. */
+    if (tdm_read(dev, TDM_IO_AXIS(axis)) & TDM_IO_AXIS_HOME_MASK) {
+        rc = home_move(dev, axis, -dir * (int32_t)p->backoff, p->speed, p);
+        if (rc != 0) {
+            return rc;
+        }
+    }
+    tdm_write(dev, TDM_IRQ_IO, TDM_IRQ_IO_HOME_MASK); /* clears HOME_LATCHED */
+    armed = tdm_read(dev, TDM_STOP_HOME);
+    tdm_write(dev, TDM_STOP_HOME, (uint16_t)(armed | bit));
+    rc = home_move(dev, axis, dir * (int32_t)p->max_travel, p->speed, p);
+    tdm_write(dev, TDM_STOP_HOME, (uint16_t)(armed & ~bit));
+    if (rc != 0) {
+        return rc;
+    }
+    if ((tdm_read(dev, TDM_IO_AXIS(axis)) & TDM_IO_AXIS_HOME_LATCHED_MASK) == 0u) {
+        return TDM_E_NOHOME;
+    }
+    h = tdm_home_position(dev, axis);
+    /* Back off past the latched position, then approach it slowly. */
+    rc = home_move(dev, axis, h - dir * (int32_t)p->backoff - tdm_position(dev, axis), p->speed, p);
+    if (rc != 0) {
+        return rc;
+    }
+    rc = home_move(dev, axis, h - tdm_position(dev, axis), p->slow_speed, p);
+    if (rc != 0) {
+        return rc;
+    }
+    *home_pos = h;
+    return 0;
+}
+#endif /* TDM_IO_CMD */

@@ -159,6 +159,91 @@ void tdm_clear_status(tdm_dev *dev, unsigned axis);
  * that arrives in between is not lost. */
 tdm_events tdm_irq_service(tdm_dev *dev);
 
+#if defined(TDM_IO_CMD)
+/* ---- Machine I/O: declared only with a header from `export --io all` ----------- */
+
+#define TDM_E_NOHOME (-9)  /* tdm_home(): the search move ended without the home latch */
+#define TDM_E_HALTED (-10) /* the e-stop input is active or its latch did not clear */
+
+/* Input groups, in IO_POLARITY's bit order and tdm_io_config.filter's. */
+enum { TDM_GROUP_ESTOP, TDM_GROUP_PROBE, TDM_GROUP_LIMIT_NEG, TDM_GROUP_LIMIT_POS, TDM_GROUP_HOME, TDM_GROUP_ALARM };
+
+/* The machine I/O's configuration, written while the core is disabled. */
+typedef struct {
+    uint8_t polarity;    /* bit g (TDM_GROUP_*): group g's pins are active low; the reset value 1 has estop_n active low */
+    uint8_t filter[6];   /* per group, 0..15 filter samples (0: no filter) */
+    uint16_t prescale;   /* a filter sample every prescale + 1 clk ticks */
+    uint8_t edges;       /* IO_EDGES: bit 0 the home latch, bit 1 the probe's, 1 = on release */
+    uint16_t wd_timeout; /* the watchdog, in units of 1,024 clk ticks; 0 = off */
+    uint32_t stop_decel; /* the controlled stop's deceleration, a = DECEL / 2^57 steps/tick^2; 0 keeps the reset value (the hardest) */
+    uint8_t stop_mode;   /* STOP_MODE: TDM_STOP_MODE_*_MASK of the sources that take the controlled stop */
+} tdm_io_config;
+
+/* Writes the configuration. The core must be disabled (before tdm_enable, or after
+ * tdm_disable). TDM_E_ARG for a filter above 15, a STOP_MODE bit above 3 or a
+ * deceleration below TDM_STOP_DECEL_MIN, without touching the bus; TDM_E_REFUSED if
+ * the core is enabled (nothing written) or refused a write. */
+int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg);
+
+/* After tdm_enable: waits (at most poll_limit reads) until the filtered e-stop reads
+ * released, re-arms the e-stop latch and the watchdog, and checks that both cleared.
+ * 0 or TDM_E_HALTED. */
+int tdm_io_arm(tdm_dev *dev, unsigned long poll_limit);
+
+/* Feeds the watchdog (IO_CMD.WD_FEED): call it more often than WD_TIMEOUT·1,024 ticks. */
+void tdm_wd_feed(tdm_dev *dev);
+
+/* Soft limits of an axis, inclusive (enable = 0 turns them off). TDM_E_AXIS, TDM_E_ARG
+ * for min > max (no bus access), TDM_E_REFUSED if the core refused them. */
+int tdm_soft_limits(tdm_dev *dev, unsigned axis, int32_t min, int32_t max, int enable);
+
+/* The controlled stop of the masked axes (STOP): each ramps down to rest at
+ * STOP_DECEL; wait for tdm_wait_idle() before reading its position. TDM_E_AXIS. */
+int tdm_stop(tdm_dev *dev, uint16_t mask);
+
+/* Arms (bit set) or disarms the stop on home of each axis (STOP_HOME). TDM_E_AXIS. */
+int tdm_stop_on_home(tdm_dev *dev, uint16_t mask);
+
+/* The positions the home latch (per axis) and the probe latch took, read tear-free. */
+int32_t tdm_home_position(tdm_dev *dev, unsigned axis);
+int32_t tdm_probe_position(tdm_dev *dev, unsigned axis);
+
+/* What tdm_io_service() found (and cleared). */
+typedef struct {
+    uint8_t estop;    /* the filtered e-stop became active */
+    uint8_t watchdog; /* the watchdog tripped */
+    uint8_t probe;    /* the probe latch took every axis's position */
+    uint16_t home;    /* bit a: axis a's home latch took its position */
+    uint16_t stopped; /* bit a: a limit, the alarm, the stop on home or a watchdog ramp stopped axis a */
+} tdm_io_events;
+
+/* Reads and clears IRQ_IO (and, for HOME and STOP, which axes from IO_AXIS): call it
+ * from the irq handler. A HOME or STOP event of another axis that comes between the
+ * reads and the clear (a few bus accesses) is cleared with them unread. */
+tdm_io_events tdm_io_service(tdm_dev *dev);
+
+/* A homing sequence for one axis with the stop on home (hard or controlled, as
+ * STOP_MODE.HOME says): if the switch is already active, back off first; then a move
+ * of dir·max_travel steps toward the switch that the home latch ends, back off
+ * `backoff` steps past the latched position, and approach it again at slow_speed:
+ * the axis rests at the latched position, returned in *home_pos (the machine's zero is
+ * POS − *home_pos). Speeds in steps/s, accel in steps/s^2 (the planner's ranges);
+ * poll_limit bounds each wait. 0, TDM_E_ARG, TDM_E_AXIS, TDM_E_NOHOME (the search
+ * ended without the switch; the stop on home is disarmed again), TDM_E_TIMEOUT, a
+ * planner error (tdm_plan_rates) or the code (1..9) the core gave a push. The home
+ * latch's edge (IO_EDGES bit 0) must be 0: on becoming active. */
+typedef struct {
+    int dir;              /* +1 or -1: toward the switch */
+    uint32_t max_travel;  /* steps, at most 2^31 - 1 */
+    uint32_t speed;       /* search and back-off speed */
+    uint32_t slow_speed;  /* the final approach */
+    uint32_t accel;
+    uint32_t backoff;     /* steps, more than the stop's overshoot */
+    unsigned long poll_limit;
+} tdm_home_params;
+int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *home_pos);
+#endif /* TDM_IO_CMD */
+
 #ifdef __cplusplus
 }
 #endif

@@ -75,6 +75,16 @@ fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
         sizes.push(nums[0]);
         println!("{f}: {} bytes of code for a Cortex-M4 (-Os)", nums[0]);
     }
+    // With the header of an `--io all` export the driver has the machine I/O functions:
+    // it compiles without warnings too (host and Cortex-M4).
+    let io_dir = sim_dir("c_compile_io", Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&io_dir);
+    export::export(&ExportOptions { axes: 2, io: true, ..Default::default() }, &io_dir).unwrap();
+    gcc_c(&io_dir, &io_dir.join("tdm_driver.c"), "tdm_driver.o");
+    let mut cmd = Command::new("arm-none-eabi-gcc");
+    cmd.args(["-mcpu=cortex-m4", "-mthumb", "-Os"]).args(GCC_FLAGS).arg("-I").arg(&io_dir).arg("-c").arg(io_dir.join("tdm_driver.c")).arg("-o").arg(io_dir.join("d.arm.o"));
+    let text = run(&mut cmd, "arm-none-eabi-gcc tdm_driver.c (--io all)");
+    assert!(text.trim().is_empty(), "arm-none-eabi-gcc printed diagnostics for the --io driver:\n{text}");
     // The README states the sizes; they hold to 15 % (compiler versions differ).
     let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
     let at = readme.find("bytes of Cortex-M4 code").expect("README states the driver's size");
@@ -212,6 +222,11 @@ fn field(out: &str, tag: &str) -> Vec<Vec<i64>> {
 /// linked with the driver, the planner, `main_c` (each compiled by gcc with the
 /// project's flags) and the objects `extra`. Returns the executable.
 fn build_with_shim(dir: &Path, main_c: &Path, extra: &[PathBuf]) -> PathBuf {
+    build_with_shim_flags(dir, main_c, extra, &[])
+}
+
+/// [`build_with_shim`] with more C++ flags for the shim (`-DSHIM_IO`: the machine I/O pins).
+fn build_with_shim_flags(dir: &Path, main_c: &Path, extra: &[PathBuf], cflags: &[&str]) -> PathBuf {
     let stem = main_c.file_stem().unwrap().to_str().unwrap().to_string();
     let objs = [
         gcc_c(dir, &dir.join("tdm_driver.c"), "tdm_driver.o"),
@@ -224,6 +239,7 @@ fn build_with_shim(dir: &Path, main_c: &Path, extra: &[PathBuf]) -> PathBuf {
     v.current_dir(dir)
         .args(["--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast", "--x-initial", "fast"])
         .args(["-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module", "tdm_stepper", "-o", &exe])
+        .args(cflags.iter().flat_map(|f| ["-CFLAGS", f]))
         .args(["tdm_stepper.v", "exmc_shim.cpp"])
         .args(&objs)
         .args(extra);
@@ -376,4 +392,76 @@ fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_exmc_pins() {
     assert_eq!(irqs[2][3], 1, "START_FAILED seen");
     assert_eq!(irqs[2][2] & (1 << (K - 1)), 1 << (K - 1), "IRQ_ERROR for the masked axis");
     assert_eq!(irqs[3], [0, 0, 0, 0], "the helper cleared what it returned");
+}
+
+/// The README's homing worked example (Machine I/O), compiled as written with the
+/// header of an `--io all` export (K = 2) and run through the shim with the machine
+/// I/O pins and a home switch at position −1,234 of axis 0: it returns 0 with the zero
+/// at −1,234 and axis 0 resting there; the search crossed the switch once and ramped
+/// down past it (the controlled stop on home), the back-off left it and the approach
+/// came back to it; tdm_io_service reports the home latch and the stop of axis 0 and
+/// then nothing. Then a controlled stop (tdm_stop) of a move of axis 1: its edges are
+/// the model's stop (model::stop::cut_run) and its position is read back; and the
+/// machine I/O calls that must refuse do, with the documented codes.
+#[test]
+fn readme_homing_example_runs_as_written_through_the_machine_io() {
+    use tdm_stepper::model::stop::cut_run;
+    let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let section = readme.split("## Machine I/O").nth(1).expect("README has a Machine I/O section").split("\n## ").next().unwrap();
+    let code = section.split("```c\n").nth(1).expect("a C block").split("```").next().unwrap();
+    let dir = sim_dir("c_io_homing", Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ExportOptions { axes: 2, io: true, ..Default::default() };
+    export::export(&opts, &dir).unwrap();
+    std::fs::write(dir.join("home_example.c"), code).unwrap();
+    let example = gcc_c(&dir, &dir.join("home_example.c"), "home_example.o");
+    let exe = build_with_shim_flags(&dir, &tests_c().join("io_main.c"), &[example], &["-DSHIM_IO"]);
+    let out = run(Command::new(exe).current_dir(&dir), "the homing example");
+    let limits = opts.limits();
+    assert_eq!(field(&out, "HOME")[0], [0, -1234, -1234], "tdm_home: rc, zero, the position at rest");
+    // The home pin (the shim's H lines: axis, cycle, position, level).
+    let h: Vec<Vec<i64>> = field(&out, "H").into_iter().filter(|l| l[0] == 0).collect();
+    assert!(h.len() >= 3, "the switch changed {} times", h.len());
+    assert_eq!((h[0][2], h[0][3]), (-1234, 1), "the search reached the switch at -1234");
+    assert_eq!((h[1][2], h[1][3]), (-1233, 0), "the back-off left it");
+    assert_eq!((h.last().unwrap()[2], h.last().unwrap()[3]), (-1234, 1), "the approach came back to it");
+    // The search ramped down past the switch (the controlled stop), by more than one edge.
+    let e0 = edges(&out, 2, u64::MAX);
+    let mut pos = 0i64;
+    let mut lowest = 0i64;
+    for &(_, d) in &e0[0] {
+        pos += if d { -1 } else { 1 };
+        lowest = lowest.min(pos);
+    }
+    assert_eq!(pos, -1234, "axis 0's edges end at the zero");
+    assert!(lowest < -1234 - 10 && lowest > -1234 - 400, "the search's overshoot: {}", -1234 - lowest);
+    let ev = field(&out, "EVENTS");
+    assert_eq!((ev[0][3] & 1, ev[0][4] & 1), (1, 1), "tdm_io_service: axis 0's home latch and its stop");
+    assert_eq!(ev[1], [0, 0, 0, 0, 0], "and nothing after they were cleared");
+    // The controlled stop of axis 1.
+    let stop_at = field(&out, "STOPAT")[0][0] as u64;
+    let st = &field(&out, "STOP")[0];
+    assert_eq!(st[0], 0, "tdm_stop and the wait");
+    let segs = trapezoid_by_rates(3000, 50_000, 5_000_000, 5_000_000, opts.clock_hz, &limits).unwrap();
+    let run1 = AxisRun::run(&segs, &limits);
+    let r: Vec<u64> = e0[1].iter().map(|&(c, _)| c).collect();
+    let l0 = r[0] as i64 - 1 - run1.edge_ticks[0] as i64;
+    let emitted = r.iter().filter(|&&c| c < stop_at).count();
+    let e = (0..=run1.fifo.len()).find(|&e| run1.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
+    let decel = 400_000_000;
+    let m = (e..=e + export::FIFO_DEPTH + 3)
+        .map(|c| cut_run(&run1, c, decel, &limits))
+        .find(|m| m.edge_ticks.len() == r.len() && m.edge_ticks.iter().zip(&r).all(|(&t, &g)| g as i64 == l0 + 1 + t as i64))
+        .unwrap_or_else(|| panic!("no cut near {e} entries gives axis 1's {} edges", r.len()));
+    assert_eq!(m.accepted.len(), 1, "a ramp");
+    assert!(r.len() < 3000, "the stop shortened the move: {} edges", r.len());
+    assert_eq!(st[1], m.position, "the position read back");
+    // Refusals.
+    assert_eq!(field(&out, "BADFILTER")[0], [-7]);
+    assert_eq!(field(&out, "BADDECEL")[0], [-7]);
+    assert_eq!(field(&out, "BADMODE")[0], [-7]);
+    assert_eq!(field(&out, "ENABLED")[0], [-6], "configuration while enabled: TDM_E_REFUSED");
+    assert_eq!(field(&out, "SOFTBAD")[0], [-7]);
+    assert_eq!(field(&out, "STOPAXIS")[0], [-4, -4]);
+    assert!(out.contains("RC 0\n"));
 }

@@ -7,7 +7,13 @@
 // Printed on stdout (the Rust test parses it):
 //   E <axis> <clk cycle> <dir>   every rising STEP edge (the cycle is counted from
 //                                the first clk rising edge, as the system tests do)
+//   H <axis> <clk cycle> <pos> <level>   (with SHIM_IO) the home pin of an axis changed
 // and whatever the C program prints. Clock half periods come from the compile line.
+//
+// With SHIM_IO (an `--io all` export) the machine I/O pins are driven too: estop_n
+// released, every other input inactive, and a home switch per axis that the C program
+// places with shim_home_switch(): active while the axis's position (counted here from
+// STEP and DIR) is at or beyond `at` in direction `dir`.
 #include "Vtdm_stepper.h"
 #include "verilated.h"
 #include <cstdint>
@@ -31,6 +37,26 @@ static uint64_t g_next_bus = 1 + BUS_HALF_PS;
 static uint64_t g_clk_cycles = 0;           // clk rising edges seen
 static uint32_t g_last_step = 0;
 static unsigned long g_accesses = 0;
+#ifdef SHIM_IO
+static int32_t g_pos[16];
+static int32_t g_home_at[16];
+static int g_home_dir[16];
+static uint32_t g_home = 0;
+
+static void update_home(void)
+{
+    uint32_t h = 0;
+    for (unsigned a = 0; a < 16; a++) {
+        int on = (g_home_dir[a] < 0 && g_pos[a] <= g_home_at[a]) || (g_home_dir[a] > 0 && g_pos[a] >= g_home_at[a]);
+        if (on) h |= 1u << a;
+        if (((h ^ g_home) >> a) & 1u) {
+            printf("H %u %llu %d %d\n", a, (unsigned long long)g_clk_cycles, (int)g_pos[a], on);
+        }
+    }
+    g_home = h;
+    g_top->home = h;
+}
+#endif
 
 // FSMC timing in HCLK cycles: ADDSET = ceil(2 T_bus / T_hclk), DATAST = ceil(3 T_bus /
 // T_hclk) for writes and ceil(5 T_bus / T_hclk) for reads (docs/registers.md).
@@ -51,9 +77,18 @@ static void advance_to(uint64_t t)
                 uint32_t s = (uint32_t)g_top->step;
                 uint32_t rose = s & ~g_last_step;
                 for (unsigned a = 0; rose; a++, rose >>= 1) {
-                    if (rose & 1u) printf("E %u %llu %u\n", a, (unsigned long long)g_clk_cycles, ((uint32_t)g_top->dir >> a) & 1u);
+                    if (rose & 1u) {
+                        unsigned d = ((uint32_t)g_top->dir >> a) & 1u;
+                        printf("E %u %llu %u\n", a, (unsigned long long)g_clk_cycles, d);
+#ifdef SHIM_IO
+                        g_pos[a] += d ? -1 : 1;
+#endif
+                    }
                 }
                 g_last_step = s;
+#ifdef SHIM_IO
+                update_home();
+#endif
             }
         } else {
             g_top->bus_clk = !g_top->bus_clk;
@@ -72,6 +107,16 @@ unsigned long shim_accesses(void) { return g_accesses; }
 unsigned long long shim_clk_cycles(void) { return (unsigned long long)g_clk_cycles; }
 
 void shim_idle_ns(unsigned long ns) { advance_to(g_now + (uint64_t)ns * 1000u); }
+
+#ifdef SHIM_IO
+void shim_home_switch(unsigned axis, int32_t at, int dir)
+{
+    g_home_at[axis] = at;
+    g_home_dir[axis] = dir;
+    update_home();
+    g_top->eval();
+}
+#endif
 
 // ADDSET: NE low with the address out, both strobes high.
 static void address_phase(uint32_t byte_offset)
@@ -132,6 +177,9 @@ int main(int argc, char **argv)
     g_top->nwe = 1;
     g_top->addr = 0;
     g_top->data_in = 0;
+#ifdef SHIM_IO
+    g_top->estop_n = 1;
+#endif
     g_top->reset = 1;
     g_top->eval();
     mcu_cycles(200);
