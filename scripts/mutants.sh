@@ -92,6 +92,11 @@ mutants=(
   "59#ip/src/hdl/stop_ramp.rs#s/self.d1.next = self.r_delta.val\(\) \+ 1;/self.d1.next = self.r_delta.val();/#hdl_core#controlled_stop#the ramp's v0 from Δ instead of Δ + 1"
   "60#ip/src/hdl/core.rs#s/& !self.bank.moving.val\(\) & self.c_cs.val\(\)/\& !self.bank.active.val() \& self.c_cs.val()/#hdl_core#controlled_stop#a stop in a dwell forms a ramp"
   "61#ip/src/hdl/stop_regs.rs#s/self.enable.val\(\) \| \(self.staged.val\(\) < self.c_min.val\(\)\)/self.enable.val()/#system#controlled_stop#STOP_DECEL below the minimum is taken"
+  "62#ip/src/hdl/core.rs#s/self.axis_drop.next = true;/self.axis_drop.next = false;/#hdl_core#controlled_stop#a segment pushed during a ramp that a held request keeps runs after it"
+  "63#ip/src/hdl/stop_ramp.rs#s/self.stopping.next = self.r_next.q.val\(\) \| self.r_cur.q.val\(\);/self.stopping.next = 0.into();/#hdl_core#controlled_stop#a held request cuts its own ramp again"
+  "64#ip/src/hdl/machine_io.rs#s/\| \(self.tripped.q.val\(\) & !self.stop_mode.val\(\).get_bit\(2\)\)/| self.tripped.q.val()/#hdl_machine_io#stop_modes#a controlled watchdog trip stops hard at once"
+  "65#ip/src/hdl/stop_regs.rs#s/self.home_sync.sig_in.next = self.home_r.q.val\(\);/self.home_sync.sig_in.next = 0.into();/#system#stop_modes#STOP_HOME never reaches clk"
+  "66#ip/src/hdl/top.rs#s/self.stop_regs.cstop.val\(\) \| self.\\\$io.axis_cstop.val\(\)/self.stop_regs.cstop.val()/#system#stop_modes#the sources in controlled mode never reach the core"
 )
 
 only=("$@")
