@@ -308,8 +308,37 @@ tdm_events tdm_irq_service(tdm_dev *dev)
     return ev;
 }
 
-#if defined(TDM_IO_CMD)
+#if defined(TDM_STOP)
 #include "tdm_planner.h"
+
+/* Fields of groups the export lacks read as 0 here (the header leaves them out). */
+#ifndef TDM_IO_STATUS_ESTOP_MASK
+#define TDM_IO_STATUS_ESTOP_MASK 0u
+#endif
+#ifndef TDM_IO_STATUS_WATCHDOG_MASK
+#define TDM_IO_STATUS_WATCHDOG_MASK 0u
+#endif
+#ifndef TDM_IO_CMD_ESTOP_REARM_MASK
+#define TDM_IO_CMD_ESTOP_REARM_MASK 0u
+#endif
+#ifndef TDM_IO_CMD_WD_REARM_MASK
+#define TDM_IO_CMD_WD_REARM_MASK 0u
+#endif
+#ifndef TDM_IRQ_IO_ESTOP_MASK
+#define TDM_IRQ_IO_ESTOP_MASK 0u
+#endif
+#ifndef TDM_IRQ_IO_WATCHDOG_MASK
+#define TDM_IRQ_IO_WATCHDOG_MASK 0u
+#endif
+#ifndef TDM_IRQ_IO_PROBE_MASK
+#define TDM_IRQ_IO_PROBE_MASK 0u
+#endif
+#ifndef TDM_IRQ_IO_HOME_MASK
+#define TDM_IRQ_IO_HOME_MASK 0u
+#endif
+#ifndef TDM_IO_AXIS_HOME_LATCHED_MASK
+#define TDM_IO_AXIS_HOME_LATCHED_MASK 0u
+#endif
 
 int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg)
 {
@@ -323,22 +352,51 @@ int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg)
             return TDM_E_ARG;
         }
     }
+#if !defined(TDM_IO_PRESCALE)
+    if (cfg->prescale != 0u) {
+        return TDM_E_ARG;
+    }
+#endif
+#if !defined(TDM_IO_EDGES)
+    if (cfg->edges != 0u) {
+        return TDM_E_ARG;
+    }
+#endif
+#if !defined(TDM_WD_TIMEOUT)
+    if (cfg->wd_timeout != 0u) {
+        return TDM_E_ARG;
+    }
+#endif
     if (tdm_read(dev, TDM_GSTATUS) & TDM_GSTATUS_ENABLED_MASK) {
         return TDM_E_REFUSED;
     }
     tdm_write(dev, TDM_IO_STATUS, TDM_IO_STATUS_REFUSED_MASK);
     tdm_write(dev, TDM_STOP_STATUS, TDM_STOP_STATUS_REFUSED_MASK);
+#if defined(TDM_IO_POLARITY)
     tdm_write(dev, TDM_IO_POLARITY, cfg->polarity);
+#endif
+#if defined(TDM_IO_FILTER_LO)
     tdm_write(dev, TDM_IO_FILTER_LO, (uint16_t)(cfg->filter[0] | cfg->filter[1] << 4 | cfg->filter[2] << 8 | cfg->filter[3] << 12));
+#endif
+#if defined(TDM_IO_FILTER_HI)
     tdm_write(dev, TDM_IO_FILTER_HI, (uint16_t)(cfg->filter[4] | cfg->filter[5] << 4));
+#endif
+#if defined(TDM_IO_PRESCALE)
     tdm_write(dev, TDM_IO_PRESCALE, cfg->prescale);
+#endif
+#if defined(TDM_IO_EDGES)
     tdm_write(dev, TDM_IO_EDGES, cfg->edges);
+#endif
+#if defined(TDM_WD_TIMEOUT)
     tdm_write(dev, TDM_WD_TIMEOUT, cfg->wd_timeout);
+#endif
     if (cfg->stop_decel != 0u) {
         tdm_write(dev, TDM_STOP_DECEL_LO, (uint16_t)(cfg->stop_decel & 0xFFFFu));
         tdm_write(dev, TDM_STOP_DECEL_HI, (uint16_t)(cfg->stop_decel >> 16));
     }
+#if defined(TDM_STOP_MODE)
     tdm_write(dev, TDM_STOP_MODE, cfg->stop_mode);
+#endif
     refused = (uint16_t)((tdm_read(dev, TDM_IO_STATUS) & TDM_IO_STATUS_REFUSED_MASK)
                          | (tdm_read(dev, TDM_STOP_STATUS) & TDM_STOP_STATUS_REFUSED_MASK));
     return refused ? TDM_E_REFUSED : 0;
@@ -347,12 +405,16 @@ int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg)
 int tdm_io_arm(tdm_dev *dev, unsigned long poll_limit)
 {
     unsigned long i;
+#if defined(TDM_IO_STATUS_ESTOP_IN_MASK)
     for (i = 0; tdm_read(dev, TDM_IO_STATUS) & TDM_IO_STATUS_ESTOP_IN_MASK; i++) {
         if (i >= poll_limit) {
             return TDM_E_HALTED;
         }
     }
+#endif
+#if defined(TDM_IO_CMD)
     tdm_write(dev, TDM_IO_CMD, (uint16_t)(TDM_IO_CMD_ESTOP_REARM_MASK | TDM_IO_CMD_WD_REARM_MASK));
+#endif
     for (i = 0; i < poll_limit; i++) {
         if ((tdm_read(dev, TDM_IO_STATUS) & (TDM_IO_STATUS_ESTOP_MASK | TDM_IO_STATUS_WATCHDOG_MASK)) == 0u) {
             return 0;
@@ -361,10 +423,12 @@ int tdm_io_arm(tdm_dev *dev, unsigned long poll_limit)
     return TDM_E_HALTED;
 }
 
+#if defined(TDM_WD_TIMEOUT)
 void tdm_wd_feed(tdm_dev *dev)
 {
     tdm_write(dev, TDM_IO_CMD, TDM_IO_CMD_WD_FEED_MASK);
 }
+#endif
 
 int tdm_soft_limits(tdm_dev *dev, unsigned axis, int32_t min, int32_t max, int enable)
 {
@@ -398,6 +462,7 @@ int tdm_stop(tdm_dev *dev, uint16_t mask)
     return 0;
 }
 
+#if defined(TDM_STOP_HOME)
 int tdm_stop_on_home(tdm_dev *dev, uint16_t mask)
 {
     if (!axis_mask_ok(dev, mask)) {
@@ -407,22 +472,30 @@ int tdm_stop_on_home(tdm_dev *dev, uint16_t mask)
     return 0;
 }
 
+#endif
+
+#if defined(TDM_STOP_HOME) || defined(TDM_PROBE_POS_LO)
 static int32_t read_latched(tdm_dev *dev, uint32_t lo, uint32_t hi)
 {
     uint32_t l = tdm_read(dev, lo); /* latches the high half */
     uint32_t h = tdm_read(dev, hi);
     return (int32_t)((h << 16) | l);
 }
+#endif
 
+#if defined(TDM_STOP_HOME)
 int32_t tdm_home_position(tdm_dev *dev, unsigned axis)
 {
     return axis < dev->axes ? read_latched(dev, TDM_HOME_POS_LO(axis), TDM_HOME_POS_HI(axis)) : 0;
 }
+#endif
 
+#if defined(TDM_PROBE_POS_LO)
 int32_t tdm_probe_position(tdm_dev *dev, unsigned axis)
 {
     return axis < dev->axes ? read_latched(dev, TDM_PROBE_POS_LO(axis), TDM_PROBE_POS_HI(axis)) : 0;
 }
+#endif
 
 tdm_io_events tdm_io_service(tdm_dev *dev)
 {
@@ -449,6 +522,7 @@ tdm_io_events tdm_io_service(tdm_dev *dev)
     return ev;
 }
 
+#if defined(TDM_STOP_HOME)
 /* A rest-to-rest move of `steps` at speed and accel, pushed, started and waited for. */
 static int home_move(tdm_dev *dev, unsigned axis, int32_t steps, uint32_t speed, const tdm_home_params *p)
 {
@@ -531,4 +605,5 @@ int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *hom
     *home_pos = h;
     return 0;
 }
-#endif /* TDM_IO_CMD */
+#endif /* TDM_STOP_HOME */
+#endif /* TDM_STOP */

@@ -159,8 +159,11 @@ void tdm_clear_status(tdm_dev *dev, unsigned axis);
  * that arrives in between is not lost. */
 tdm_events tdm_irq_service(tdm_dev *dev);
 
-#if defined(TDM_IO_CMD)
-/* ---- Machine I/O: declared only with a header from `export --io all` ----------- */
+#if defined(TDM_STOP)
+/* ---- Machine I/O: declared only with a header from `export --io` ---------------
+ * With some groups only (`--io limits,home`, ...), the functions of a group that was
+ * not exported are not declared (tdm_wd_feed: watchdog; tdm_stop_on_home,
+ * tdm_home_position, tdm_home: home; tdm_probe_position: probe). */
 
 #define TDM_E_NOHOME (-9)  /* tdm_home(): the search move ended without the home latch */
 #define TDM_E_HALTED (-10) /* the e-stop input is active or its latch did not clear */
@@ -180,18 +183,22 @@ typedef struct {
 } tdm_io_config;
 
 /* Writes the configuration. The core must be disabled (before tdm_enable, or after
- * tdm_disable). TDM_E_ARG for a filter above 15, a STOP_MODE bit above 3 or a
- * deceleration below TDM_STOP_DECEL_MIN, without touching the bus; TDM_E_REFUSED if
- * the core is enabled (nothing written) or refused a write. */
+ * tdm_disable). TDM_E_ARG for a filter above 15, a STOP_MODE bit above 3, a
+ * deceleration below TDM_STOP_DECEL_MIN, or a non-zero prescale, edges or wd_timeout
+ * whose register the export lacks, without touching the bus; TDM_E_REFUSED if the core
+ * is enabled (nothing written) or refused a write. Fields of groups not exported are
+ * ignored by the core (they read 0). */
 int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg);
 
 /* After tdm_enable: waits (at most poll_limit reads) until the filtered e-stop reads
- * released, re-arms the e-stop latch and the watchdog, and checks that both cleared.
- * 0 or TDM_E_HALTED. */
+ * released, re-arms the e-stop latch and the watchdog, and checks that both cleared
+ * (each if the export has it). 0 or TDM_E_HALTED. */
 int tdm_io_arm(tdm_dev *dev, unsigned long poll_limit);
 
+#if defined(TDM_WD_TIMEOUT)
 /* Feeds the watchdog (IO_CMD.WD_FEED): call it more often than WD_TIMEOUT·1,024 ticks. */
 void tdm_wd_feed(tdm_dev *dev);
+#endif
 
 /* Soft limits of an axis, inclusive (enable = 0 turns them off). TDM_E_AXIS, TDM_E_ARG
  * for min > max (no bus access), TDM_E_REFUSED if the core refused them. */
@@ -201,12 +208,17 @@ int tdm_soft_limits(tdm_dev *dev, unsigned axis, int32_t min, int32_t max, int e
  * STOP_DECEL; wait for tdm_wait_idle() before reading its position. TDM_E_AXIS. */
 int tdm_stop(tdm_dev *dev, uint16_t mask);
 
+#if defined(TDM_STOP_HOME)
 /* Arms (bit set) or disarms the stop on home of each axis (STOP_HOME). TDM_E_AXIS. */
 int tdm_stop_on_home(tdm_dev *dev, uint16_t mask);
 
-/* The positions the home latch (per axis) and the probe latch took, read tear-free. */
+/* The position the home latch of an axis took, read tear-free. */
 int32_t tdm_home_position(tdm_dev *dev, unsigned axis);
+#endif
+#if defined(TDM_PROBE_POS_LO)
+/* The position the probe latch took on an axis, read tear-free. */
 int32_t tdm_probe_position(tdm_dev *dev, unsigned axis);
+#endif
 
 /* What tdm_io_service() found (and cleared). */
 typedef struct {
@@ -241,8 +253,10 @@ typedef struct {
     uint32_t backoff;     /* steps, more than the stop's overshoot */
     unsigned long poll_limit;
 } tdm_home_params;
+#if defined(TDM_STOP_HOME)
 int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *home_pos);
-#endif /* TDM_IO_CMD */
+#endif
+#endif /* TDM_STOP */
 
 #ifdef __cplusplus
 }

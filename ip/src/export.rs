@@ -144,8 +144,12 @@ pub struct ExportOptions {
     /// The minimum period the core enforces, ticks (`--min-period`); `None` is the
     /// sustainable period ([`ExportOptions::sustainable_period_ticks`]).
     pub min_period: Option<u32>,
-    /// The machine I/O (`--io all`): its ports, blocks and registers.
+    /// The machine I/O (`--io`): its ports, blocks and registers.
     pub io: bool,
+    /// With the machine I/O: the groups left out (`regs::IO_GROUPS` bits; 0 for `--io
+    /// all`). Their ports are not in the Verilog, their registers and fields not in the
+    /// table, and their logic is gated off by constants (synthesis removes it).
+    pub io_omit: u8,
 }
 
 impl Default for ExportOptions {
@@ -158,38 +162,43 @@ impl Default for ExportOptions {
             fifo_depth: FIFO_DEPTH,
             min_period: None,
             io: false,
+            io_omit: 0,
         }
     }
 }
 
-/// The machine I/O's input groups, as `--io` names them.
-pub const IO_GROUPS: [&str; 6] = ["estop", "probe", "limits", "home", "alarm", "watchdog"];
+/// The machine I/O's groups, as `--io` names them.
+pub use crate::regs::IO_GROUPS;
 
-/// `--io GROUPS`: `all`, `none`, or a comma-separated list of [`IO_GROUPS`]. Every group
-/// is one block today, so a list must name all six (or be `all`); a strict subset is
-/// refused with a message rather than exported with groups the user did not ask for.
-pub fn parse_io(s: &str) -> Result<bool, String> {
+/// What `--io` chose: whether the core has the machine I/O, and the groups left out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct IoChoice {
+    pub io: bool,
+    /// `regs::IO_GROUPS` bits of the groups left out.
+    pub omit: u8,
+}
+
+/// `--io GROUPS`: `all`, `none`, or a comma-separated list of [`IO_GROUPS`] (the
+/// groups exported; every other one is left out).
+pub fn parse_io(s: &str) -> Result<IoChoice, String> {
     match s {
-        "all" => return Ok(true),
-        "none" => return Ok(false),
+        "all" => return Ok(IoChoice { io: true, omit: 0 }),
+        "none" => return Ok(IoChoice { io: false, omit: 0 }),
         _ => {}
     }
-    let mut seen = std::collections::BTreeSet::new();
+    let mut groups = 0u8;
     for g in s.split(',').map(str::trim) {
-        if !IO_GROUPS.contains(&g) {
+        let Some(i) = IO_GROUPS.iter().position(|x| *x == g) else {
             return Err(format!("--io {s:?}: unknown group {g:?}; groups are {} (or all, none)", IO_GROUPS.join(", ")));
-        }
-        seen.insert(g);
+        };
+        groups |= 1 << i;
     }
-    if seen.len() == IO_GROUPS.len() {
-        Ok(true)
-    } else {
-        let missing: Vec<&str> = IO_GROUPS.iter().copied().filter(|g| !seen.contains(g)).collect();
-        Err(format!(
-            "--io {s:?}: exporting some machine I/O groups without the others ({} left out) is not built yet; use --io all",
-            missing.join(", ")
-        ))
-    }
+    Ok(IoChoice { io: true, omit: regs::IO_ALL & !groups })
+}
+
+/// The names of the groups in `groups` (`regs::IO_GROUPS` bits), comma-separated.
+pub fn io_group_names(groups: u8) -> String {
+    IO_GROUPS.iter().enumerate().filter(|(i, _)| groups >> i & 1 == 1).map(|(_, g)| *g).collect::<Vec<_>>().join(",")
 }
 
 /// Largest `--min-period` (ID_MIN_PERIOD is a 16-bit register).
@@ -214,6 +223,12 @@ impl ExportOptions {
         }
         if !FIFO_DEPTHS.contains(&self.fifo_depth) {
             return Err(format!("--fifo-depth {}: supported period FIFO depths are {FIFO_DEPTHS:?}", self.fifo_depth));
+        }
+        if !self.io && self.io_omit != 0 {
+            return Err("io_omit without the machine I/O".into());
+        }
+        if self.io && self.io_omit & regs::IO_ALL == regs::IO_ALL {
+            return Err("--io: no group left to export".into());
         }
         if self.io && self.arch == Arch::Baseline {
             return Err("--io with --arch baseline: the machine I/O is built for the TDM core only".into());
@@ -241,6 +256,7 @@ impl ExportOptions {
             t_calc: t_calc_sqrt(RADIX_BITS),
             min_period: self.min_period_ticks() as u32,
             io: self.io,
+            io_omit: if self.io { self.io_omit } else { 0 },
         }
     }
 
@@ -311,7 +327,52 @@ pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
         .map_err(|e| format!("cannot start the generator thread: {e}"))?
         .join()
         .map_err(|_| "the Verilog generator panicked".to_string())?;
+    let params = opts.params();
+    if params.io && params.io_omit != 0 {
+        // The machine I/O top has every group's pins; a wrapper of the export's name
+        // leaves out those of the groups not exported (tied to 0: the core gates the
+        // groups off by constants, so the level does not matter).
+        let full = format!("{}__io_top", opts.name.as_str());
+        let text = rename_top(&text, &full)?;
+        return Ok(text + &io_wrapper_module(opts.name.as_str(), &full, opts.axes, params.io_groups()));
+    }
     rename_top(&text, opts.name.as_str())
+}
+
+/// The top module of an export with some machine I/O groups: `name`, with the ports
+/// of [`ports`] for `groups`, around `full` (the machine I/O top with every group).
+fn io_wrapper_module(name: &str, full: &str, axes: usize, groups: u8) -> String {
+    use std::fmt::Write as _;
+    let mine = ports(axes, groups);
+    let all = ports(axes, regs::IO_ALL);
+    let names: Vec<&str> = mine.iter().map(|p| p.name).collect();
+    let mut m = format!(
+        "\n// {name}: the machine I/O core with the groups {} only (export --io); the input pins of\n// the others are not ports and are tied to 0 inside.\nmodule {name}({});\n",
+        io_group_names(groups),
+        names.join(",")
+    );
+    for p in &mine {
+        let kind = if p.direction == "input" { "input wire" } else { "output wire" };
+        if p.width == 1 {
+            let _ = writeln!(m, "    {kind} {};", p.name);
+        } else {
+            let _ = writeln!(m, "    {kind} [{}:0] {};", p.width - 1, p.name);
+        }
+    }
+    let _ = writeln!(m, "    {full} core(");
+    let conns: Vec<String> = all
+        .iter()
+        .map(|p| {
+            if mine.iter().any(|q| q.name == p.name) {
+                format!("        .{}({})", p.name, p.name)
+            } else {
+                format!("        .{}({}'d0)", p.name, p.width)
+            }
+        })
+        .collect();
+    m += &conns.join(",\n");
+    m += "\n    );\nendmodule\n";
+    m
 }
 
 /// rust-hdl calls the top module `top` and each submodule `top$path$to$it`; the IP's
@@ -385,9 +446,10 @@ pub struct PortDoc {
     pub description: &'static str,
 }
 
-/// The ports of `tdm_stepper` for K axes, with the machine I/O's if `io` (a test
-/// holds this list to the Verilog).
-pub fn ports(axes: usize, io: bool) -> Vec<PortDoc> {
+/// The ports of `tdm_stepper` for K axes, with those of the machine I/O groups in
+/// `groups` (`regs::IO_GROUPS` bits; `drv_enable` with any group; a test holds this
+/// list to the Verilog).
+pub fn ports(axes: usize, groups: u8) -> Vec<PortDoc> {
     let p = |name, direction, width, clock, description| PortDoc { name, direction, width, clock, description };
     let mut v = vec![
         p("clk", "input", 1, "-", "core clock: every step period is counted in its ticks"),
@@ -405,17 +467,16 @@ pub fn ports(axes: usize, io: bool) -> Vec<PortDoc> {
         p("irq", "output", 1, "bus_clk", "interrupt, active high: IRQ_* status under IRQ_MASK_*"),
         p("fsm_state", "output", crate::hdl::core::STATE_BITS, "clk", "scheduler state (Gray code), for waveforms; leave open"),
     ];
-    if io {
-        v.extend([
-            p("estop_n", "input", 1, "async", "emergency stop, active low by default (IO_POLARITY.ESTOP); synchronised and filtered: a hard stop of every axis, latched until IO_CMD.ESTOP_REARM"),
-            p("probe", "input", 1, "async", "probe input, synchronised and filtered (IO_POLARITY, IO_FILTER_LO); its chosen edge latches every axis's position in the same tick (PROBE_POS)"),
-            p("limit_neg", "input", axes, "async", "limit switch at the negative end of axis a, bit a; synchronised and filtered, read in IO_AXIS; while active it stops the axis moving toward it (hard stop)"),
-            p("limit_pos", "input", axes, "async", "limit switch at the positive end of axis a, bit a; synchronised and filtered, read in IO_AXIS; while active it stops the axis moving toward it (hard stop)"),
-            p("home", "input", axes, "async", "home switch of axis a, bit a; synchronised and filtered, read in IO_AXIS; its chosen edge latches the axis's position (HOME_POS)"),
-            p("alarm", "input", axes, "async", "driver alarm of axis a, bit a; synchronised and filtered: while active, drv_enable of the axis is low and the axis is held in a hard stop"),
-            p("drv_enable", "output", axes, "clk", "driver enable of axis a, bit a, registered: high only while the core runs, no hard stop holds (e-stop latch, watchdog) and the axis's alarm is inactive"),
-        ]);
-    }
+    let io = [
+        (regs::IO_ESTOP, p("estop_n", "input", 1, "async", "emergency stop, active low by default (IO_POLARITY.ESTOP); synchronised and filtered: a hard stop of every axis, latched until IO_CMD.ESTOP_REARM")),
+        (regs::IO_PROBE, p("probe", "input", 1, "async", "probe input, synchronised and filtered (IO_POLARITY, IO_FILTER_LO); its chosen edge latches every axis's position in the same tick (PROBE_POS)")),
+        (regs::IO_LIMITS, p("limit_neg", "input", axes, "async", "limit switch at the negative end of axis a, bit a; synchronised and filtered, read in IO_AXIS; while active it stops the axis moving toward it (hard or controlled stop, STOP_MODE)")),
+        (regs::IO_LIMITS, p("limit_pos", "input", axes, "async", "limit switch at the positive end of axis a, bit a; synchronised and filtered, read in IO_AXIS; while active it stops the axis moving toward it (hard or controlled stop, STOP_MODE)")),
+        (regs::IO_HOME, p("home", "input", axes, "async", "home switch of axis a, bit a; synchronised and filtered, read in IO_AXIS; its chosen edge latches the axis's position (HOME_POS) and, armed in STOP_HOME, stops the moving axis")),
+        (regs::IO_ALARM, p("alarm", "input", axes, "async", "driver alarm of axis a, bit a; synchronised and filtered: while active, drv_enable of the axis is low and the axis is held in a hard stop (in controlled mode: ramped down, drv_enable low once it is at rest)")),
+        (regs::IO_ALL, p("drv_enable", "output", axes, "clk", "driver enable of axis a, bit a, registered: high only while the core runs, no hard stop holds (e-stop latch, watchdog; a controlled watchdog trip once every axis is at rest) and the axis's alarm is inactive (a controlled alarm: or the axis still moves)")),
+    ];
+    v.extend(io.into_iter().filter(|(g, _)| groups & g != 0).map(|(_, port)| port));
     v
 }
 
@@ -436,8 +497,11 @@ struct Manifest {
     max_rate_q32: u32,
     max_step_rate_hz: f64,
     register_map_version: String,
-    /// The machine I/O is in this core (`--io all`).
+    /// The machine I/O is in this core (`--io`).
     io: bool,
+    /// With the machine I/O: the groups exported (else absent).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    io_groups: Option<Vec<&'static str>>,
     /// With the machine I/O: the smallest STOP_DECEL the core accepts (else absent).
     #[serde(skip_serializing_if = "Option::is_none")]
     stop_decel_min: Option<u32>,
@@ -469,8 +533,12 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         max_step_rate_hz: opts.max_step_rate_hz(),
         register_map_version: format!("{}.{}", regs::VERSION >> 8, regs::VERSION & 0xFF),
         io: opts.io,
+        io_groups: opts.io.then(|| {
+            let g = opts.params().io_groups();
+            IO_GROUPS.iter().enumerate().filter(|(i, _)| g >> i & 1 == 1).map(|(_, n)| *n).collect()
+        }),
         stop_decel_min: opts.io.then(|| opts.params().stop_decel_min()),
-        ports: ports(opts.axes, opts.io),
+        ports: ports(opts.axes, opts.params().io_groups()),
         tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },
     }
 }

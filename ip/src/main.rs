@@ -46,9 +46,11 @@ enum Command {
         name: export::ModuleName,
         /// Machine I/O and safety: `all` adds the input pins (estop_n, probe, and per
         /// axis limit_neg, limit_pos, home, alarm), drv_enable, the e-stop latch, the
-        /// watchdog and their registers; `none` (the default) leaves them out at no cost.
+        /// watchdog, the push guard, the controlled stop and their registers; a list of
+        /// groups (estop, probe, limits, home, alarm, watchdog) adds only those groups'
+        /// pins, logic and registers; `none` (the default) leaves them all out at no cost.
         #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
-        io: bool,
+        io: export::IoChoice,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -124,10 +126,11 @@ enum Command {
         /// Run no tool: collect the finished runs in the work folder.
         #[arg(long)]
         cached_only: bool,
-        /// Export every point with the machine I/O (`all`; TDM only):
-        /// the option's cost is the difference from a sweep without it.
+        /// Export every point with the machine I/O (`all`, or a list of groups as for
+        /// `export --io`; TDM only): the option's cost is the difference from a sweep
+        /// without it.
         #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
-        io: bool,
+        io: export::IoChoice,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -146,14 +149,14 @@ enum Command {
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, out } => {
-            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io };
+            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = export::export(&opts, &out)?;
             println!(
                 "exported {} core{}, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
                 arch.name(),
-                if io { " with machine I/O" } else { "" },
+                if io.io { " with machine I/O" } else { "" },
                 opts.params().t_calc,
                 opts.min_period_ticks(),
                 opts.max_step_rate_hz(),
@@ -227,7 +230,8 @@ fn run(cli: Cli) -> Result<(), String> {
                 work,
                 clock_hz: 50_000_000,
                 cached_only,
-                io,
+                io: io.io,
+                io_omit: io.omit,
             };
             let repo = std::env::current_dir().map_err(|e| e.to_string())?;
             let (s, files) = sweep::run(&opts, &repo)?;

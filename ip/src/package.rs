@@ -45,7 +45,7 @@ fn mhz(hz: u32) -> String {
 /// and commented (direction, width, clock domain, meaning).
 pub fn instantiation_template(opts: &ExportOptions) -> String {
     let top = opts.name.as_str();
-    let ps = ports(opts.axes, opts.io);
+    let ps = ports(opts.axes, opts.params().io_groups());
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -131,7 +131,14 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let _ = writeln!(t, "set_false_path -to [get_ports {{step[*] dir[*] irq fsm_state[*]}}]");
     if opts.io {
         let _ = writeln!(t, "# Machine I/O: the input pins enter through two flip-flops in clk; drv_enable is a clk register.");
-        let _ = writeln!(t, "set_false_path -from [get_ports {{estop_n probe limit_neg[*] limit_pos[*] home[*] alarm[*]}}]");
+        let ins: Vec<String> = ports(opts.axes, opts.params().io_groups())
+            .iter()
+            .filter(|p| p.direction == "input" && ["estop_n", "probe", "limit_neg", "limit_pos", "home", "alarm"].contains(&p.name))
+            .map(|p| if p.width > 1 || p.name.starts_with("limit") || ["home", "alarm"].contains(&p.name) { format!("{}[*]", p.name) } else { p.name.to_string() })
+            .collect();
+        if !ins.is_empty() {
+            let _ = writeln!(t, "set_false_path -from [get_ports {{{}}}]", ins.join(" "));
+        }
         let _ = writeln!(t, "set_false_path -to [get_ports {{drv_enable[*]}}]");
     }
     t

@@ -71,6 +71,9 @@ pub struct Field {
     pub width: u32,
     pub access: Access,
     pub doc: &'static str,
+    /// Machine I/O groups ([`IO_GROUPS`] bits) one of which the export must have for
+    /// the field to exist; 0: it exists wherever its register does.
+    pub groups: u8,
 }
 
 /// Where a register's reset (or constant) value comes from.
@@ -95,9 +98,13 @@ pub enum Reset {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Feature {
     Base,
-    /// Machine I/O and safety (`export --io all`).
-    Io,
+    /// Machine I/O and safety (`export --io GROUPS`): a core exported with any of these
+    /// groups ([`IO_GROUPS`] bits) has the register.
+    Io(u8),
 }
+
+/// The machine I/O's groups (`export --io`), defined with their model.
+pub use crate::model::io::{IO_ALARM, IO_ALL, IO_ESTOP, IO_GROUPS, IO_HOME, IO_INPUTS, IO_LIMITS, IO_PROBE, IO_WATCHDOG};
 
 /// One 16-bit register. `per_axis` registers repeat in every axis block at
 /// `AXIS_BASE + AXIS_STRIDE·a + offset`; global ones sit at `offset`.
@@ -122,8 +129,10 @@ pub struct CoreParams {
     pub t_calc: usize,
     /// The minimum period the core enforces, ticks (the export's `--min-period`).
     pub min_period: u32,
-    /// The core has the machine I/O (`export --io all`): its ports, blocks and registers.
+    /// The core has the machine I/O (`export --io`): its ports, blocks and registers.
     pub io: bool,
+    /// With the machine I/O: the groups left out ([`IO_GROUPS`] bits; 0 for `--io all`).
+    pub io_omit: u8,
 }
 
 impl CoreParams {
@@ -133,12 +142,26 @@ impl CoreParams {
         crate::model::stop::stop_decel_min(&crate::model::Limits { min_period_ticks: self.min_period })
     }
 
+    /// The machine I/O groups the core has ([`IO_GROUPS`] bits; 0 without `--io`).
+    pub fn io_groups(&self) -> u8 {
+        if self.io {
+            IO_ALL & !self.io_omit
+        } else {
+            0
+        }
+    }
+
     /// Whether a core with these parameters has `feature`'s registers.
     pub fn has(&self, feature: Feature) -> bool {
         match feature {
             Feature::Base => true,
-            Feature::Io => self.io,
+            Feature::Io(groups) => self.io_groups() & groups != 0,
         }
+    }
+
+    /// Whether a core with these parameters has a field of `groups` (0: always).
+    pub fn has_field(&self, groups: u8) -> bool {
+        groups == 0 || self.io_groups() & groups != 0
     }
 
     /// RMAX, the largest start or end rate (Q0.32) a segment may have.
@@ -191,7 +214,12 @@ impl Register {
 }
 
 fn f(name: &'static str, lsb: u32, width: u32, access: Access, doc: &'static str) -> Field {
-    Field { name, lsb, width, access, doc }
+    Field { name, lsb, width, access, doc, groups: 0 }
+}
+
+/// A field of a machine I/O group (`groups`: [`IO_GROUPS`] bits).
+fn fg(groups: u8, name: &'static str, lsb: u32, width: u32, access: Access, doc: &'static str) -> Field {
+    Field { name, lsb, width, access, doc, groups }
 }
 
 fn reg(name: &'static str, offset: u16, per_axis: bool, reset: Reset, fields: Vec<Field>, doc: &'static str) -> Register {
@@ -199,12 +227,26 @@ fn reg(name: &'static str, offset: u16, per_axis: bool, reset: Reset, fields: Ve
 }
 
 fn io_reg(name: &'static str, offset: u16, per_axis: bool, reset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
-    Register { name, offset, per_axis, reset: Reset::Value(reset), fields, doc, feature: Feature::Io }
+    io_reg_of(IO_ALL, name, offset, per_axis, reset, fields, doc)
 }
 
-/// The registers of a core with `p`: the base table and those of its options.
+/// A machine I/O register that exists only with one of `groups`.
+fn io_reg_of(groups: u8, name: &'static str, offset: u16, per_axis: bool, reset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
+    Register { name, offset, per_axis, reset: Reset::Value(reset), fields, doc, feature: Feature::Io(groups) }
+}
+
+/// The registers of a core with `p`: the base table and those of its options, each
+/// with the fields of the groups it has (a register left with none is not there).
 pub fn table_for(p: &CoreParams) -> Vec<Register> {
-    table().into_iter().filter(|r| p.has(r.feature)).collect()
+    table()
+        .into_iter()
+        .filter(|r| p.has(r.feature))
+        .map(|mut r| {
+            r.fields.retain(|f| p.has_field(f.groups));
+            r
+        })
+        .filter(|r| !r.fields.is_empty())
+        .collect()
 }
 
 /// Written only while the core is held in reset, like the output timing.
@@ -290,56 +332,56 @@ pub fn table() -> Vec<Register> {
         io_reg(
             "IO_POLARITY", 0x20, false, 0x0001,
             vec![
-                f("ESTOP", 0, 1, Rw, "1: estop_n is active low (the reset value: the e-stop is active when the pin is low)"),
-                f("PROBE", 1, 1, Rw, "1: probe is active low"),
-                f("LIMIT_NEG", 2, 1, Rw, "1: every axis's limit_neg is active low"),
-                f("LIMIT_POS", 3, 1, Rw, "1: every axis's limit_pos is active low"),
-                f("HOME", 4, 1, Rw, "1: every axis's home is active low"),
-                f("ALARM", 5, 1, Rw, "1: every axis's alarm is active low"),
+                fg(IO_ESTOP, "ESTOP", 0, 1, Rw, "1: estop_n is active low (the reset value: the e-stop is active when the pin is low)"),
+                fg(IO_PROBE, "PROBE", 1, 1, Rw, "1: probe is active low"),
+                fg(IO_LIMITS, "LIMIT_NEG", 2, 1, Rw, "1: every axis's limit_neg is active low"),
+                fg(IO_LIMITS, "LIMIT_POS", 3, 1, Rw, "1: every axis's limit_pos is active low"),
+                fg(IO_HOME, "HOME", 4, 1, Rw, "1: every axis's home is active low"),
+                fg(IO_ALARM, "ALARM", 5, 1, Rw, "1: every axis's alarm is active low"),
             ],
             IO_CONFIG_RULE,
         ),
         io_reg(
             "IO_FILTER_LO", 0x21, false, 0,
             vec![
-                f("ESTOP", 0, 4, Rw, "e-stop filter, samples (0..15, 0 = off): a new level is taken once seen at n + 1 consecutive samples"),
-                f("PROBE", 4, 4, Rw, "probe filter, samples"),
-                f("LIMIT_NEG", 8, 4, Rw, "limit_neg filter, samples"),
-                f("LIMIT_POS", 12, 4, Rw, "limit_pos filter, samples"),
+                fg(IO_ESTOP, "ESTOP", 0, 4, Rw, "e-stop filter, samples (0..15, 0 = off): a new level is taken once seen at n + 1 consecutive samples"),
+                fg(IO_PROBE, "PROBE", 4, 4, Rw, "probe filter, samples"),
+                fg(IO_LIMITS, "LIMIT_NEG", 8, 4, Rw, "limit_neg filter, samples"),
+                fg(IO_LIMITS, "LIMIT_POS", 12, 4, Rw, "limit_pos filter, samples"),
             ],
             IO_CONFIG_RULE,
         ),
         io_reg(
             "IO_FILTER_HI", 0x22, false, 0,
-            vec![f("HOME", 0, 4, Rw, "home filter, samples"), f("ALARM", 4, 4, Rw, "alarm filter, samples")],
+            vec![fg(IO_HOME, "HOME", 0, 4, Rw, "home filter, samples"), fg(IO_ALARM, "ALARM", 4, 4, Rw, "alarm filter, samples")],
             IO_CONFIG_RULE,
         ),
-        io_reg("IO_PRESCALE", 0x23, false, 0, vec![f("TICKS", 0, 16, Rw, "the filters take a sample every TICKS + 1 clk ticks (0: every tick)")], IO_CONFIG_RULE),
+        io_reg_of(IO_INPUTS, "IO_PRESCALE", 0x23, false, 0, vec![f("TICKS", 0, 16, Rw, "the filters take a sample every TICKS + 1 clk ticks (0: every tick)")], IO_CONFIG_RULE),
         io_reg(
             "IO_EDGES", 0x24, false, 0,
             vec![
-                f("HOME_RELEASE", 0, 1, Rw, "1: the home latch takes the position when home becomes inactive (0: when it becomes active)"),
-                f("PROBE_RELEASE", 1, 1, Rw, "1: the probe latch takes the positions when probe becomes inactive"),
+                fg(IO_HOME, "HOME_RELEASE", 0, 1, Rw, "1: the home latch takes the position when home becomes inactive (0: when it becomes active)"),
+                fg(IO_PROBE, "PROBE_RELEASE", 1, 1, Rw, "1: the probe latch takes the positions when probe becomes inactive"),
             ],
             IO_CONFIG_RULE,
         ),
-        io_reg("WD_TIMEOUT", 0x25, false, 0, vec![f("UNITS", 0, 16, Rw, "watchdog timeout in units of 1,024 clk ticks; 0 = off")], IO_CONFIG_RULE),
+        io_reg_of(IO_WATCHDOG, "WD_TIMEOUT", 0x25, false, 0, vec![f("UNITS", 0, 16, Rw, "watchdog timeout in units of 1,024 clk ticks; 0 = off")], IO_CONFIG_RULE),
         io_reg(
             "IO_CMD", 0x26, false, 0,
             vec![
-                f("ESTOP_REARM", 0, 1, Wo, "write 1: clear the e-stop latch, if the filtered e-stop is inactive when the command reaches clk (else nothing)"),
-                f("WD_FEED", 1, 1, Wo, "write 1: restart the watchdog's count (a feed does not clear a trip)"),
-                f("WD_REARM", 2, 1, Wo, "write 1: clear a watchdog trip and restart its count"),
+                fg(IO_ESTOP, "ESTOP_REARM", 0, 1, Wo, "write 1: clear the e-stop latch, if the filtered e-stop is inactive when the command reaches clk (else nothing)"),
+                fg(IO_WATCHDOG, "WD_FEED", 1, 1, Wo, "write 1: restart the watchdog's count (a feed does not clear a trip)"),
+                fg(IO_WATCHDOG, "WD_REARM", 2, 1, Wo, "write 1: clear a watchdog trip and restart its count"),
             ],
             "Machine I/O commands; each reaches clk 2 to 3 clk ticks after the write commits.",
         ),
         io_reg(
             "IO_STATUS", 0x27, false, 0,
             vec![
-                f("ESTOP", 0, 1, Ro, "the e-stop latch is set: every axis is held in a hard stop and drv_enable is low. Set by reset, CTRL.ENABLE = 0 and the filtered e-stop; cleared only by IO_CMD.ESTOP_REARM while the e-stop is inactive"),
-                f("ESTOP_IN", 1, 1, Ro, "the filtered e-stop input is active"),
-                f("WATCHDOG", 2, 1, Ro, "the watchdog has tripped: every axis is held in a hard stop; cleared by IO_CMD.WD_REARM"),
-                f("PROBE_IN", 3, 1, Ro, "the filtered probe input is active"),
+                fg(IO_ESTOP, "ESTOP", 0, 1, Ro, "the e-stop latch is set: every axis is held in a hard stop and drv_enable is low. Set by reset, CTRL.ENABLE = 0 and the filtered e-stop; cleared only by IO_CMD.ESTOP_REARM while the e-stop is inactive"),
+                fg(IO_ESTOP, "ESTOP_IN", 1, 1, Ro, "the filtered e-stop input is active"),
+                fg(IO_WATCHDOG, "WATCHDOG", 2, 1, Ro, "the watchdog has tripped: every axis is held in a hard stop; cleared by IO_CMD.WD_REARM"),
+                fg(IO_PROBE, "PROBE_IN", 3, 1, Ro, "the filtered probe input is active"),
                 f("REFUSED", 4, 1, W1c, "a machine I/O configuration write was refused (the core was enabled)"),
             ],
             "Machine I/O status, about 3 bus clocks behind clk.",
@@ -347,10 +389,10 @@ pub fn table() -> Vec<Register> {
         io_reg(
             "IRQ_IO", 0x28, false, 0,
             vec![
-                f("ESTOP", 0, 1, W1c, "the filtered e-stop became active"),
-                f("WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
-                f("PROBE", 2, 1, W1c, "the probe latch took every axis's position (PROBE_POS)"),
-                f("HOME", 3, 1, W1c, "an axis's home latch took its position (IO_AXIS.HOME_LATCHED says which); writing 1 also clears every HOME_LATCHED"),
+                fg(IO_ESTOP, "ESTOP", 0, 1, W1c, "the filtered e-stop became active"),
+                fg(IO_WATCHDOG, "WATCHDOG", 1, 1, W1c, "the watchdog tripped"),
+                fg(IO_PROBE, "PROBE", 2, 1, W1c, "the probe latch took every axis's position (PROBE_POS)"),
+                fg(IO_HOME, "HOME", 3, 1, W1c, "an axis's home latch took its position (IO_AXIS.HOME_LATCHED says which); writing 1 also clears every HOME_LATCHED"),
                 f("STOP", 4, 1, W1c, "a moving axis was stopped by a limit in its direction of motion, its alarm, its stop on home or a controlled watchdog trip (IO_AXIS.STOPPED says which); writing 1 also clears every STOPPED"),
             ],
             "Machine I/O events; under IRQ_MASK_IO they raise the irq line (GSTATUS.IRQ shows the other events' part of it only).",
@@ -404,14 +446,15 @@ pub fn table() -> Vec<Register> {
         io_reg(
             "STOP_MODE", 0x37, false, 0,
             vec![
-                f("LIMITS", 0, 1, Rw, "1: a limit stops its axis with the controlled stop; 0: with the hard stop"),
-                f("ALARM", 1, 1, Rw, "1: an alarm stops its axis with the controlled stop (drv_enable stays high until the axis is at rest); 0: hard"),
-                f("WATCHDOG", 2, 1, Rw, "1: a watchdog trip ramps every axis down, then stops hard (drv_enable low) once none moves; 0: hard at once"),
-                f("HOME", 3, 1, Rw, "1: the stop on home (STOP_HOME) is the controlled stop; 0: hard"),
+                fg(IO_LIMITS, "LIMITS", 0, 1, Rw, "1: a limit stops its axis with the controlled stop; 0: with the hard stop"),
+                fg(IO_ALARM, "ALARM", 1, 1, Rw, "1: an alarm stops its axis with the controlled stop (drv_enable stays high until the axis is at rest); 0: hard"),
+                fg(IO_WATCHDOG, "WATCHDOG", 2, 1, Rw, "1: a watchdog trip ramps every axis down, then stops hard (drv_enable low) once none moves; 0: hard at once"),
+                fg(IO_HOME, "HOME", 3, 1, Rw, "1: the stop on home (STOP_HOME) is the controlled stop; 0: hard"),
             ],
             "Which stop each source takes. Written only while CTRL.ENABLE = 0 (else refused: STOP_STATUS.REFUSED). A limit, alarm or watchdog in controlled mode ramps the axis down once and keeps it stopped while it holds: segments pushed meanwhile are dropped (counted as taken).",
         ),
-        io_reg(
+        io_reg_of(
+            IO_HOME,
             "STOP_HOME", 0x38, false, 0,
             vec![f("AXES", 0, 16, Rw, "bit i: stop axis i when its home latch fires while it moves (bits of axes the core lacks read 0)")],
             "Stop on home: a homing move ends at the home latch (hard or controlled, STOP_MODE.HOME); HOME_POS holds the latched position and POS − HOME_POS at rest is the overshoot. Written at any time; it reaches clk 2 to 3 clk ticks after the write.",
@@ -419,28 +462,30 @@ pub fn table() -> Vec<Register> {
         io_reg(
             "IO_AXIS", 0xA, true, 0,
             vec![
-                f("LIMIT_NEG", 0, 1, Ro, "the filtered limit_neg input is active"),
-                f("LIMIT_POS", 1, 1, Ro, "the filtered limit_pos input is active"),
-                f("HOME", 2, 1, Ro, "the filtered home input is active"),
-                f("ALARM", 3, 1, Ro, "the filtered alarm input is active (drv_enable of the axis is low)"),
+                fg(IO_LIMITS, "LIMIT_NEG", 0, 1, Ro, "the filtered limit_neg input is active"),
+                fg(IO_LIMITS, "LIMIT_POS", 1, 1, Ro, "the filtered limit_pos input is active"),
+                fg(IO_HOME, "HOME", 2, 1, Ro, "the filtered home input is active"),
+                fg(IO_ALARM, "ALARM", 3, 1, Ro, "the filtered alarm input is active (drv_enable of the axis is low)"),
                 f("DRV_ENABLE", 4, 1, Ro, "the axis's drv_enable output"),
-                f("HOME_LATCHED", 5, 1, Ro, "the axis's home latch took its position since IRQ_IO.HOME was last cleared"),
+                fg(IO_HOME, "HOME_LATCHED", 5, 1, Ro, "the axis's home latch took its position since IRQ_IO.HOME was last cleared"),
                 f("STOPPED", 6, 1, Ro, "the axis was stopped by a limit, its alarm, its stop on home or a controlled watchdog trip (hard or controlled, STOP_MODE) since IRQ_IO.STOP was last cleared; its queue was flushed and POS, once BUSY is 0, is where it came to rest"),
             ],
             "Machine I/O inputs of the axis, filtered, about 3 bus clocks behind clk. The e-stop, limit and alarm inputs read active from a reset until their filters have seen them inactive.",
         ),
-        io_reg(
+        io_reg_of(
+            IO_HOME,
             "HOME_POS_LO", 0xB, true, 0,
             vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the position the home latch took; reading it latches bits 31:16 for HOME_POS_HI")],
             "Home latch: the axis's position (STEP rising edges, signed) when its filtered home input changed in the IO_EDGES direction; 0 after reset.",
         ),
-        io_reg("HOME_POS_HI", 0xC, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last HOME_POS_LO or PROBE_POS_LO read")], "Home latch, high half (read HOME_POS_LO first)."),
-        io_reg(
+        io_reg_of(IO_HOME, "HOME_POS_HI", 0xC, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last HOME_POS_LO or PROBE_POS_LO read")], "Home latch, high half (read HOME_POS_LO first)."),
+        io_reg_of(
+            IO_PROBE,
             "PROBE_POS_LO", 0xD, true, 0,
             vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the position the probe latch took; reading it latches bits 31:16 for PROBE_POS_HI")],
             "Probe latch: the axis's position when the filtered probe input changed in the IO_EDGES direction (every axis in the same tick); 0 after reset.",
         ),
-        io_reg("PROBE_POS_HI", 0xE, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PROBE_POS_LO or HOME_POS_LO read")], "Probe latch, high half (read PROBE_POS_LO first)."),
+        io_reg_of(IO_PROBE, "PROBE_POS_HI", 0xE, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PROBE_POS_LO or HOME_POS_LO read")], "Probe latch, high half (read PROBE_POS_LO first)."),
     ]
 }
 

@@ -75,16 +75,28 @@ fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
         sizes.push(nums[0]);
         println!("{f}: {} bytes of code for a Cortex-M4 (-Os)", nums[0]);
     }
-    // With the header of an `--io all` export the driver has the machine I/O functions:
-    // it compiles without warnings too (host and Cortex-M4).
-    let io_dir = sim_dir("c_compile_io", Simulator::Verilator);
-    let _ = std::fs::remove_dir_all(&io_dir);
-    export::export(&ExportOptions { axes: 2, io: true, ..Default::default() }, &io_dir).unwrap();
-    gcc_c(&io_dir, &io_dir.join("tdm_driver.c"), "tdm_driver.o");
-    let mut cmd = Command::new("arm-none-eabi-gcc");
-    cmd.args(["-mcpu=cortex-m4", "-mthumb", "-Os"]).args(GCC_FLAGS).arg("-I").arg(&io_dir).arg("-c").arg(io_dir.join("tdm_driver.c")).arg("-o").arg(io_dir.join("d.arm.o"));
-    let text = run(&mut cmd, "arm-none-eabi-gcc tdm_driver.c (--io all)");
-    assert!(text.trim().is_empty(), "arm-none-eabi-gcc printed diagnostics for the --io driver:\n{text}");
+    // With the header of an `--io` export the driver has the machine I/O functions of
+    // its groups: it compiles without warnings too (host and Cortex-M4), for every
+    // group alone, all of them, and a mix.
+    for (i, io) in ["all", "estop", "probe", "limits", "home", "alarm", "watchdog", "limits,home,watchdog"].iter().enumerate() {
+        let choice = export::parse_io(io).unwrap();
+        let io_dir = sim_dir(&format!("c_compile_io_{i}"), Simulator::Verilator);
+        let _ = std::fs::remove_dir_all(&io_dir);
+        export::export(&ExportOptions { axes: 2, io: choice.io, io_omit: choice.omit, ..Default::default() }, &io_dir).unwrap();
+        gcc_c(&io_dir, &io_dir.join("tdm_driver.c"), "tdm_driver.o");
+        let mut cmd = Command::new("arm-none-eabi-gcc");
+        cmd.args(["-mcpu=cortex-m4", "-mthumb", "-Os"]).args(GCC_FLAGS).arg("-I").arg(&io_dir).arg("-c").arg(io_dir.join("tdm_driver.c")).arg("-o").arg(io_dir.join("d.arm.o"));
+        let text = run(&mut cmd, &format!("arm-none-eabi-gcc tdm_driver.c (--io {io})"));
+        assert!(text.trim().is_empty(), "arm-none-eabi-gcc printed diagnostics for the --io {io} driver:\n{text}");
+        // Each group's functions are there exactly when it was exported.
+        let syms = run(Command::new("nm").arg(io_dir.join("tdm_driver.o")), "nm");
+        let has = |f: &str| syms.lines().any(|l| l.ends_with(&format!(" T {f}")));
+        let groups = tdm_stepper::regs::IO_ALL & !choice.omit;
+        assert!(has("tdm_io_configure") && has("tdm_stop") && has("tdm_io_service"), "--io {io}: the common functions");
+        for (g, f) in [(tdm_stepper::regs::IO_HOME, "tdm_home"), (tdm_stepper::regs::IO_PROBE, "tdm_probe_position"), (tdm_stepper::regs::IO_WATCHDOG, "tdm_wd_feed")] {
+            assert_eq!(has(f), groups & g != 0, "--io {io}: {f}");
+        }
+    }
     // The README states the sizes; they hold to 15 % (compiler versions differ).
     let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
     let at = readme.find("bytes of Cortex-M4 code").expect("README states the driver's size");

@@ -133,7 +133,7 @@ fn readme_port_table_matches_the_export() {
     let text = readme();
     let k = 3;
     // The base ports' table and the machine I/O's ("Machine I/O"), row for row.
-    for p in tdm_stepper::export::ports(k, true) {
+    for p in tdm_stepper::export::ports(k, tdm_stepper::regs::IO_ALL) {
         let width = if p.width == k { "K".to_string() } else { p.width.to_string() };
         let row = format!("| `{}` | {} | {} | {} | {} |", p.name, p.direction, width, p.clock, p.description);
         assert!(text.contains(&row), "README lacks the port row {row}");

@@ -60,7 +60,7 @@ fn default_export_writes_the_ip_and_the_committed_docs_are_current() {
     assert_eq!(m["max_rate_q32"], rmax);
     assert!((m["max_step_rate_hz"].as_f64().unwrap() - 50e6 * rmax as f64 / 2f64.powi(32)).abs() < 1e-6);
     assert_eq!(m["tools"]["rust_hdl"], "0.46.0");
-    assert_eq!(m["ports"].as_array().unwrap().len(), export::ports(2, false).len());
+    assert_eq!(m["ports"].as_array().unwrap().len(), export::ports(2, 0).len());
     regs::check_table().unwrap();
 }
 
@@ -91,12 +91,22 @@ fn verilog_ports(v: &str) -> Vec<(String, String, usize)> {
 
 #[test]
 fn exported_verilog_lints_clean_and_has_the_documented_ports() {
-    let cases = [(1, "tdm", "none"), (2, "tdm", "none"), (8, "tdm", "none"), (16, "tdm", "none"), (2, "baseline", "none"), (1, "tdm", "all"), (3, "tdm", "all")];
+    let cases = [
+        (1, "tdm", "none"),
+        (2, "tdm", "none"),
+        (8, "tdm", "none"),
+        (16, "tdm", "none"),
+        (2, "baseline", "none"),
+        (1, "tdm", "all"),
+        (3, "tdm", "all"),
+        (2, "tdm", "limits,watchdog"),
+        (1, "tdm", "estop,probe"),
+    ];
     for (k, arch, io) in cases {
         let dir = export_to(&["--axes", &k.to_string(), "--arch", arch, "--io", io], &format!("export_lint_{arch}_{k}_{io}"));
         let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
         let want: Vec<(String, String, usize)> =
-            export::ports(k, io == "all").iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
+            export::ports(k, { let c = export::parse_io(io).unwrap(); if c.io { tdm_stepper::regs::IO_ALL & !c.omit } else { 0 } }).iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
         assert_eq!(verilog_ports(&v), want, "K = {k} {arch}: ports differ from export::ports (and the manifest)");
         // No system tasks or delays. (rust-hdl's flip-flops carry `initial q = 0`
         // blocks: power-up values, which FPGA synthesis honours.)
@@ -141,8 +151,8 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
 #[test]
 fn io_option_refuses_what_is_not_built() {
     for (args, says) in [
-        (&["--io", "estop,limits"][..], "is not built yet"),
         (&["--io", "brakes"][..], "unknown group"),
+        (&["--io", ""][..], "unknown group"),
         (&["--io", "all", "--arch", "baseline"][..], "TDM core only"),
     ] {
         let dir = sim_dir("export_io_refused", Simulator::Verilator);
@@ -162,6 +172,13 @@ fn io_option_refuses_what_is_not_built() {
     assert_eq!(m["stop_decel_min"], want);
     let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
     assert!(header.contains(&format!("#define TDM_STOP_DECEL_MIN {want}u ")), "header's TDM_STOP_DECEL_MIN");
+    // Some groups: the manifest names them, and only their ports are there.
+    let dir = export_to(&["--io", "home,limits"], "export_io_some");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["io_groups"], serde_json::json!(["limits", "home"]));
+    let names: Vec<&str> = m["ports"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap()).collect();
+    assert!(names.contains(&"limit_neg") && names.contains(&"home") && names.contains(&"drv_enable"));
+    assert!(!names.contains(&"estop_n") && !names.contains(&"probe") && !names.contains(&"alarm"));
     let plain = export_to(&[], "export_io_none");
     let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(plain.join("manifest.json")).unwrap()).unwrap();
     assert!(m.get("stop_decel_min").is_none() && !std::fs::read_to_string(plain.join("tdm_stepper_regs.h")).unwrap().contains("STOP_DECEL"));
@@ -170,13 +187,29 @@ fn io_option_refuses_what_is_not_built() {
 #[test]
 fn c_header_compiles_with_gcc_and_matches_the_table() {
     // The default export, and one with the machine I/O: each header has its own registers.
-    for (args, io) in [(&[][..], false), (&["--io", "all"][..], true)] {
-        let dir = export_to(args, if io { "export_header_io" } else { "export_header" });
-        let params = tdm_stepper::export::ExportOptions { io, ..Default::default() }.params();
+    for (args, io, omit) in [(&[][..], false, 0), (&["--io", "all"][..], true, 0), (&["--io", "limits,home"][..], true, regs::IO_ALL & !(regs::IO_LIMITS | regs::IO_HOME))] {
+        let dir = export_to(args, &format!("export_header_{}", args.last().unwrap_or(&"none").replace(',', "_")));
+        let params = tdm_stepper::export::ExportOptions { io, io_omit: omit, ..Default::default() }.params();
         let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
         assert_eq!(header.contains("TDM_IO_STATUS"), io, "the machine I/O's registers follow --io");
         let doc = std::fs::read_to_string(dir.join("registers.md")).unwrap();
         assert_eq!(doc.contains("| IO_STATUS |") && doc.contains("Machine I/O: hard stop"), io, "registers.md follows --io");
+        // A group not exported has no register or field in the header or the doc.
+        let some = omit != 0;
+        for (what, present) in [
+            ("TDM_WD_TIMEOUT ", io && !some),
+            ("TDM_PROBE_POS_LO(", io && !some),
+            ("TDM_IO_AXIS_ALARM_MASK", io && !some),
+            ("TDM_IO_CMD ", io && !some),
+            ("TDM_IO_POLARITY_ESTOP_MASK", io && !some),
+            ("TDM_STOP_HOME ", io),
+            ("TDM_IO_AXIS_LIMIT_POS_MASK", io),
+            ("TDM_IO_POLARITY_HOME_MASK", io),
+            ("TDM_STOP_MODE_LIMITS_MASK", io),
+        ] {
+            assert_eq!(header.contains(what), present, "{args:?}: {what} in the header");
+        }
+        assert_eq!(doc.contains("| WD_TIMEOUT |"), io && !some, "{args:?}: WD_TIMEOUT in registers.md");
         let mut c = String::from("#include <assert.h>\n#include \"tdm_stepper_regs.h\"\nint main(void) {\n");
         // Every register's byte offset, for axes 0 and K-1, from the table.
         for r in regs::table_for(&params) {
@@ -270,7 +303,7 @@ fn export_package_works_from_the_folder_alone() {
     use tdm_stepper::package as pkg;
     let dir = export_to(&["--axes", "3", "--clock-hz", "40000000"], "export_package");
     let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
-    let ports = export::ports(3, false);
+    let ports = export::ports(3, 0);
 
     // Smoke testbench in Icarus.
     let out = Command::new("iverilog")
@@ -427,7 +460,7 @@ fn two_named_exports_live_in_one_design() {
     // One wrapper per core around its template, and a top with both.
     let mut v = String::new();
     for (dir, tag, k) in [(&a, "a", 2), (&b, "b", 3)] {
-        let ports = export::ports(k, false);
+        let ports = export::ports(k, 0);
         let decl: Vec<String> = ports
             .iter()
             .filter(|p| p.name != "fsm_state")

@@ -27,7 +27,7 @@ const CLOCKS: Clocks = Clocks { clk_half_ps: 10_002, bus_half_ps: 5_001 };
 const MCU_HALF_PS: u64 = 2_976;
 
 fn params<const K: usize>() -> CoreParams {
-    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false }
+    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false, io_omit: 0 }
 }
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
@@ -1854,4 +1854,56 @@ fn stop_modes_through_the_bus_ramp_down_on_a_limit_on_home_and_on_the_watchdog()
     let drop = t.changes.iter().find(|(c, s)| *c > trip && s[3] == Some(0)).expect("drv_enable never dropped").0;
     assert!(drop > last_edge && drop < last_edge + 200, "drv_enable dropped at clk {drop}, the last edge at {last_edge}");
     assert!(t.changes.iter().filter(|(c, _)| *c > clk_cycle_at(t_start) + 100 && *c < drop).all(|(_, s)| s[3] == Some(3)), "drv_enable high while ramping");
+}
+
+/// An export with some machine I/O groups only (`--io limits`, K = 2), in Verilator,
+/// through the bus: the registers of the groups left out are refused or read 0 (a
+/// WD_TIMEOUT write sets IO_STATUS.REFUSED and reads back 0, IO_POLARITY keeps only the
+/// limits' bits, a STOP_HOME write sets STOP_STATUS.REFUSED), there is no e-stop latch
+/// to re-arm (the core moves right after CTRL.ENABLE), and the limits work as in the
+/// whole machine I/O: a move into limit_pos stops with no edge after e0 + 4, at the
+/// exact position, with IO_AXIS.STOPPED, while drv_enable was high.
+#[test]
+fn an_export_with_only_the_limits_has_only_their_pins_and_registers() {
+    const K: usize = 2;
+    let mut b = bus();
+    b.write_reg("WD_TIMEOUT", 0, 2);
+    b.write_reg("IO_POLARITY", 0, 0x3F);
+    let config = (b.read_reg("IO_STATUS", 0), b.read_reg("WD_TIMEOUT", 0), b.read_reg("IO_POLARITY", 0));
+    b.write_reg("IO_STATUS", 0, 1 << 4);
+    b.write_reg("IO_POLARITY", 0, 0);
+    b.write_reg("STOP_HOME", 0, 1);
+    let home = (b.read_reg("STOP_STATUS", 0), b.read_reg("STOP_HOME", 0));
+    b.enable(ENABLE_WAIT);
+    b.idle(50);
+    let status = b.read_reg("IO_STATUS", 0);
+    b.push_segment(0, &Segment { v0_rate: 0, t_ticks: 20_000, steps: 200 });
+    b.write_reg("START", 0, 0b01);
+    let t_lim = b.now_ps() + 12_000 * 2 * CLOCKS.clk_half_ps;
+    b.idle_until_ps(t_lim + 15_000 * 2 * CLOCKS.clk_half_ps);
+    let stopped = (b.read_position(0), b.read_reg("IO_AXIS", 0), b.read_reg("BUSY", 0));
+    let cycles = cycles_after(&b, 100);
+    let choice = tdm_stepper::export::parse_io("limits").unwrap();
+    let opts = tdm_stepper::export::ExportOptions { axes: K, io: choice.io, io_omit: choice.omit, ..Default::default() };
+    let verilog = tdm_stepper::export::verilog(&opts).unwrap();
+    let mut watch = stepper_watch(K);
+    watch.push(Port::new("drv_enable", K));
+    let mut spec = system_spec(tdm_stepper::export::TOP_MODULE, watch);
+    spec.inputs.push(Port::new("limit_neg", K));
+    spec.inputs.push(Port::new("limit_pos", K));
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &[0, 0], &[(t_lim, vec![0, 0b01])]);
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let mut t = run_system_with(&sim_dir("io_limits_only", Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
+    samples_to_bus_events(&mut t, &index);
+    let v = |id| b.value(&t, id).expect("read returned x");
+    assert_eq!((v(config.0) >> 4 & 1, v(config.1), v(config.2)), (1, 0, 0b1100), "WD_TIMEOUT refused, IO_POLARITY only the limits' bits");
+    assert_eq!((v(home.0) & 1, v(home.1)), (1, 0), "STOP_HOME refused");
+    assert_eq!(v(status) & 0b111, 0, "no e-stop latch, no watchdog");
+    let r = rises(&t, 0);
+    let e0 = t_lim.div_ceil(2 * CLOCKS.clk_half_ps);
+    assert!(r.len() > 20 && r.len() < 200, "axis 0 stopped mid-move after {} edges", r.len());
+    assert!(*r.last().unwrap() <= e0 + 4, "an edge at clk {}, {} after the pin was first sampled", r.last().unwrap(), r.last().unwrap() - e0);
+    assert_eq!(position(&b, &t, stopped.0), Some(r.len() as i32), "the position: the edges emitted");
+    assert_eq!((v(stopped.1) >> 6 & 1, v(stopped.1) >> 1 & 1, v(stopped.2)), (1, 1, 0), "STOPPED, LIMIT_POS, idle");
+    assert!(t.changes.iter().any(|(c, s)| *c > r[0] && *c < e0 && s[3] == Some(0b11)), "drv_enable high while moving");
 }

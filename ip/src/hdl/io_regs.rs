@@ -102,6 +102,7 @@ pub struct IoRegs<const K: usize> {
     edg: DFF<Bits<2>>,
     wdt: DFF<Bits<16>>,
     refused: DFF<Bit>,
+    lacks: Signal<Local, Bit>,
     events: DFF<Bits<5>>,
     mask: DFF<Bits<5>>,
     stop_s: BitsSync<K>,
@@ -174,6 +175,14 @@ pub struct IoRegs<const K: usize> {
     /// IO_AXIS's offset in an axis block.
     o_axis: Constant<Bits<4>>,
     pol_reset: Constant<Bits<6>>,
+    /// Masks of the fields the export has (`with_groups`), and the configuration
+    /// registers it lacks (bit 0 IO_PRESCALE, 1 IO_EDGES, 2 WD_TIMEOUT): a write to one
+    /// of them is refused.
+    c_pol_m: Constant<Bits<6>>,
+    c_flo_m: Constant<Bits<16>>,
+    c_fhi_m: Constant<Bits<8>>,
+    c_edg_m: Constant<Bits<2>>,
+    c_absent: Constant<Bits<3>>,
     /// The synchronised global flags: running, e-stop latch, e-stop input, trip, probe.
     g: Signal<Local, Bits<5>>,
     may_config: Signal<Local, Bit>,
@@ -244,6 +253,7 @@ impl<const K: usize> Default for IoRegs<K> {
             edg: Default::default(),
             wdt: Default::default(),
             refused: Default::default(),
+            lacks: Default::default(),
             events: Default::default(),
             mask: Default::default(),
             stop_s: Default::default(),
@@ -307,6 +317,11 @@ impl<const K: usize> Default for IoRegs<K> {
             a_mask: c9("IRQ_MASK_IO"),
             o_axis: Constant::new((r.offset as u64).into()),
             pol_reset: Constant::new((regs::register("IO_POLARITY").reset_value(&IO_PARAMS) as u64).into()),
+            c_pol_m: Constant::new(0x3F.into()),
+            c_flo_m: Constant::new(0xFFFF.into()),
+            c_fhi_m: Constant::new(0xFF.into()),
+            c_edg_m: Constant::new(0x3.into()),
+            c_absent: Constant::new(0.into()),
             g: Default::default(),
             may_config: Default::default(),
             rd_axis_reg: Default::default(),
@@ -332,9 +347,29 @@ fn o4(name: &str) -> Constant<Bits<4>> {
 
 /// Reset values of the I/O registers do not depend on the core's parameters.
 const IO_PARAMS: regs::CoreParams =
-    regs::CoreParams { axes: 1, clock_hz: 1, queue_depth: 2, fifo_depth: 2, t_calc: 1, min_period: 2, io: true };
+    regs::CoreParams { axes: 1, clock_hz: 1, queue_depth: 2, fifo_depth: 2, t_calc: 1, min_period: 2, io: true, io_omit: 0 };
 
 impl<const K: usize> IoRegs<K> {
+    /// The registers of an export with the machine I/O groups `groups`
+    /// (`regs::IO_GROUPS` bits): the fields of the others are 0 and not written, and a
+    /// write to a configuration register the export lacks is refused
+    /// (IO_STATUS.REFUSED). `default()` has every group.
+    pub fn with_groups(mut self, groups: u8) -> Self {
+        let p = regs::CoreParams { io_omit: regs::IO_ALL & !groups, ..IO_PARAMS };
+        let table = regs::table_for(&p);
+        let find = |name: &str| table.iter().find(|r| r.name == name);
+        let mask = |name: &str| find(name).map_or(0u64, |r| r.fields.iter().map(|f| ((1u64 << f.width) - 1) << f.lsb).sum());
+        let pol = mask("IO_POLARITY");
+        self.c_pol_m = Constant::new(pol.into());
+        self.c_flo_m = Constant::new(mask("IO_FILTER_LO").into());
+        self.c_fhi_m = Constant::new(mask("IO_FILTER_HI").into());
+        self.c_edg_m = Constant::new(mask("IO_EDGES").into());
+        let absent = ["IO_PRESCALE", "IO_EDGES", "WD_TIMEOUT"].iter().enumerate().map(|(i, n)| (find(n).is_none() as u64) << i).sum::<u64>();
+        self.c_absent = Constant::new(absent.into());
+        self.pol_reset = Constant::new((regs::register("IO_POLARITY").reset_value(&p) as u64 & pol).into());
+        self
+    }
+
     /// Marks the inputs as driven from outside and connects the block (tests).
     pub fn connect_ports(&mut self) {
         self.bus_clock.connect();
@@ -419,6 +454,10 @@ impl<const K: usize> Logic for IoRegs<K> {
 
         // Writes.
         self.may_config.next = !self.enable.val() & !self.g.val().get_bit(0);
+        // (A configuration register of a group the export lacks: a write is refused.)
+        self.lacks.next = ((self.wr_addr.val() == self.a_pre.val()) & self.c_absent.val().get_bit(0))
+            | ((self.wr_addr.val() == self.a_edg.val()) & self.c_absent.val().get_bit(1))
+            | ((self.wr_addr.val() == self.a_wdt.val()) & self.c_absent.val().get_bit(2));
         if self.wr.val() {
             if (self.wr_addr.val() == self.a_pol.val())
                 | (self.wr_addr.val() == self.a_flo.val())
@@ -431,21 +470,24 @@ impl<const K: usize> Logic for IoRegs<K> {
                     self.refused.d.next = true;
                 }
             }
-            if self.may_config.val() {
+            if self.lacks.val() {
+                self.refused.d.next = true;
+            }
+            if self.may_config.val() & !self.lacks.val() {
                 if self.wr_addr.val() == self.a_pol.val() {
-                    self.pol.d.next = self.wr_data.val().get_bits::<6>(0);
+                    self.pol.d.next = self.wr_data.val().get_bits::<6>(0) & self.c_pol_m.val();
                 }
                 if self.wr_addr.val() == self.a_flo.val() {
-                    self.filt_lo.d.next = self.wr_data.val();
+                    self.filt_lo.d.next = self.wr_data.val() & self.c_flo_m.val();
                 }
                 if self.wr_addr.val() == self.a_fhi.val() {
-                    self.filt_hi.d.next = self.wr_data.val().get_bits::<8>(0);
+                    self.filt_hi.d.next = self.wr_data.val().get_bits::<8>(0) & self.c_fhi_m.val();
                 }
                 if self.wr_addr.val() == self.a_pre.val() {
                     self.pre.d.next = self.wr_data.val();
                 }
                 if self.wr_addr.val() == self.a_edg.val() {
-                    self.edg.d.next = self.wr_data.val().get_bits::<2>(0);
+                    self.edg.d.next = self.wr_data.val().get_bits::<2>(0) & self.c_edg_m.val();
                 }
                 if self.wr_addr.val() == self.a_wdt.val() {
                     self.wdt.d.next = self.wr_data.val();

@@ -106,6 +106,9 @@ pub struct MachineIo<const K: usize> {
     pub axis_cstop: Signal<Out, Bits<K>>,
     cs_q: DFF<Bits<K>>,
     wd_rest: DFF<Bit>,
+    /// The groups exported (`regs::IO_GROUPS` bits): the others' levels, latches and
+    /// stops are constant 0 (their logic is removed by synthesis).
+    c_groups: Constant<Bits<6>>,
     hs_pick: [BitPick<K>; K],
     cs_bus: [BitInsert<K>; K],
     cs_new: Signal<Local, Bits<K>>,
@@ -185,6 +188,7 @@ impl<const K: usize> Default for MachineIo<K> {
             axis_cstop: Default::default(),
             cs_q: Default::default(),
             wd_rest: Default::default(),
+            c_groups: Constant::new((crate::regs::IO_ALL as u64).into()),
             hs_pick: std::array::from_fn(BitPick::new),
             cs_bus: std::array::from_fn(BitInsert::new),
             cs_new: Default::default(),
@@ -226,6 +230,13 @@ impl<const K: usize> Default for MachineIo<K> {
 }
 
 impl<const K: usize> MachineIo<K> {
+    /// The block with only the machine I/O groups `groups` (`regs::IO_GROUPS` bits);
+    /// `default()` has every group.
+    pub fn with_groups(mut self, groups: u8) -> Self {
+        self.c_groups = Constant::new((groups as u64).into());
+        self
+    }
+
     /// Marks the inputs as driven from outside and connects the block (tests).
     pub fn connect_ports(&mut self) {
         self.clock.connect();
@@ -277,23 +288,23 @@ impl<const K: usize> Logic for MachineIo<K> {
         self.probe_f.invert.next = self.polarity.val().get_bit(1);
         self.probe_f.sample.next = self.sample.val();
         self.probe_f.samples.next = self.filter.val().get_bits::<4>(4);
-        self.estop_active.next = self.estop_f.active.val();
-        self.probe_active.next = self.probe_f.active.val();
-        self.probe_latch.next = self.probe_f.rise.val();
+        self.estop_active.next = self.estop_f.active.val() & self.c_groups.val().get_bit(0);
+        self.probe_active.next = self.probe_f.active.val() & self.c_groups.val().get_bit(1);
+        self.probe_latch.next = self.probe_f.rise.val() & self.c_groups.val().get_bit(1);
         if self.edges.val().get_bit(1) {
-            self.probe_latch.next = self.probe_f.fall.val();
+            self.probe_latch.next = self.probe_f.fall.val() & self.c_groups.val().get_bit(1);
         }
 
         // Category 0: the filtered e-stop, its latch, the watchdog.
         // (A controlled watchdog trip stops hard once no axis is active: the ramps run.)
         self.hard.next = self.latched.q.val()
-            | self.estop_f.active.val()
+            | (self.estop_f.active.val() & self.c_groups.val().get_bit(0))
             | (self.tripped.q.val() & !self.stop_mode.val().get_bit(2))
             | self.wd_rest.q.val();
         self.wd_rest.d.next = self.tripped.q.val() & self.stop_mode.val().get_bit(2) & !self.active.val().any();
         self.hard_stop.next = self.hard.val();
         self.estop_latched.next = self.latched.q.val();
-        self.latched.d.next = self.estop_f.active.val() | (self.latched.q.val() & !self.estop_rearm.val());
+        self.latched.d.next = (self.estop_f.active.val() & self.c_groups.val().get_bit(0)) | (self.latched.q.val() & !self.estop_rearm.val());
         self.wd_tripped.next = self.tripped.q.val();
         self.wd_end.next = bit_cast::<26, 16>(self.wd_timeout.val()) << 10;
         if self.wd_rearm.val() {
@@ -303,7 +314,7 @@ impl<const K: usize> Logic for MachineIo<K> {
             self.wd_count.d.next = 1.into();
         } else {
             if self.wd_count.q.val() >= self.wd_end.val() {
-                self.tripped.d.next = true;
+                self.tripped.d.next = self.c_groups.val().get_bit(5);
             }
             self.wd_count.d.next = self.wd_count.q.val() + 1;
         }
@@ -337,17 +348,17 @@ impl<const K: usize> Logic for MachineIo<K> {
             self.alarm_f[i].invert.next = self.polarity.val().get_bit(5);
             self.alarm_f[i].sample.next = self.sample.val();
             self.alarm_f[i].samples.next = self.filter.val().get_bits::<4>(20);
-            self.lneg_bus[i].value.next = self.lneg_f[i].active.val();
-            self.lpos_bus[i].value.next = self.lpos_f[i].active.val();
-            self.home_bus[i].value.next = self.home_f[i].active.val();
-            self.alarm_bus[i].value.next = self.alarm_f[i].active.val();
-            self.latch_bus[i].value.next = self.home_f[i].rise.val();
+            self.lneg_bus[i].value.next = self.lneg_f[i].active.val() & self.c_groups.val().get_bit(2);
+            self.lpos_bus[i].value.next = self.lpos_f[i].active.val() & self.c_groups.val().get_bit(2);
+            self.home_bus[i].value.next = self.home_f[i].active.val() & self.c_groups.val().get_bit(3);
+            self.alarm_bus[i].value.next = self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4);
+            self.latch_bus[i].value.next = self.home_f[i].rise.val() & self.c_groups.val().get_bit(3);
             if self.edges.val().get_bit(0) {
-                self.latch_bus[i].value.next = self.home_f[i].fall.val();
+                self.latch_bus[i].value.next = self.home_f[i].fall.val() & self.c_groups.val().get_bit(3);
             }
             self.drv_bus[i].value.next = self.run.val()
                 & !self.hard.val()
-                & !(self.alarm_f[i].active.val() & (!self.stop_mode.val().get_bit(1) | !self.act_pick[i].value.val()));
+                & !((self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4)) & (!self.stop_mode.val().get_bit(1) | !self.act_pick[i].value.val()));
             // The per-axis stops (see the module docs): a limit toward which the axis
             // moves, its alarm, its home latch when armed; each hard or controlled.
             self.dir_pick[i].bus.next = self.dir.val();
@@ -355,12 +366,12 @@ impl<const K: usize> Logic for MachineIo<K> {
             self.toward_pick[i].bus.next = self.toward_q.q.val();
             self.hs_pick[i].bus.next = self.home_stop.val();
             self.toward_bus[i].value.next = self.act_pick[i].value.val()
-                & ((!self.dir_pick[i].value.val() & self.lpos_f[i].active.val())
-                    | (self.dir_pick[i].value.val() & self.lneg_f[i].active.val()));
+                & ((!self.dir_pick[i].value.val() & (self.lpos_f[i].active.val() & self.c_groups.val().get_bit(2)))
+                    | (self.dir_pick[i].value.val() & (self.lneg_f[i].active.val() & self.c_groups.val().get_bit(2))));
             self.stop_bus[i].value.next = (self.toward_bus[i].value.val()
                 & self.toward_pick[i].value.val()
                 & !self.stop_mode.val().get_bit(0))
-                | (self.alarm_f[i].active.val() & !self.stop_mode.val().get_bit(1))
+                | ((self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4)) & !self.stop_mode.val().get_bit(1))
                 | (self.latch_bus[i].value.val()
                     & self.hs_pick[i].value.val()
                     & self.act_pick[i].value.val()
@@ -368,7 +379,7 @@ impl<const K: usize> Logic for MachineIo<K> {
             self.cs_bus[i].value.next = (self.toward_bus[i].value.val()
                 & self.toward_pick[i].value.val()
                 & self.stop_mode.val().get_bit(0))
-                | (self.alarm_f[i].active.val() & self.stop_mode.val().get_bit(1))
+                | ((self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4)) & self.stop_mode.val().get_bit(1))
                 | (self.latch_bus[i].value.val()
                     & self.hs_pick[i].value.val()
                     & self.act_pick[i].value.val()
@@ -422,7 +433,7 @@ impl<const K: usize> Logic for MachineIo<K> {
 
         if self.reset.val() {
             self.prescaler.d.next = 0.into();
-            self.latched.d.next = true;
+            self.latched.d.next = self.c_groups.val().get_bit(0);
             self.wd_count.d.next = 1.into();
             self.tripped.d.next = false;
             self.drv.d.next = 0.into();

@@ -79,6 +79,9 @@ pub struct StopRegs<const K: usize> {
     a_status: Constant<Bits<ADDR_BITS>>,
     a_mode: Constant<Bits<ADDR_BITS>>,
     a_home: Constant<Bits<ADDR_BITS>>,
+    /// STOP_MODE's bits of the groups exported; STOP_HOME exists (the home group).
+    c_mode_m: Constant<Bits<4>>,
+    c_has_home: Constant<Bit>,
 }
 
 impl<const K: usize> StopRegs<K> {
@@ -122,7 +125,21 @@ impl<const K: usize> StopRegs<K> {
             a_status: c9("STOP_STATUS"),
             a_mode: c9("STOP_MODE"),
             a_home: c9("STOP_HOME"),
+            c_mode_m: Constant::new(0xF.into()),
+            c_has_home: Constant::new(true),
         }
+    }
+
+    /// The registers of an export with the machine I/O groups `groups`
+    /// (`regs::IO_GROUPS` bits): STOP_MODE's bits of the others are 0 and not written;
+    /// without the home group STOP_HOME is not there and a write to it is refused
+    /// (STOP_STATUS.REFUSED).
+    pub fn with_groups(mut self, groups: u8) -> Self {
+        use crate::regs::{IO_ALARM, IO_HOME, IO_LIMITS, IO_WATCHDOG};
+        let m = [IO_LIMITS, IO_ALARM, IO_WATCHDOG, IO_HOME].iter().enumerate().map(|(i, g)| ((groups & g != 0) as u64) << i).sum::<u64>();
+        self.c_mode_m = Constant::new(m.into());
+        self.c_has_home = Constant::new(groups & IO_HOME != 0);
+        self
     }
 }
 
@@ -161,11 +178,15 @@ impl<const K: usize> Logic for StopRegs<K> {
             if self.enable.val() {
                 self.refused.d.next = true;
             } else {
-                self.mode_r.d.next = self.wr_data.val().get_bits::<4>(0);
+                self.mode_r.d.next = self.wr_data.val().get_bits::<4>(0) & self.c_mode_m.val();
             }
         }
         if self.wr.val() & (self.wr_addr.val() == self.a_home.val()) {
-            self.home_r.d.next = self.wr_data.val().get_bits::<K>(0);
+            if self.c_has_home.val() {
+                self.home_r.d.next = self.wr_data.val().get_bits::<K>(0);
+            } else {
+                self.refused.d.next = true;
+            }
         }
         if self.wr.val() & (self.wr_addr.val() == self.a_status.val()) & self.wr_data.val().get_bit(0) {
             self.refused.d.next = false;

@@ -145,10 +145,10 @@ macro_rules! stepper_top {
                         home: Default::default(),
                         alarm: Default::default(),
                         drv_enable: Default::default(),
-                        $io: Default::default(),
-                        io_regs: Default::default(),
+                        $io: MachineIo::default().with_groups(params.io_groups()),
+                        io_regs: IoRegs::default().with_groups(params.io_groups()),
                         guard: Default::default(),
-                        stop_regs: StopRegs::new(params.stop_decel_min()),
+                        stop_regs: StopRegs::new(params.stop_decel_min()).with_groups(params.io_groups()),
                     )?
                 }
             }

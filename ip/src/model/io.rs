@@ -27,6 +27,11 @@
 //! toward `limit_pos`, 1 toward `limit_neg`) in this cycle and the one before, or its
 //! alarm active; `stop_tog` flips when it stops a moving axis (the event).
 //!
+//! **Groups** ([`IO_GROUPS`]): a block built with some groups only
+//! ([`MachineIoModel::with_groups`]) reads the others' inputs as inactive, never sets
+//! the e-stop latch (it resets clear) without the e-stop group and never trips without
+//! the watchdog's.
+//!
 //! **Stop modes** ([`IoConfig::stop_mode`], STOP_MODE): each source of a stop (the
 //! limits, the alarm, the watchdog, the stop on home) takes the hard stop or the
 //! controlled stop. A source in controlled mode drives `axis_cstop` (bit a, registered)
@@ -51,6 +56,19 @@ pub const G_ALARM: usize = 5;
 /// The watchdog's timeout unit, clk ticks.
 pub const WATCHDOG_UNIT_BITS: u32 = 10;
 pub const WATCHDOG_UNIT_TICKS: u64 = 1 << WATCHDOG_UNIT_BITS;
+/// The machine I/O's groups, as `export --io` names them; bit g of a group mask.
+pub const IO_GROUPS: [&str; 6] = ["estop", "probe", "limits", "home", "alarm", "watchdog"];
+pub const IO_ESTOP: u8 = 1 << 0;
+pub const IO_PROBE: u8 = 1 << 1;
+pub const IO_LIMITS: u8 = 1 << 2;
+pub const IO_HOME: u8 = 1 << 3;
+pub const IO_ALARM: u8 = 1 << 4;
+pub const IO_WATCHDOG: u8 = 1 << 5;
+/// Every group (`--io all`).
+pub const IO_ALL: u8 = 0x3F;
+/// The groups with input pins and filters (all but the watchdog).
+pub const IO_INPUTS: u8 = IO_ALL & !IO_WATCHDOG;
+
 /// STOP_MODE bits: 1 = the source takes the controlled stop, 0 = the hard stop.
 pub const MODE_LIMITS: u8 = 1;
 pub const MODE_ALARM: u8 = 2;
@@ -208,6 +226,8 @@ pub struct MachineIoModel {
     stop_tog: u32,
     /// A controlled watchdog trip with no axis active (registered).
     wd_rest: bool,
+    /// The groups built ([`IO_GROUPS`] bits).
+    groups: u8,
 }
 
 impl MachineIoModel {
@@ -229,11 +249,36 @@ impl MachineIoModel {
             axis_cstop: 0,
             stop_tog: 0,
             wd_rest: false,
+            groups: IO_ALL,
         }
     }
 
+    /// The block with only the groups `groups` ([`IO_GROUPS`] bits), as after reset.
+    pub fn with_groups(mut self, groups: u8) -> Self {
+        self.groups = groups;
+        self.estop_latched = self.on(IO_ESTOP);
+        self
+    }
+
+    fn on(&self, group: u8) -> bool {
+        self.groups & group != 0
+    }
+
+    fn estop_level(&self) -> bool {
+        self.estop.level && self.on(IO_ESTOP)
+    }
+
+    fn probe_level(&self) -> bool {
+        self.probe.level && self.on(IO_PROBE)
+    }
+
+    /// Axis a's filtered input j (limit_neg, limit_pos, home, alarm), if its group is built.
+    fn axis_level(&self, a: usize, j: usize) -> bool {
+        self.axis_inputs[a][j].level && self.on([IO_LIMITS, IO_LIMITS, IO_HOME, IO_ALARM][j])
+    }
+
     fn hard(&self, cfg: &IoConfig) -> bool {
-        self.estop_latched || self.estop.level || (self.wd_tripped && cfg.stop_mode & MODE_WATCHDOG == 0) || self.wd_rest
+        self.estop_latched || self.estop_level() || (self.wd_tripped && cfg.stop_mode & MODE_WATCHDOG == 0) || self.wd_rest
     }
 
     fn sample(&self, cfg: &IoConfig) -> bool {
@@ -248,18 +293,18 @@ impl MachineIoModel {
     pub fn outputs(&self, cfg: &IoConfig) -> IoOutputs {
         let s = self.sample(cfg);
         let inv = |g: usize| cfg.polarity >> g & 1 == 1;
-        let level = |j: usize| self.bits(|a| self.axis_inputs[a][j].level);
+        let level = |j: usize| self.bits(|a| self.axis_level(a, j));
         let home_to = cfg.edges & 1 == 0;
         let home_latch = self.bits(|a| {
             let h = &self.axis_inputs[a][2];
-            h.changes(inv(G_HOME), s, cfg.filter[G_HOME]) && h.level != home_to
+            self.on(IO_HOME) && h.changes(inv(G_HOME), s, cfg.filter[G_HOME]) && h.level != home_to
         });
         let probe_to = cfg.edges >> 1 & 1 == 0;
         IoOutputs {
             hard_stop: self.hard(cfg),
             estop_latched: self.estop_latched,
-            estop_active: self.estop.level,
-            probe_active: self.probe.level,
+            estop_active: self.estop_level(),
+            probe_active: self.probe_level(),
             wd_tripped: self.wd_tripped,
             drv_enable: self.drv_enable,
             limit_neg: level(0),
@@ -267,7 +312,7 @@ impl MachineIoModel {
             home: level(2),
             alarm: level(3),
             home_latch,
-            probe_latch: self.probe.changes(inv(G_PROBE), s, cfg.filter[G_PROBE]) && self.probe.level != probe_to,
+            probe_latch: self.on(IO_PROBE) && self.probe.changes(inv(G_PROBE), s, cfg.filter[G_PROBE]) && self.probe.level != probe_to,
             axis_stop: self.axis_stop,
             axis_cstop: self.axis_cstop,
             stop_tog: self.stop_tog,
@@ -284,17 +329,17 @@ impl MachineIoModel {
         // Registered enables: the state of this cycle (a controlled alarm keeps the
         // enable while its axis is active: the ramp runs).
         self.drv_enable =
-            self.bits(|a| run && !hard && !(self.axis_inputs[a][3].level && (!ctl(MODE_ALARM) || !active(a))));
+            self.bits(|a| run && !hard && !(self.axis_level(a, 3) && (!ctl(MODE_ALARM) || !active(a))));
         // The per-axis stop: moving toward an active limit (DIR 0 toward limit_pos, 1
         // toward limit_neg) in this cycle and the one before (a segment that starts
         // away from the limit shows the old DIR for one tick), the alarm active, or the
         // home latch on a moving axis armed to stop on it.
         let toward = self.bits(|a| {
             let d = pins.dir >> a & 1 == 1;
-            active(a) && ((!d && self.axis_inputs[a][1].level) || (d && self.axis_inputs[a][0].level))
+            active(a) && ((!d && self.axis_level(a, 1)) || (d && self.axis_level(a, 0)))
         });
         let limit = toward & self.toward;
-        let alarm = self.bits(|a| self.axis_inputs[a][3].level);
+        let alarm = self.bits(|a| self.axis_level(a, 3));
         let hit = self.outputs(cfg).home_latch & cfg.home_stop & pins.active;
         let pick = |m: u8, w: u32, controlled: bool| if ctl(m) == controlled { w } else { 0 };
         let stop = pick(MODE_LIMITS, limit, false) | pick(MODE_ALARM, alarm, false) | pick(MODE_HOME, hit, false);
@@ -308,7 +353,7 @@ impl MachineIoModel {
         self.axis_cstop = cstop;
         self.toward = toward;
         self.wd_rest = self.wd_tripped && ctl(MODE_WATCHDOG) && pins.active == 0;
-        let estop_active = self.estop.level;
+        let estop_active = self.estop_level();
         self.estop_latched = estop_active || (self.estop_latched && !cmd.estop_rearm);
         let unit_end = (cfg.wd_timeout as u32) << WATCHDOG_UNIT_BITS;
         if cmd.wd_rearm {
@@ -318,7 +363,7 @@ impl MachineIoModel {
             self.wd_count = 1;
         } else {
             if self.wd_count >= unit_end {
-                self.wd_tripped = true;
+                self.wd_tripped = self.on(IO_WATCHDOG);
             }
             self.wd_count = (self.wd_count + 1) & ((1 << 26) - 1);
         }
@@ -335,7 +380,7 @@ impl MachineIoModel {
         }
         if reset {
             self.prescaler = 0;
-            self.estop_latched = true;
+            self.estop_latched = self.on(IO_ESTOP);
             self.wd_count = 1;
             self.wd_tripped = false;
             self.drv_enable = 0;

@@ -91,18 +91,20 @@ pub struct SweepOptions {
     pub clock_hz: u32,
     /// Only collect finished runs from the work folder; run no tool.
     pub cached_only: bool,
-    /// Export every point with the machine I/O (`--io all`; TDM only).
+    /// Export every point with the machine I/O (`--io`; TDM only).
     pub io: bool,
+    /// With `io`: the groups left out (`regs::IO_GROUPS` bits; 0 for `--io all`).
+    pub io_omit: u8,
 }
 
 impl SweepOptions {
     /// Appended to the work folder of each point: runs with and without the machine I/O
-    /// keep their own folders (and cached results).
-    pub(crate) fn io_suffix(&self) -> &'static str {
-        if self.io {
-            "_io"
-        } else {
-            ""
+    /// (and with different groups of it) keep their own folders (and cached results).
+    pub(crate) fn io_suffix(&self) -> String {
+        match (self.io, self.io_omit) {
+            (false, _) => String::new(),
+            (true, 0) => "_io".into(),
+            (true, omit) => format!("_io_{}", export::io_group_names(crate::regs::IO_ALL & !omit).replace(',', "_")),
         }
     }
 }
@@ -209,8 +211,10 @@ pub struct Breakdown {
 /// The whole result.
 #[derive(Clone, Debug, Serialize)]
 pub struct Sweep {
-    /// The points were exported with the machine I/O (`--io all`).
+    /// The points were exported with the machine I/O (`--io`).
     pub io: bool,
+    /// With `io`: the groups exported, comma-separated.
+    pub io_groups: String,
     pub yosys: String,
     pub t_calc_cycles: usize,
     pub points: Vec<Point>,
@@ -340,11 +344,14 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     };
     for &k in &opts.axes {
         for &a in &opts.archs {
-            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, ..Default::default() }.check()?;
+            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, ..Default::default() }.check()?;
         }
     }
     for &k in opts.fmax_axes.iter().chain(&opts.breakdown_axes) {
-        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, ..Default::default() }.check()?;
+        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, ..Default::default() }.check()?;
+    }
+    if !opts.fmax_axes.is_empty() && opts.io && opts.io_omit != 0 {
+        return Err("--fmax with some machine I/O groups: the Fmax wrapper drives every group's pins; use --io all".into());
     }
     let nextpnr = nextpnr_command(repo);
     if !opts.fmax_axes.is_empty() && !nextpnr.exists() {
@@ -451,7 +458,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     fmax.iter_mut().for_each(|p| rel(&mut p.log));
     breakdown.iter_mut().for_each(|p| rel(&mut p.log));
     let capacity = opts.axes.iter().map(|&k| capacity(k, fmax.iter().find(|f| f.axes == k).and_then(|f| f.fmax_clk_mhz))).collect();
-    let sweep = Sweep { io: opts.io, yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
+    let sweep = Sweep { io: opts.io, io_groups: if opts.io { export::io_group_names(crate::regs::IO_ALL & !opts.io_omit) } else { String::new() }, yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
     let files = write_outputs(&sweep, &opts.out).map_err(|e| format!("cannot write into {}: {e}", opts.out.display()))?;
     Ok((sweep, files))
 }
