@@ -747,7 +747,7 @@ fn contract(m: &mut String, p: &CoreParams) {
          positions, queues and flags; a STEP pulse already high finishes its high time first, so \
          no pulse shorter than STEP_HIGH ever reaches a driver.\n",
     );
-    if p.io {
+    if p.io_groups() & (IO_ESTOP | IO_WATCHDOG) != 0 {
         m.push_str(
             "* **Machine I/O: hard stop.** While the e-stop latch (IO_STATUS.ESTOP) or the watchdog's \
              trip (IO_STATUS.WATCHDOG) holds, every axis is stopped as by ABORT, continuously: \
@@ -757,6 +757,8 @@ fn contract(m: &mut String, p: &CoreParams) {
              edge that samples estop_n active, no STEP rising edge comes after 3 + n ticks \
              (n: the e-stop's filter, with IO_PRESCALE = 0).\n",
         );
+    }
+    if p.io_groups() & (IO_ESTOP | IO_WATCHDOG) != 0 {
         m.push_str(
             "* **Machine I/O: arming.** The e-stop latch is set by reset and CTRL.ENABLE = 0. After \
              ENABLE, wait for IO_STATUS.ESTOP_IN = 0, write IO_CMD.ESTOP_REARM (and WD_REARM), and \
