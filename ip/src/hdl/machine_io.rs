@@ -58,6 +58,12 @@
 //!   `active` requests its stop for one cycle, the next. `stop_tog` flips when either
 //!   request stops a moving axis. `model::io` states the same.
 //!
+//! **Groups** (`with_groups`, `regs::IO_GROUPS` bits; `default()` has all): a group
+//! left out of the export has its filtered levels, latch strobes and stops ANDed with a
+//! constant 0, the e-stop latch resets clear without `estop` and the watchdog never
+//! trips without `watchdog`, so their flip-flops have constant inputs and synthesis
+//! removes them (`model::io`'s `MachineIoModel::with_groups`).
+//!
 //! Cost: 7 flip-flops per input (4K + 2), 16 for the prescaler, 27 for the watchdog,
 //! 1 for the e-stop latch and K for the enables.
 
