@@ -196,9 +196,14 @@ pub fn parse_io(s: &str) -> Result<IoChoice, String> {
     Ok(IoChoice { io: true, omit: regs::IO_ALL & !groups })
 }
 
-/// The names of the groups in `groups` (`regs::IO_GROUPS` bits), comma-separated.
+/// The names of the groups in `groups` (`regs::IO_GROUPS` bits), in that order.
+pub fn io_group_list(groups: u8) -> Vec<&'static str> {
+    IO_GROUPS.iter().enumerate().filter(|(i, _)| groups >> i & 1 == 1).map(|(_, g)| *g).collect()
+}
+
+/// [`io_group_list`], comma-separated.
 pub fn io_group_names(groups: u8) -> String {
-    IO_GROUPS.iter().enumerate().filter(|(i, _)| groups >> i & 1 == 1).map(|(_, g)| *g).collect::<Vec<_>>().join(",")
+    io_group_list(groups).join(",")
 }
 
 /// Largest `--min-period` (ID_MIN_PERIOD is a 16-bit register).
@@ -533,10 +538,7 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         max_step_rate_hz: opts.max_step_rate_hz(),
         register_map_version: format!("{}.{}", regs::VERSION >> 8, regs::VERSION & 0xFF),
         io: opts.io,
-        io_groups: opts.io.then(|| {
-            let g = opts.params().io_groups();
-            IO_GROUPS.iter().enumerate().filter(|(i, _)| g >> i & 1 == 1).map(|(_, n)| *n).collect()
-        }),
+        io_groups: opts.io.then(|| io_group_list(opts.params().io_groups())),
         stop_decel_min: opts.io.then(|| opts.params().stop_decel_min()),
         ports: ports(opts.axes, opts.params().io_groups()),
         tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },

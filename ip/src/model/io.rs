@@ -74,8 +74,6 @@ pub const MODE_LIMITS: u8 = 1;
 pub const MODE_ALARM: u8 = 2;
 pub const MODE_WATCHDOG: u8 = 4;
 pub const MODE_HOME: u8 = 8;
-/// STOP_MODE's width.
-pub const MODE_BITS: u32 = 4;
 
 /// Clk edges from the edge that first samples a pin change to the edge on which the
 /// filtered level changes, with the prescaler at 0 (a sample every tick) and `n`
