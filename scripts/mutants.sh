@@ -97,6 +97,8 @@ mutants=(
   "64#ip/src/hdl/machine_io.rs#s/\| \(self.tripped.q.val\(\) & !self.stop_mode.val\(\).get_bit\(2\)\)/| self.tripped.q.val()/#hdl_machine_io#stop_modes#a controlled watchdog trip stops hard at once"
   "65#ip/src/hdl/stop_regs.rs#s/self.home_sync.sig_in.next = self.home_r.q.val\(\);/self.home_sync.sig_in.next = 0.into();/#system#stop_modes#STOP_HOME never reaches clk"
   "66#ip/src/hdl/top.rs#s/self.stop_regs.cstop.val\(\) \| self.\\\$io.axis_cstop.val\(\)/self.stop_regs.cstop.val()/#system#stop_modes#the sources in controlled mode never reach the core"
+  "67#ip/src/hdl/stop_ramp.rs#s/c_bypass: Constant::new\(K == 1\),/c_bypass: Constant::new(false),/#hdl_core#controlled_stop_ramps_down_on_a_one_axis_core#K = 1 reads the last period before its registered write reaches the RAM"
+  "68#ip/src/hdl/io_regs.rs#s/self.c_one.val\(\) << self.rd_axis_next.val\(\).get_bits::<4>\(0\)/self.c_one.val()/#system#io_axis_reads#IO_AXIS of every axis reads axis 0's inputs"
 )
 
 only=("$@")

@@ -796,9 +796,24 @@ fn spec_cs<const K: usize>() -> TbSpec {
 /// rust-hdl and Verilator give the same trace.
 #[test]
 fn controlled_stop_ramps_down_from_every_kind_of_segment() {
+    controlled_stop_scenarios::<2>(true);
+}
+
+/// The same scenarios on a one-axis core (Verilator; the model's edges as above): with
+/// K = 1 the scheduler reads an axis's last period in the cycle after its write, which
+/// `StopRamp` serves from the write's register (a bypass only K = 1 builds).
+#[test]
+fn controlled_stop_ramps_down_on_a_one_axis_core() {
+    controlled_stop_scenarios::<1>(false);
+}
+
+/// Axis K − 1 runs the scenarios (axis 0 of a two-axis core runs its moves alongside);
+/// `rust_hdl`: compare the first scenarios' trace with rust-hdl's too.
+fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     use tdm_stepper::hdl::core::{gray, t_stop_form};
     use tdm_stepper::model::stop::{cut_run, stop_segment};
-    const K: usize = 2;
+    let ax = K - 1;
+    let bit = 1u128 << ax;
     let limits = Limits::default();
     let decel: u32 = u32::MAX;
     let axes = moves();
@@ -826,31 +841,33 @@ fn controlled_stop_ramps_down_from_every_kind_of_segment() {
             Some((a, s)) => (1, a, (s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128)),
             None => (0, 0, (0, 0, 0)),
         };
-        vec![0, v, a, s.0, s.1, s.2, start as u128, if start { 0b10 } else { 0 }, 1, 0, 0, 0, cstop, decel as u128]
+        vec![0, v, a, s.0, s.1, s.2, start as u128, if start { bit } else { 0 }, ax as u128, 0, 0, 0, cstop, decel as u128]
     };
     let mut ev: Vec<(u64, Vec<u128>)> = vec![(0, [vec![1], row(None, false, 0)[1..].to_vec()].concat()), (3, row(None, false, 0))];
     // Axis 0's moves first, released with axis 1's first move.
     let mut c = 3u64;
-    for s in core_feed(&axes[0]) {
-        c += 1;
-        ev.push((c, row(Some((0, &s)), false, 0)));
+    if K > 1 {
+        for s in core_feed(&axes[0]) {
+            c += 1;
+            ev.push((c, row(Some((0, &s)), false, 0)));
+        }
     }
     let mut windows = Vec::new();
     for (k, (what, segs, at)) in scenarios.iter().enumerate() {
         let run = AxisRun::run(segs, &limits);
         for s in core_feed(segs) {
             c += 1;
-            ev.push((c, row(Some((1, &s)), false, 0)));
+            ev.push((c, row(Some((ax as u128, &s)), false, 0)));
         }
         c += 1;
         let mut r = row(None, true, 0);
         if k == 0 {
-            r[7] = 0b11;
+            r[7] = (1 << K) - 1;
         }
         ev.push((c, r));
         let stop = c + 400 + at;
         ev.push((c + 1, row(None, false, 0)));
-        ev.push((stop, row(None, false, 0b10)));
+        ev.push((stop, row(None, false, bit)));
         let slowest = run.fifo.iter().map(|e| e.ticks as u64).max().unwrap();
         let ramp = run.fifo.iter().filter(|e| e.step).filter_map(|e| stop_segment(e.ticks, decel, e.reverse)).map(|s| s.t_ticks as u64).max().unwrap_or(0);
         let end = stop + (DEPTH as u64 + 3) * slowest + ramp + 4000;
@@ -859,8 +876,8 @@ fn controlled_stop_ramps_down_from_every_kind_of_segment() {
             // ramp's end, and a segment pushed while the ramp runs: the ramp is not cut
             // again and the segment is dropped (the edges are one cut_run's).
             let late = core_feed(&uniform)[0];
-            ev.push((stop + 2000, row(Some((1, &late)), false, 0b10)));
-            ev.push((stop + 2001, row(None, false, 0b10)));
+            ev.push((stop + 2000, row(Some((ax as u128, &late)), false, bit)));
+            ev.push((stop + 2001, row(None, false, bit)));
             ev.push((end - 3000, row(None, false, 0)));
         } else {
             ev.push((stop + 1, row(None, false, 0)));
@@ -871,24 +888,28 @@ fn controlled_stop_ramps_down_from_every_kind_of_segment() {
     let cycles = c + 10;
     let uut = || connect_core!(TdmCore::<K, R, DEPTH, QDEPTH>::new().with_controlled_stop());
     ev.sort_by_key(|e| e.0);
-    let got = run_sparse(Simulator::Verilator, &sim_dir("core_cstop", Simulator::Verilator), &generate_verilog(&uut()), &spec_cs::<K>(), &ev, cycles).unwrap();
-    let cut_off = windows[RUST_HDL_SCENARIOS - 1].4;
-    let ev_short: Vec<_> = ev.iter().filter(|e| e.0 < cut_off).cloned().collect();
-    let reference = rust_hdl_trace!(uut(), &ev_short, cut_off);
-    let short: Vec<Change> = got.iter().filter(|c| c.0 < cut_off).cloned().collect();
-    same_traces(&short, &reference, "controlled stop");
+    let got = run_sparse(Simulator::Verilator, &sim_dir(&format!("core_cstop_k{K}"), Simulator::Verilator), &generate_verilog(&uut()), &spec_cs::<K>(), &ev, cycles).unwrap();
+    if rust_hdl {
+        let cut_off = windows[RUST_HDL_SCENARIOS - 1].4;
+        let ev_short: Vec<_> = ev.iter().filter(|e| e.0 < cut_off).cloned().collect();
+        let reference = rust_hdl_trace!(uut(), &ev_short, cut_off);
+        let short: Vec<Change> = got.iter().filter(|c| c.0 < cut_off).cloned().collect();
+        same_traces(&short, &reference, "controlled stop");
+    }
 
     let step = expand(&got, 0, cycles);
     let under = expand(&got, 2, cycles);
     let busy = expand(&got, 3, cycles);
     let pos = expand(&got, 4, cycles);
     let fsm = expand(&got, 6, cycles);
-    // Axis 0 untouched.
-    let run0 = AxisRun::run(&axes[0], &limits);
-    let r0 = rises_of(&step, 0);
-    assert_eq!(r0.len(), run0.edge_ticks.len(), "axis 0 ran all its steps");
-    release_of(&r0, &run0.edge_ticks, "axis 0").unwrap();
-    let r1 = rises_of(&step, 1);
+    if K > 1 {
+        // Axis 0 untouched.
+        let run0 = AxisRun::run(&axes[0], &limits);
+        let r0 = rises_of(&step, 0);
+        assert_eq!(r0.len(), run0.edge_ticks.len(), "axis 0 ran all its steps");
+        release_of(&r0, &run0.edge_ticks, "axis 0").unwrap();
+    }
+    let r1 = rises_of(&step, ax);
     let st = |name: &str| gray(STATES.iter().position(|s| *s == name).unwrap()) as u128;
     let mut position = 0i64;
     for (what, run, from, stop, end) in &windows {
@@ -912,9 +933,9 @@ fn controlled_stop_ramps_down_from_every_kind_of_segment() {
             assert!(rises.len() < run.edge_ticks.len() || m.position != run.position, "{what}: the stop changed nothing");
         }
         position += m.position;
-        assert_eq!(busy[*end as usize - 1] >> 1 & 1, 0, "{what}: axis 1 at rest");
+        assert_eq!(busy[*end as usize - 1] >> ax & 1, 0, "{what}: the axis at rest");
         assert_eq!(pos[*end as usize - 1] as u32 as i32 as i64, position, "{what}: position = edges emitted");
-        assert!((*from..*end).all(|x| under[x as usize] >> 1 & 1 == 0), "{what}: an underrun");
+        assert!((*from..*end).all(|x| under[x as usize] >> ax & 1 == 0), "{what}: an underrun");
         // The ramp's formation: the first C_V0 after the stop, to the commit that follows.
         if let Some(v0) = (*stop..*end).find(|&x| fsm[x as usize] == st("C_V0")) {
             let commit = (v0..*end).find(|&x| fsm[x as usize] == st("S_COMMIT_SETUP")).unwrap();

@@ -461,20 +461,24 @@ fn estop_starts_latched_and_a_release_alone_never_clears_it() {
     });
     // Latched after reset, until the re-arm at 50 (the input is released then).
     assert!(out[3..=50].iter().all(|o| o[OUT_LATCHED] == 1 && o[OUT_HARD] == 1), "starts latched");
-    assert!(out[51..300].iter().all(|o| o[OUT_LATCHED] == 0 && o[OUT_HARD] == 0), "re-armed while released");
-    assert_eq!(out[51][OUT_DRV], 0, "the enables are a cycle behind");
+    // Re-armed while released: the latch at once, the hard stop and the enables (both
+    // registered) a cycle later.
+    assert!(out[51..300].iter().all(|o| o[OUT_LATCHED] == 0), "re-armed while released");
+    assert_eq!((out[51][OUT_HARD], out[51][OUT_DRV]), (1, 0), "the hard stop and the enables are a cycle behind");
+    assert!(out[52..300].iter().all(|o| o[OUT_HARD] == 0), "the hard stop released");
     assert!(out[52..300].iter().all(|o| o[OUT_DRV] == 0b111), "drivers enabled once re-armed");
-    // Pressed at 300: the hard stop rises after 2 + n edges, as the filtered level does.
+    // Pressed at 300: the filtered level rises after 2 + n edges, the (registered) hard
+    // stop one edge later, and the drivers' enables fall with it.
     let hard = 300 + out[300..].iter().position(|o| o[OUT_HARD] == 1).unwrap();
-    assert_eq!(hard as u64, 300 + pin_to_level_ticks(n) + 1, "pin to hard stop");
-    assert_eq!(out[hard][OUT_ESTOP], 1);
-    assert_eq!(out[hard + 1][OUT_DRV], 0, "drivers disabled a cycle later");
+    assert_eq!(hard as u64, 300 + pin_to_level_ticks(n) + 2, "pin to hard stop");
+    assert_eq!((out[hard - 1][OUT_ESTOP], out[hard - 2][OUT_ESTOP]), (1, 0), "the level a tick before the hard stop");
+    assert_eq!((out[hard - 1][OUT_DRV], out[hard][OUT_DRV]), (0b111, 0), "drivers disabled with the hard stop");
     // The re-arm at 400 (still pressed) does nothing; the release at 600 does not clear it.
     assert!(out[hard..=700].iter().all(|o| o[OUT_LATCHED] == 1 || o[OUT_ESTOP] == 1));
     assert!(out[610..=700].iter().all(|o| o[OUT_LATCHED] == 1 && o[OUT_HARD] == 1 && o[OUT_ESTOP] == 0), "released, still latched");
     // Only the re-arm at 700, while released, clears it.
     assert_eq!(out[701][OUT_LATCHED], 0);
-    assert_eq!(out[701][OUT_HARD], 0);
+    assert_eq!((out[701][OUT_HARD], out[702][OUT_HARD]), (1, 0));
 }
 
 #[test]
@@ -491,8 +495,9 @@ fn the_watchdog_trips_after_exactly_its_timeout_and_never_while_fed() {
     assert!(out[11..=last_feed + ticks].iter().all(|o| o[OUT_TRIPPED] == 0), "tripped while fed");
     // The feed's edge ends row last_feed; the trip shows `ticks` edges later.
     assert_eq!(out[last_feed + ticks + 1][OUT_TRIPPED], 1, "trip after exactly the timeout");
-    assert_eq!(out[last_feed + ticks + 1][OUT_HARD], 1);
-    assert_eq!(out[last_feed + ticks + 2][OUT_DRV], 0);
+    // The hard stop (registered) and the enables a tick later.
+    assert_eq!((out[last_feed + ticks + 1][OUT_HARD], out[last_feed + ticks + 2][OUT_HARD]), (0, 1));
+    assert_eq!((out[last_feed + ticks + 1][OUT_DRV], out[last_feed + ticks + 2][OUT_DRV]), (0b111, 0));
     assert!(out[last_feed + ticks + 1..].iter().all(|o| o[OUT_TRIPPED] == 1), "sticky");
 }
 
@@ -913,15 +918,15 @@ fn stop_modes_route_each_source_to_the_hard_or_the_controlled_stop() {
         assert_eq!(out[trip][OUT_TRIPPED], 1);
         assert_eq!(out[trip - 1][OUT_TRIPPED], 0);
         if mode & MODE_WATCHDOG == 0 {
-            assert_eq!(out[trip][OUT_HARD], 1, "mode {mode:#x}: a hard trip stops at once");
+            assert_eq!((out[trip][OUT_HARD], out[trip + 1][OUT_HARD]), (0, 1), "mode {mode:#x}: a hard trip stops a tick later");
             assert!(rows(7, OUT_AXIS_CSTOP, trip..2100).is_empty());
         } else {
             // Every axis asked to ramp down (registered), the hard stop only at rest.
             assert!(out[trip + 1..2000].iter().all(|o| o[OUT_AXIS_CSTOP] == 0b111 && o[OUT_HARD] == 0), "mode {mode:#x}: ramps");
             assert!(out[trip + 2..2000].iter().all(|o| o[OUT_DRV] == 0b111), "mode {mode:#x}: enabled while ramping");
-            assert_eq!(out[2000][OUT_HARD], 0);
-            assert_eq!(out[2001][OUT_HARD], 1, "mode {mode:#x}: hard once no axis is active");
-            assert_eq!(out[2002][OUT_DRV], 0);
+            assert_eq!(out[2001][OUT_HARD], 0);
+            assert_eq!(out[2002][OUT_HARD], 1, "mode {mode:#x}: hard once no axis is active (two ticks: registered twice)");
+            assert_eq!((out[2001][OUT_DRV], out[2002][OUT_DRV]), (0b111, 0));
         }
     }
 }

@@ -1153,8 +1153,8 @@ fn io_pins(estop_n: bool) -> Vec<u128> {
 }
 
 /// E-stop through the bus, on a move of both axes: the hard stop comes within the
-/// documented latency of the pin (no STEP rising edge after clk edge e0 + 3 + n, e0 the
-/// first edge that samples the pin; e0 + 2 + n unless a push reaches the core in that
+/// documented latency of the pin (no STEP rising edge after clk edge e0 + 4 + n, e0 the
+/// first edge that samples the pin; e0 + 3 + n unless a push reaches the core in that
 /// cycle), no pulse is cut below STEP_HIGH, the
 /// positions read back equal the edges emitted, the queues are empty, drv_enable drops
 /// (at e0 + 3 + n),
@@ -1226,7 +1226,7 @@ fn estop_through_the_bus_stops_every_axis_exactly() {
 
     // The pin is first sampled by the clk edge after t_estop (rising edges at 2·HC·j).
     let e0 = t_estop.div_ceil(2 * CLOCKS.clk_half_ps);
-    let last_allowed = e0 + pin_to_level_ticks(N) + 1;
+    let last_allowed = e0 + pin_to_level_ticks(N) + 2;
     let resume = clk_cycle_at(t_rearm);
     for a in 0..K {
         let r = rises(&tr, a);

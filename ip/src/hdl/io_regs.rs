@@ -5,7 +5,9 @@
 //!
 //! Ports:
 //! * bus side (`bus_clock`, `bus_reset`): `wr`, `wr_addr`, `wr_data` (the EXMC slave's
-//!   commit, one cycle), `rd_addr` → `rd_data` (combinational, like the register file's),
+//!   commit, one cycle), `rd_addr` → `rd_data` (combinational, like the register file's;
+//!   the read's axis is decoded a cycle ahead from `rd_axis_next` into one-hot
+//!   flip-flops),
 //!   `enable` (CTRL.ENABLE), `irq` (IRQ_IO under IRQ_MASK_IO, registered);
 //! * configuration to `clk` (`polarity`, `filter`, `prescale`, `edges`, `wd_timeout`):
 //!   bus-clock registers written only while CTRL.ENABLE = 0 and the core is held in
@@ -40,7 +42,6 @@
 //! cleared while CTRL.ENABLE = 0, as the register file clears its own.
 
 use super::axis_bank::LATCH_BITS;
-use super::bit_insert::BitPick;
 use super::cdc::BitsSync;
 use super::lut_ram::LutRam;
 use super::status_sync::WordSync;
@@ -56,6 +57,7 @@ pub struct IoRegs<const K: usize> {
     pub wr_addr: Signal<In, Bits<ADDR_BITS>>,
     pub wr_data: Signal<In, Bits<16>>,
     pub rd_addr: Signal<In, Bits<ADDR_BITS>>,
+    pub rd_axis_next: Signal<In, Bits<5>>,
     pub rd_data: Signal<Out, Bits<16>>,
     pub enable: Signal<In, Bit>,
     pub irq: Signal<Out, Bit>,
@@ -108,7 +110,6 @@ pub struct IoRegs<const K: usize> {
     stop_s: BitsSync<K>,
     stop_prev: DFF<Bits<K>>,
     stopped: DFF<Bits<K>>,
-    stopped_p: [BitPick<K>; K],
     new_stop: Signal<Local, Bits<K>>,
     r_stopped: Signal<Local, Bit>,
     toggles: DFF<Bits<3>>,
@@ -120,11 +121,6 @@ pub struct IoRegs<const K: usize> {
     home_s: BitsSync<K>,
     alarm_s: BitsSync<K>,
     drv_s: BitsSync<K>,
-    lneg_p: [BitPick<K>; K],
-    lpos_p: [BitPick<K>; K],
-    home_p: [BitPick<K>; K],
-    alarm_p: [BitPick<K>; K],
-    drv_p: [BitPick<K>; K],
     /// The latch crossing, its mirror (home 31..0, probe 63..32), which axes' mirror
     /// words are written, the mirror's toggles, the probe toggle last announced, the
     /// axes' home events and the high half latched by a LO read.
@@ -136,8 +132,6 @@ pub struct IoRegs<const K: usize> {
     pann: DFF<Bit>,
     home_ev: DFF<Bits<K>>,
     hi_latch: DFF<Bits<16>>,
-    lvld_p: [BitPick<K>; K],
-    home_ev_p: [BitPick<K>; K],
     c_one: Constant<Bits<K>>,
     c_ones: Constant<Bits<K>>,
     l_word: Signal<Local, Bits<67>>,
@@ -187,6 +181,9 @@ pub struct IoRegs<const K: usize> {
     g: Signal<Local, Bits<5>>,
     may_config: Signal<Local, Bit>,
     rd_axis_reg: Signal<Local, Bit>,
+    /// The read addresses axis i's block (bit i; 0 for a global register or an axis
+    /// ≥ K), decoded a cycle ahead from `rd_axis_next`, as the register file does.
+    rsel: DFF<Bits<K>>,
     /// The e-stop input (bit 0) and the trip (bit 1), synchronised.
     now: Signal<Local, Bits<2>>,
     /// This cycle's new events (IRQ_IO's bits).
@@ -214,6 +211,7 @@ impl<const K: usize> Default for IoRegs<K> {
             wr_addr: Default::default(),
             wr_data: Default::default(),
             rd_addr: Default::default(),
+            rd_axis_next: Default::default(),
             rd_data: Default::default(),
             enable: Default::default(),
             irq: Default::default(),
@@ -259,7 +257,6 @@ impl<const K: usize> Default for IoRegs<K> {
             stop_s: Default::default(),
             stop_prev: Default::default(),
             stopped: Default::default(),
-            stopped_p: std::array::from_fn(BitPick::new),
             new_stop: Default::default(),
             r_stopped: Default::default(),
             toggles: Default::default(),
@@ -271,11 +268,6 @@ impl<const K: usize> Default for IoRegs<K> {
             home_s: Default::default(),
             alarm_s: Default::default(),
             drv_s: Default::default(),
-            lneg_p: std::array::from_fn(BitPick::new),
-            lpos_p: std::array::from_fn(BitPick::new),
-            home_p: std::array::from_fn(BitPick::new),
-            alarm_p: std::array::from_fn(BitPick::new),
-            drv_p: std::array::from_fn(BitPick::new),
             lsync: Default::default(),
             lmirror: Default::default(),
             lvld: Default::default(),
@@ -284,8 +276,6 @@ impl<const K: usize> Default for IoRegs<K> {
             pann: Default::default(),
             home_ev: Default::default(),
             hi_latch: Default::default(),
-            lvld_p: std::array::from_fn(BitPick::new),
-            home_ev_p: std::array::from_fn(BitPick::new),
             c_one: Constant::new(1.into()),
             c_ones: Constant::new(((1u64 << K) - 1).into()),
             l_word: Default::default(),
@@ -325,6 +315,7 @@ impl<const K: usize> Default for IoRegs<K> {
             g: Default::default(),
             may_config: Default::default(),
             rd_axis_reg: Default::default(),
+            rsel: Default::default(),
             now: Default::default(),
             new_ev: Default::default(),
             pulses: Default::default(),
@@ -378,6 +369,7 @@ impl<const K: usize> IoRegs<K> {
         self.wr_addr.connect();
         self.wr_data.connect();
         self.rd_addr.connect();
+        self.rd_axis_next.connect();
         self.enable.connect();
         self.clock.connect();
         self.running.connect();
@@ -402,7 +394,7 @@ impl<const K: usize> Logic for IoRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, bus_clock, pol, filt_lo, filt_hi, pre, edg, wdt, refused, events, mask, toggles, prev, irq_q);
-        dff_setup!(self, bus_clock, lvld, htog_b, ptog_b, pann, home_ev, hi_latch, stop_prev, stopped);
+        dff_setup!(self, bus_clock, lvld, htog_b, ptog_b, pann, home_ev, hi_latch, stop_prev, stopped, rsel);
         // The per-axis stops' events: their toggles across.
         self.stop_s.clock.next = self.bus_clock.val();
         self.stop_s.sig_in.next = self.stop_tog.val();
@@ -619,39 +611,22 @@ impl<const K: usize> Logic for IoRegs<K> {
         if self.rd_addr.val() == self.a_mask.val() {
             self.rd_data.next = bit_cast::<16, 5>(self.mask.q.val());
         }
-        self.r_hit.next = false;
-        self.r_lneg.next = false;
-        self.r_lpos.next = false;
-        self.r_home.next = false;
-        self.r_alarm.next = false;
-        self.r_drv.next = false;
-        self.r_lvld.next = false;
-        self.r_hev.next = false;
-        self.r_stopped.next = false;
         self.rd_axis_reg.next = self.rd_addr.val().get_bit(8) & (self.rd_addr.val().get_bits::<4>(0) == self.o_axis.val());
-        for i in 0..K {
-            self.lneg_p[i].bus.next = self.lneg_s.sig_out.val();
-            self.lpos_p[i].bus.next = self.lpos_s.sig_out.val();
-            self.home_p[i].bus.next = self.home_s.sig_out.val();
-            self.alarm_p[i].bus.next = self.alarm_s.sig_out.val();
-            self.drv_p[i].bus.next = self.drv_s.sig_out.val();
-            self.lvld_p[i].bus.next = self.lvld.q.val();
-            self.home_ev_p[i].bus.next = self.home_ev.q.val();
-            self.stopped_p[i].bus.next = self.stopped.q.val();
-            if self.rd_addr.val().get_bits::<4>(4).index() == i {
-                self.r_lvld.next = self.lvld_p[i].value.val();
-                self.r_hev.next = self.home_ev_p[i].value.val();
-                self.r_stopped.next = self.stopped_p[i].value.val();
-            }
-            if self.rd_axis_reg.val() & (self.rd_addr.val().get_bits::<4>(4).index() == i) {
-                self.r_hit.next = true;
-                self.r_lneg.next = self.lneg_p[i].value.val();
-                self.r_lpos.next = self.lpos_p[i].value.val();
-                self.r_home.next = self.home_p[i].value.val();
-                self.r_alarm.next = self.alarm_p[i].value.val();
-                self.r_drv.next = self.drv_p[i].value.val();
-            }
+        // Each per-axis field: an OR of the axes' values under the one-hot select, so
+        // the path to `rd_data` starts at flip-flops, not at a K:1 multiplexer.
+        self.rsel.d.next = 0.into();
+        if self.rd_axis_next.val().get_bit(4) {
+            self.rsel.d.next = self.c_one.val() << self.rd_axis_next.val().get_bits::<4>(0);
         }
+        self.r_lvld.next = (self.lvld.q.val() & self.rsel.q.val()).any();
+        self.r_hev.next = (self.home_ev.q.val() & self.rsel.q.val()).any();
+        self.r_stopped.next = (self.stopped.q.val() & self.rsel.q.val()).any();
+        self.r_hit.next = self.rd_axis_reg.val() & self.rsel.q.val().any();
+        self.r_lneg.next = (self.lneg_s.sig_out.val() & self.rsel.q.val()).any();
+        self.r_lpos.next = (self.lpos_s.sig_out.val() & self.rsel.q.val()).any();
+        self.r_home.next = (self.home_s.sig_out.val() & self.rsel.q.val()).any();
+        self.r_alarm.next = (self.alarm_s.sig_out.val() & self.rsel.q.val()).any();
+        self.r_drv.next = (self.drv_s.sig_out.val() & self.rsel.q.val()).any();
         if self.r_hit.val() {
             self.rd_data.next = bit_cast::<16, 1>(self.r_lneg.val().into())
                 | (bit_cast::<16, 1>(self.r_lpos.val().into()) << 1)

@@ -20,10 +20,12 @@
 //! `run` says the core is enabled.
 //!
 //! **Outputs**:
-//! * `hard_stop` (flip-flops, an OR of three): the filtered e-stop is active, or the
-//!   e-stop latch is set, or the watchdog has tripped. The core stops every axis while
-//!   it is high (category 0). With a sample every tick, a pin change first sampled at
-//!   edge e0 raises it after edge e0 + 2 + n.
+//! * `hard_stop` (registered, one cycle behind an OR of three): the filtered e-stop is
+//!   active, or the e-stop latch is set, or the watchdog has tripped. The core stops
+//!   every axis while it is high (category 0). With a sample every tick, a pin change
+//!   first sampled at edge e0 raises it after edge e0 + 3 + n. (The register keeps the
+//!   OR off the abort's fan-out to every step generator: that was the K = 16 core's
+//!   critical path.)
 //! * `estop_latched`: set by reset and whenever the filtered e-stop is active; cleared
 //!   only by `estop_rearm` in a cycle where the filtered e-stop is inactive, so a
 //!   release alone never clears it. `estop_active`, `probe_active`: filtered levels.
@@ -32,8 +34,8 @@
 //!   the watchdog was off), if no feed came since; sticky until `wd_rearm`, which
 //!   restarts the count. A feed does not clear a trip. Lowering the timeout below the
 //!   time already counted trips at once.
-//! * `drv_enable` (bit a, registered, one cycle behind): `run`, no hard stop, and axis a's
-//!   filtered alarm inactive. Low after reset.
+//! * `drv_enable` (bit a, registered, one cycle behind, so it falls with `hard_stop`):
+//!   `run`, no hard stop, and axis a's filtered alarm inactive. Low after reset.
 //! * `limit_neg_active`, `limit_pos_active`, `home_active`, `alarm_active`: the filtered
 //!   levels per axis.
 //! * `home_latch` (bit a) and `probe_latch`: high in the cycle before the filtered home
@@ -52,7 +54,7 @@
 //!   `stop_mode` puts in controlled mode (bit 0 the limits, 1 the alarm, 2 the watchdog,
 //!   3 the stop on home; 0 = hard, in `axis_stop`): a limit or an alarm for as long as
 //!   it holds, a watchdog trip on every axis for as long as it lasts. A controlled
-//!   watchdog trip raises `hard_stop` only once no axis is `active` (a tick later); a
+//!   watchdog trip raises `hard_stop` only once no axis is `active` (two ticks later); a
 //!   controlled alarm keeps its axis's `drv_enable` while the axis is `active`.
 //!   `home_stop` bit a arms the stop on home: axis a's home latch strobe while it is
 //!   `active` requests its stop for one cycle, the next. `stop_tog` flips when either
@@ -150,6 +152,7 @@ pub struct MachineIo<const K: usize> {
     drv: DFF<Bits<K>>,
     sample: Signal<Local, Bit>,
     hard: Signal<Local, Bit>,
+    hard_q: DFF<Bit>,
     wd_end: Signal<Local, Bits<26>>,
 }
 
@@ -230,6 +233,7 @@ impl<const K: usize> Default for MachineIo<K> {
             drv: Default::default(),
             sample: Default::default(),
             hard: Default::default(),
+            hard_q: Default::default(),
             wd_end: Default::default(),
         }
     }
@@ -273,7 +277,7 @@ impl<const K: usize> MachineIo<K> {
 impl<const K: usize> Logic for MachineIo<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, prescaler, latched, wd_count, tripped, drv, toward_q, stop_q, tog_q, cs_q, wd_rest);
+        dff_setup!(self, clock, prescaler, latched, wd_count, tripped, drv, toward_q, stop_q, tog_q, cs_q, wd_rest, hard_q);
         // The filters' shared sample strobe.
         self.sample.next = self.prescaler.q.val() >= self.prescale.val();
         if self.sample.val() {
@@ -308,7 +312,8 @@ impl<const K: usize> Logic for MachineIo<K> {
             | (self.tripped.q.val() & !self.stop_mode.val().get_bit(2))
             | self.wd_rest.q.val();
         self.wd_rest.d.next = self.tripped.q.val() & self.stop_mode.val().get_bit(2) & !self.active.val().any();
-        self.hard_stop.next = self.hard.val();
+        self.hard_q.d.next = self.hard.val();
+        self.hard_stop.next = self.hard_q.q.val();
         self.estop_latched.next = self.latched.q.val();
         self.latched.d.next = (self.estop_f.active.val() & self.c_groups.val().get_bit(0)) | (self.latched.q.val() & !self.estop_rearm.val());
         self.wd_tripped.next = self.tripped.q.val();
@@ -440,6 +445,7 @@ impl<const K: usize> Logic for MachineIo<K> {
         if self.reset.val() {
             self.prescaler.d.next = 0.into();
             self.latched.d.next = self.c_groups.val().get_bit(0);
+            self.hard_q.d.next = self.c_groups.val().get_bit(0);
             self.wd_count.d.next = 1.into();
             self.tripped.d.next = false;
             self.drv.d.next = 0.into();

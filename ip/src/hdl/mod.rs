@@ -25,7 +25,7 @@
 //! | push check: every command to the core, a push validated with the model's rules (bus clock) | `push_check.rs` | 4 cycles |
 //! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
 //! | one machine input: synchroniser, polarity, filter | `input_filter.rs` | 2 + n samples (pin to level) |
-//! | machine I/O and safety: input filters, e-stop latch, watchdog, hard-stop request, driver enables, latch strobes | `machine_io.rs` | as its filters; `hard_stop` 2 + n ticks from the e-stop pin |
+//! | machine I/O and safety: input filters, e-stop latch, watchdog, hard-stop request, driver enables, latch strobes | `machine_io.rs` | as its filters; `hard_stop` 3 + n ticks from the e-stop pin |
 //! | the whole IP core, `tdm_stepper` (and its baseline form) | `top.rs` | — |
 //!
 //! Timing conventions, latencies, sizes and what each test proves: docs/architecture.md.

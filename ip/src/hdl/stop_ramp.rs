@@ -6,11 +6,16 @@
 //!   `clear_axis`); a request in the same cycle as its clear survives. `reset` empties
 //!   them.
 //! * **Last period** per axis: every period entry the scheduler pushes (`last_we`, with
-//!   `last_axis`, `last_delta` Δ, `last_step` and `last_rev`) is written to a K-word LUT
-//!   RAM as (Δ, direction), Δ taken as 0 (at rest) for a dwell's entry or Δ ≥
-//!   [`crate::model::stop::STOP_REST_PERIOD`]. The scheduler reads axis `raxis`'s word
-//!   combinationally (latency 0): `d1` = Δ + 1, `rest` (Δ = 0) and `rev`. A word is read
-//!   only for an axis that is running, whose move has pushed at least one entry.
+//!   `last_axis`, `last_delta` Δ, `last_step` and `last_rev`) is registered, then written
+//!   to a K-word LUT RAM as (Δ, direction), Δ taken as 0 (at rest) for a dwell's entry or
+//!   Δ ≥ [`crate::model::stop::STOP_REST_PERIOD`] (the register keeps the subtraction that
+//!   forms Δ and this comparison in two cycles: it was the K = 2 core's critical path).
+//!   The scheduler reads axis `raxis`'s word combinationally: `d1` = Δ + 1, `rest` (Δ = 0)
+//!   and `rev`. A word is read only for an axis that is running, whose move has pushed at
+//!   least one entry. The scheduler reads an axis no sooner than the cycle after its
+//!   write, when the word is still in the register: with K ≥ 2 the axis read then is
+//!   another one (round robin), and with K = 1 the read takes the registered word
+//!   (a bypass that only K = 1 builds), so a read sees every earlier write.
 //!
 //! * **Ramping** (`stopping`, bit i): a stop ramp of axis i is in its next slot
 //!   (`set_next`, at the ramp's commit, axis `clear_axis`) or is its current segment
@@ -19,8 +24,8 @@
 //!   does not cut a ramp: a request on a stopping axis drops what is queued behind the
 //!   ramp instead.
 //!
-//! Ports: the above; latency 1 from `request`/`clear` to `pend`, 0 from a write's
-//! edge to its read.
+//! Ports: the above; latency 1 from `request`/`clear` to `pend`; a write is seen by
+//! every read from the next cycle on.
 
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
@@ -60,6 +65,13 @@ pub struct StopRamp<const K: usize> {
     c_rest: Constant<Bits<32>>,
     w_delta: Signal<Local, Bits<LAST_BITS>>,
     r_delta: Signal<Local, Bits<LAST_BITS>>,
+    r_word: Signal<Local, Bits<25>>,
+    p_we: DFF<Bit>,
+    p_axis: DFF<Bits<4>>,
+    p_delta: DFF<Bits<32>>,
+    p_step: DFF<Bit>,
+    p_rev: DFF<Bit>,
+    c_bypass: Constant<Bit>,
 }
 
 impl<const K: usize> Default for StopRamp<K> {
@@ -95,6 +107,13 @@ impl<const K: usize> Default for StopRamp<K> {
             c_rest: Constant::new((crate::model::stop::STOP_REST_PERIOD as u64).into()),
             w_delta: Default::default(),
             r_delta: Default::default(),
+            r_word: Default::default(),
+            p_we: Default::default(),
+            p_axis: Default::default(),
+            p_delta: Default::default(),
+            p_step: Default::default(),
+            p_rev: Default::default(),
+            c_bypass: Constant::new(K == 1),
         }
     }
 }
@@ -102,7 +121,7 @@ impl<const K: usize> Default for StopRamp<K> {
 impl<const K: usize> Logic for StopRamp<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, r_pend, r_next, r_cur);
+        dff_setup!(self, clock, r_pend, r_next, r_cur, p_we, p_axis, p_delta, p_step, p_rev);
         self.m_bit.next = self.c_one.val() << self.clear_axis.val();
         self.clr_bit.next = 0.into();
         if self.clear.val() {
@@ -127,18 +146,27 @@ impl<const K: usize> Logic for StopRamp<K> {
         self.pend.next = self.r_pend.q.val();
         self.stopping.next = self.r_next.q.val() | self.r_cur.q.val();
         self.ram.clock.next = self.clock.val();
-        self.ram.we.next = self.last_we.val();
-        self.ram.waddr.next = self.last_axis.val();
+        self.p_we.d.next = self.last_we.val();
+        self.p_axis.d.next = self.last_axis.val();
+        self.p_delta.d.next = self.last_delta.val();
+        self.p_step.d.next = self.last_step.val();
+        self.p_rev.d.next = self.last_rev.val();
+        self.ram.we.next = self.p_we.q.val();
+        self.ram.waddr.next = self.p_axis.q.val();
         self.w_delta.next = 0.into();
-        if self.last_step.val() & (self.last_delta.val() < self.c_rest.val()) {
-            self.w_delta.next = self.last_delta.val().get_bits::<LAST_BITS>(0);
+        if self.p_step.q.val() & (self.p_delta.q.val() < self.c_rest.val()) {
+            self.w_delta.next = self.p_delta.q.val().get_bits::<LAST_BITS>(0);
         }
         self.ram.wdata.next = bit_cast::<25, LAST_BITS>(self.w_delta.val())
-            | (bit_cast::<25, 1>(self.last_rev.val().into()) << 24u64);
+            | (bit_cast::<25, 1>(self.p_rev.q.val().into()) << 24u64);
         self.ram.raddr.next = self.raxis.val();
-        self.r_delta.next = self.ram.rdata.val().get_bits::<LAST_BITS>(0);
+        self.r_word.next = self.ram.rdata.val();
+        if self.c_bypass.val() & self.p_we.q.val() {
+            self.r_word.next = self.ram.wdata.val();
+        }
+        self.r_delta.next = self.r_word.val().get_bits::<LAST_BITS>(0);
         self.d1.next = self.r_delta.val() + 1;
         self.rest.next = self.r_delta.val() == 0;
-        self.rev.next = self.ram.rdata.val().get_bit(24);
+        self.rev.next = self.r_word.val().get_bit(24);
     }
 }

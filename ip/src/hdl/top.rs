@@ -77,6 +77,8 @@ macro_rules! stepper_top {
             pub core: $core<K, R, DEPTH, QDEPTH>,
             cmd_kind: Signal<Local, Bits<2>>,
             core_reset: Signal<Local, Bit>,
+            /// The status word's BUSY bit (with the machine I/O, registered).
+            w_busy: Signal<Local, Bit>,
             /// The command stage: the FIFO's head, decoded and registered on its way
             /// to the core (push, START, ABORT and the entry's 104 data bits).
             c_push: DFF<Bit>,
@@ -97,6 +99,8 @@ macro_rules! stepper_top {
                 pub io_regs: IoRegs<K>,
                 pub guard: PushGuard<K>,
                 pub stop_regs: StopRegs<K>,
+                /// The selected axis's BUSY, registered (see `update`).
+                busy_q: DFF<Bit>,
             )?
         }
 
@@ -133,6 +137,7 @@ macro_rules! stepper_top {
                     core: if false $(|| { let _ = stringify!($io); true })? { $core::new().with_controlled_stop() } else { $core::new() },
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
+                    w_busy: Default::default(),
                     c_push: Default::default(),
                     c_start: Default::default(),
                     c_abort: Default::default(),
@@ -149,6 +154,7 @@ macro_rules! stepper_top {
                         io_regs: IoRegs::default().with_groups(params.io_groups()),
                         guard: Default::default(),
                         stop_regs: StopRegs::new(params.stop_decel_min()).with_groups(params.io_groups()),
+                        busy_q: Default::default(),
                     )?
                 }
             }
@@ -283,11 +289,12 @@ macro_rules! stepper_top {
                 self.core.home_latch.next = 0.into();
                 self.core.probe_latch.next = false;
                 self.core.lsel_axis.next = 0.into();
+                self.w_busy.next = self.core.sel_busy.val();
                 self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_done.val()) << 40)
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_underruns.val()) << 48)
-                    | (bit_cast::<STATUS_BITS, 1>(self.core.sel_busy.val().into()) << 56)
+                    | (bit_cast::<STATUS_BITS, 1>(self.w_busy.val().into()) << 56)
                     | (bit_cast::<STATUS_BITS, 1>((!self.core_reset.val()).into()) << 57);
                 self.regs.st_valid.next = self.status.valid.val();
                 self.regs.st_axis.next = self.status.axis.val();
@@ -299,6 +306,15 @@ macro_rules! stepper_top {
                     // reset with the core; its hard stop holds the core's abort.
                     self.$io.clock.next = self.clk.val();
                     self.$io.reset.next = self.core_reset.val();
+                    // The status word's BUSY a tick behind its position and counts: it
+                    // cuts the selected axis's BUSY multiplexer from the word's register
+                    // (a K = 8 `clk` path with the machine I/O's spread placement). A
+                    // word with BUSY = 0 is still exact: BUSY was 0 a tick earlier, so
+                    // no edge moved the position and nothing was taken in between (an
+                    // axis with anything queued is BUSY); BUSY = 1 only delays a resync.
+                    self.busy_q.clock.next = self.clk.val();
+                    self.busy_q.d.next = self.core.sel_busy.val();
+                    self.w_busy.next = self.busy_q.q.val();
                     self.$io.run.next = !self.core_reset.val();
                     self.$io.estop_n.next = self.estop_n.val();
                     self.$io.probe.next = self.probe.val();
@@ -321,6 +337,7 @@ macro_rules! stepper_top {
                     self.io_regs.wr_addr.next = self.exmc.wr_addr.val();
                     self.io_regs.wr_data.next = self.exmc.wr_data.val();
                     self.io_regs.rd_addr.next = self.exmc.rd_addr.val();
+                    self.io_regs.rd_axis_next.next = self.exmc.rd_axis_next.val();
                     self.io_regs.enable.next = self.regs.enable.val();
                     self.io_regs.clock.next = self.clk.val();
                     self.io_regs.running.next = !self.core_reset.val();
@@ -392,9 +409,13 @@ macro_rules! stepper_top {
                     // the queue takes it then and the next cycle's abort flushes it and
                     // counts it as taken (an abort and a push in one cycle would drop the
                     // push uncounted, and LEVEL would never come back to 0). A START does
-                    // nothing while the hard stop holds.
+                    // nothing while the hard stop holds, nor in the tick before it (the
+                    // filtered e-stop is active, `hard_stop` is registered from it).
                     self.core.abort.next = self.c_abort.q.val() | (self.$io.hard_stop.val() & !self.c_push.q.val());
-                    self.core.start.next = self.c_start.q.val() & !self.$io.hard_stop.val() & !self.$io.wd_tripped.val();
+                    self.core.start.next = self.c_start.q.val()
+                        & !self.$io.hard_stop.val()
+                        & !self.$io.wd_tripped.val()
+                        & !self.$io.estop_active.val();
                 )?
             }
         }

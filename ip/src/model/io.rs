@@ -19,8 +19,9 @@
 //! **The block** ([`MachineIoModel`]) keeps the e-stop latch (set after reset and
 //! whenever the filtered e-stop is active; cleared only by a re-arm while it is
 //! inactive), the watchdog (trips [`WATCHDOG_UNIT_TICKS`]·timeout ticks after the
-//! last feed or re-arm; sticky until a re-arm), the hard-stop request and the
-//! drivers' enables, and says in which cycle the home and probe latches take the
+//! last feed or re-arm; sticky until a re-arm), the hard-stop request (`hard_stop`,
+//! registered: a tick behind the e-stop level, its latch and the trip) and the
+//! drivers' enables (registered from the same OR, so they fall with `hard_stop`), and says in which cycle the home and probe latches take the
 //! positions (the cycle before their filtered level changes, so a latch and the
 //! level change on the same clock edge). **The per-axis stop** (`axis_stop`, bit a,
 //! registered): axis a moving (the core's `active`) toward an active limit (DIR 0
@@ -38,7 +39,7 @@
 //! instead of `axis_stop`: the limit's and the alarm's for as long as they hold, the
 //! watchdog's on every axis for as long as it is tripped; the core ramps each axis down
 //! once and keeps it stopped while the request holds. A controlled watchdog trip raises
-//! `hard_stop` only once no axis is `active` (registered, a tick later), so the ramps
+//! `hard_stop` only once no axis is `active` (two ticks later), so the ramps
 //! run; a controlled alarm keeps the axis's `drv_enable` while it is `active`. **Stop on
 //! home** ([`IoConfig::home_stop`], bit a): the home latch's strobe on a moving axis
 //! stops it one tick later (a one-cycle request), hard or controlled.
@@ -224,6 +225,8 @@ pub struct MachineIoModel {
     stop_tog: u32,
     /// A controlled watchdog trip with no axis active (registered).
     wd_rest: bool,
+    /// The hard stop, registered: `hard_stop` is one tick behind [`Self::hard`].
+    hard_q: bool,
     /// The groups built ([`IO_GROUPS`] bits).
     groups: u8,
 }
@@ -247,6 +250,7 @@ impl MachineIoModel {
             axis_cstop: 0,
             stop_tog: 0,
             wd_rest: false,
+            hard_q: true,
             groups: IO_ALL,
         }
     }
@@ -255,6 +259,7 @@ impl MachineIoModel {
     pub fn with_groups(mut self, groups: u8) -> Self {
         self.groups = groups;
         self.estop_latched = self.on(IO_ESTOP);
+        self.hard_q = self.on(IO_ESTOP);
         self
     }
 
@@ -299,7 +304,7 @@ impl MachineIoModel {
         });
         let probe_to = cfg.edges >> 1 & 1 == 0;
         IoOutputs {
-            hard_stop: self.hard(cfg),
+            hard_stop: self.hard_q,
             estop_latched: self.estop_latched,
             estop_active: self.estop_level(),
             probe_active: self.probe_level(),
@@ -351,6 +356,7 @@ impl MachineIoModel {
         self.axis_cstop = cstop;
         self.toward = toward;
         self.wd_rest = self.wd_tripped && ctl(MODE_WATCHDOG) && pins.active == 0;
+        self.hard_q = hard;
         let estop_active = self.estop_level();
         self.estop_latched = estop_active || (self.estop_latched && !cmd.estop_rearm);
         let unit_end = (cfg.wd_timeout as u32) << WATCHDOG_UNIT_BITS;
@@ -379,6 +385,7 @@ impl MachineIoModel {
         if reset {
             self.prescaler = 0;
             self.estop_latched = self.on(IO_ESTOP);
+            self.hard_q = self.on(IO_ESTOP);
             self.wd_count = 1;
             self.wd_tripped = false;
             self.drv_enable = 0;
