@@ -117,17 +117,29 @@ pub struct MachineIo<const K: usize> {
     /// The groups exported (`regs::IO_GROUPS` bits): the others' levels, latches and
     /// stops are constant 0 (their logic is removed by synthesis).
     c_groups: Constant<Bits<6>>,
-    hs_pick: [BitPick<K>; K],
-    cs_bus: [BitInsert<K>; K],
     cs_new: Signal<Local, Bits<K>>,
+    /// The filtered levels and the home latch strobes as vectors (bit a = axis a), the
+    /// moves toward an active limit, the armed home hits, each source's stop split by
+    /// its mode (s_ hard, c_ controlled), and the alarms that drop the enables.
+    lneg_v: Signal<Local, Bits<K>>,
+    lpos_v: Signal<Local, Bits<K>>,
+    alarm_v: Signal<Local, Bits<K>>,
+    latch_v: Signal<Local, Bits<K>>,
+    toward_v: Signal<Local, Bits<K>>,
+    limit_v: Signal<Local, Bits<K>>,
+    hit_v: Signal<Local, Bits<K>>,
+    s_lim: Signal<Local, Bits<K>>,
+    c_lim: Signal<Local, Bits<K>>,
+    s_al: Signal<Local, Bits<K>>,
+    c_al: Signal<Local, Bits<K>>,
+    s_hit: Signal<Local, Bits<K>>,
+    c_hit: Signal<Local, Bits<K>>,
+    c_wd: Signal<Local, Bits<K>>,
+    drv_al: Signal<Local, Bits<K>>,
+    c_ones: Constant<Bits<K>>,
     toward_q: DFF<Bits<K>>,
     stop_q: DFF<Bits<K>>,
     tog_q: DFF<Bits<K>>,
-    dir_pick: [BitPick<K>; K],
-    act_pick: [BitPick<K>; K],
-    toward_pick: [BitPick<K>; K],
-    toward_bus: [BitInsert<K>; K],
-    stop_bus: [BitInsert<K>; K],
     stop_new: Signal<Local, Bits<K>>,
     estop_f: InputFilter,
     probe_f: InputFilter,
@@ -144,7 +156,6 @@ pub struct MachineIo<const K: usize> {
     home_bus: [BitInsert<K>; K],
     alarm_bus: [BitInsert<K>; K],
     latch_bus: [BitInsert<K>; K],
-    drv_bus: [BitInsert<K>; K],
     prescaler: DFF<Bits<16>>,
     latched: DFF<Bit>,
     wd_count: DFF<Bits<26>>,
@@ -198,17 +209,26 @@ impl<const K: usize> Default for MachineIo<K> {
             cs_q: Default::default(),
             wd_rest: Default::default(),
             c_groups: Constant::new((crate::regs::IO_ALL as u64).into()),
-            hs_pick: std::array::from_fn(BitPick::new),
-            cs_bus: std::array::from_fn(BitInsert::new),
             cs_new: Default::default(),
+            lneg_v: Default::default(),
+            lpos_v: Default::default(),
+            alarm_v: Default::default(),
+            latch_v: Default::default(),
+            toward_v: Default::default(),
+            limit_v: Default::default(),
+            hit_v: Default::default(),
+            s_lim: Default::default(),
+            c_lim: Default::default(),
+            s_al: Default::default(),
+            c_al: Default::default(),
+            s_hit: Default::default(),
+            c_hit: Default::default(),
+            c_wd: Default::default(),
+            drv_al: Default::default(),
+            c_ones: Constant::new(((1u64 << K) - 1).into()),
             toward_q: Default::default(),
             stop_q: Default::default(),
             tog_q: Default::default(),
-            dir_pick: std::array::from_fn(BitPick::new),
-            act_pick: std::array::from_fn(BitPick::new),
-            toward_pick: std::array::from_fn(BitPick::new),
-            toward_bus: std::array::from_fn(BitInsert::new),
-            stop_bus: std::array::from_fn(BitInsert::new),
             stop_new: Default::default(),
             estop_f: InputFilter::new(true),
             probe_f: InputFilter::new(false),
@@ -225,7 +245,6 @@ impl<const K: usize> Default for MachineIo<K> {
             home_bus: std::array::from_fn(BitInsert::new),
             alarm_bus: std::array::from_fn(BitInsert::new),
             latch_bus: std::array::from_fn(BitInsert::new),
-            drv_bus: std::array::from_fn(BitInsert::new),
             prescaler: Default::default(),
             latched: Default::default(),
             wd_count: Default::default(),
@@ -367,49 +386,74 @@ impl<const K: usize> Logic for MachineIo<K> {
             if self.edges.val().get_bit(0) {
                 self.latch_bus[i].value.next = self.home_f[i].fall.val() & self.c_groups.val().get_bit(3);
             }
-            self.drv_bus[i].value.next = self.run.val()
-                & !self.hard.val()
-                & !((self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4)) & (!self.stop_mode.val().get_bit(1) | !self.act_pick[i].value.val()));
-            // The per-axis stops (see the module docs): a limit toward which the axis
-            // moves, its alarm, its home latch when armed; each hard or controlled.
-            self.dir_pick[i].bus.next = self.dir.val();
-            self.act_pick[i].bus.next = self.active.val();
-            self.toward_pick[i].bus.next = self.toward_q.q.val();
-            self.hs_pick[i].bus.next = self.home_stop.val();
-            self.toward_bus[i].value.next = self.act_pick[i].value.val()
-                & ((!self.dir_pick[i].value.val() & (self.lpos_f[i].active.val() & self.c_groups.val().get_bit(2)))
-                    | (self.dir_pick[i].value.val() & (self.lneg_f[i].active.val() & self.c_groups.val().get_bit(2))));
-            self.stop_bus[i].value.next = (self.toward_bus[i].value.val()
-                & self.toward_pick[i].value.val()
-                & !self.stop_mode.val().get_bit(0))
-                | ((self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4)) & !self.stop_mode.val().get_bit(1))
-                | (self.latch_bus[i].value.val()
-                    & self.hs_pick[i].value.val()
-                    & self.act_pick[i].value.val()
-                    & !self.stop_mode.val().get_bit(3));
-            self.cs_bus[i].value.next = (self.toward_bus[i].value.val()
-                & self.toward_pick[i].value.val()
-                & self.stop_mode.val().get_bit(0))
-                | ((self.alarm_f[i].active.val() & self.c_groups.val().get_bit(4)) & self.stop_mode.val().get_bit(1))
-                | (self.latch_bus[i].value.val()
-                    & self.hs_pick[i].value.val()
-                    & self.act_pick[i].value.val()
-                    & self.stop_mode.val().get_bit(3))
-                | (self.tripped.q.val() & self.stop_mode.val().get_bit(2));
         }
-        self.toward_bus[0].bus_in.next = 0.into();
-        self.stop_bus[0].bus_in.next = 0.into();
-        self.cs_bus[0].bus_in.next = 0.into();
+        self.lneg_bus[0].bus_in.next = 0.into();
+        self.lpos_bus[0].bus_in.next = 0.into();
+        self.home_bus[0].bus_in.next = 0.into();
+        self.alarm_bus[0].bus_in.next = 0.into();
+        self.latch_bus[0].bus_in.next = 0.into();
         for i in 1..K {
-            self.toward_bus[i].bus_in.next = self.toward_bus[i - 1].bus_out.val();
-            self.stop_bus[i].bus_in.next = self.stop_bus[i - 1].bus_out.val();
-            self.cs_bus[i].bus_in.next = self.cs_bus[i - 1].bus_out.val();
+            self.lneg_bus[i].bus_in.next = self.lneg_bus[i - 1].bus_out.val();
+            self.lpos_bus[i].bus_in.next = self.lpos_bus[i - 1].bus_out.val();
+            self.home_bus[i].bus_in.next = self.home_bus[i - 1].bus_out.val();
+            self.alarm_bus[i].bus_in.next = self.alarm_bus[i - 1].bus_out.val();
+            self.latch_bus[i].bus_in.next = self.latch_bus[i - 1].bus_out.val();
         }
+        // The last element of each chain holds the whole vector (last assignment wins).
         for i in 0..K {
-            self.toward_q.d.next = self.toward_bus[i].bus_out.val();
-            self.stop_new.next = self.stop_bus[i].bus_out.val();
-            self.cs_new.next = self.cs_bus[i].bus_out.val();
+            self.lneg_v.next = self.lneg_bus[i].bus_out.val();
+            self.lpos_v.next = self.lpos_bus[i].bus_out.val();
+            self.home_active.next = self.home_bus[i].bus_out.val();
+            self.alarm_v.next = self.alarm_bus[i].bus_out.val();
+            self.latch_v.next = self.latch_bus[i].bus_out.val();
         }
+        self.limit_neg_active.next = self.lneg_v.val();
+        self.limit_pos_active.next = self.lpos_v.val();
+        self.alarm_active.next = self.alarm_v.val();
+        self.home_latch.next = self.latch_v.val();
+
+        // The enables: a controlled alarm keeps its axis's while the axis is active.
+        self.drv_al.next = self.alarm_v.val();
+        if self.stop_mode.val().get_bit(1) {
+            self.drv_al.next = self.alarm_v.val() & !self.active.val();
+        }
+        self.drv.d.next = 0.into();
+        if self.run.val() & !self.hard.val() {
+            self.drv.d.next = !self.drv_al.val();
+        }
+        self.drv_enable.next = self.drv.q.val();
+
+        // The per-axis stops (see the module docs): a limit toward which the axis moves
+        // (DIR 0 toward limit_pos) in this cycle and the one before, its alarm, its home
+        // latch when armed; each hard (s_) or controlled (c_) by its mode bit.
+        self.toward_v.next = self.active.val() & ((!self.dir.val() & self.lpos_v.val()) | (self.dir.val() & self.lneg_v.val()));
+        self.toward_q.d.next = self.toward_v.val();
+        self.limit_v.next = self.toward_v.val() & self.toward_q.q.val();
+        self.hit_v.next = self.latch_v.val() & self.home_stop.val() & self.active.val();
+        self.s_lim.next = self.limit_v.val();
+        self.c_lim.next = 0.into();
+        if self.stop_mode.val().get_bit(0) {
+            self.s_lim.next = 0.into();
+            self.c_lim.next = self.limit_v.val();
+        }
+        self.s_al.next = self.alarm_v.val();
+        self.c_al.next = 0.into();
+        if self.stop_mode.val().get_bit(1) {
+            self.s_al.next = 0.into();
+            self.c_al.next = self.alarm_v.val();
+        }
+        self.s_hit.next = self.hit_v.val();
+        self.c_hit.next = 0.into();
+        if self.stop_mode.val().get_bit(3) {
+            self.s_hit.next = 0.into();
+            self.c_hit.next = self.hit_v.val();
+        }
+        self.c_wd.next = 0.into();
+        if self.tripped.q.val() & self.stop_mode.val().get_bit(2) {
+            self.c_wd.next = self.c_ones.val();
+        }
+        self.stop_new.next = self.s_lim.val() | self.s_al.val() | self.s_hit.val();
+        self.cs_new.next = self.c_lim.val() | self.c_al.val() | self.c_hit.val() | self.c_wd.val();
         self.stop_q.d.next = self.stop_new.val();
         self.cs_q.d.next = self.cs_new.val();
         self.tog_q.d.next = self.tog_q.q.val()
@@ -417,30 +461,6 @@ impl<const K: usize> Logic for MachineIo<K> {
         self.axis_stop.next = self.stop_q.q.val();
         self.axis_cstop.next = self.cs_q.q.val();
         self.stop_tog.next = self.tog_q.q.val();
-        self.lneg_bus[0].bus_in.next = 0.into();
-        self.lpos_bus[0].bus_in.next = 0.into();
-        self.home_bus[0].bus_in.next = 0.into();
-        self.alarm_bus[0].bus_in.next = 0.into();
-        self.latch_bus[0].bus_in.next = 0.into();
-        self.drv_bus[0].bus_in.next = 0.into();
-        for i in 1..K {
-            self.lneg_bus[i].bus_in.next = self.lneg_bus[i - 1].bus_out.val();
-            self.lpos_bus[i].bus_in.next = self.lpos_bus[i - 1].bus_out.val();
-            self.home_bus[i].bus_in.next = self.home_bus[i - 1].bus_out.val();
-            self.alarm_bus[i].bus_in.next = self.alarm_bus[i - 1].bus_out.val();
-            self.latch_bus[i].bus_in.next = self.latch_bus[i - 1].bus_out.val();
-            self.drv_bus[i].bus_in.next = self.drv_bus[i - 1].bus_out.val();
-        }
-        // The last element of each chain holds the whole bus (last assignment wins).
-        for i in 0..K {
-            self.limit_neg_active.next = self.lneg_bus[i].bus_out.val();
-            self.limit_pos_active.next = self.lpos_bus[i].bus_out.val();
-            self.home_active.next = self.home_bus[i].bus_out.val();
-            self.alarm_active.next = self.alarm_bus[i].bus_out.val();
-            self.home_latch.next = self.latch_bus[i].bus_out.val();
-            self.drv.d.next = self.drv_bus[i].bus_out.val();
-        }
-        self.drv_enable.next = self.drv.q.val();
 
         if self.reset.val() {
             self.prescaler.d.next = 0.into();
