@@ -826,7 +826,7 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     let uniform = vec![Segment::new(1 << 22, 51_200, -50)];
     let at_edge = |segs: &[Segment], i: usize| AxisRun::run(segs, &limits).edge_ticks[i];
     // The first three run in rust-hdl too (it simulates a few thousand cycles a second).
-    let scenarios: Vec<(&str, Vec<Segment>, u64)> = vec![
+    let mut scenarios: Vec<(&str, Vec<Segment>, u64)> = vec![
         ("accelerating", accel.clone(), acc_run.edge_ticks[3]),
         ("in a dwell", dwell.clone(), AxisRun::run(&dwell[..dwell.len() - 3], &limits).end_tick + 15_000),
         ("a few steps before a segment's end", accel.clone(), acc_run.edge_ticks[cruise_end - 6]),
@@ -835,6 +835,14 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
         ("uniform", uniform.clone(), at_edge(&uniform, 25)),
         ("near the top rate", fast.clone(), at_edge(&fast, 350)),
     ];
+    if K == 1 {
+        // The scheduler takes a stop in the PICK right after a commit when the request
+        // came while it computed: with K = 1 that PICK reads the axis it has just
+        // written. Stops every 5 ticks over an accelerating period put some there.
+        for d in (0..150).step_by(5) {
+            scenarios.push(("accelerating, stopped at every phase of a period", fast.clone(), at_edge(&fast, 100) + d));
+        }
+    }
     const RUST_HDL_SCENARIOS: usize = 3;
     let row = |cmd: Option<(u128, &Segment)>, start: bool, cstop: u128| -> Vec<u128> {
         let (v, a, s) = match cmd {
