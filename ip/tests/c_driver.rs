@@ -417,7 +417,6 @@ fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_exmc_pins() {
 /// machine I/O calls that must refuse do, with the documented codes.
 #[test]
 fn readme_homing_example_runs_as_written_through_the_machine_io() {
-    use tdm_stepper::model::stop::cut_run;
     let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
     let section = readme.split("## Machine I/O").nth(1).expect("README has a Machine I/O section").split("\n## ").next().unwrap();
     let code = section.split("```c\n").nth(1).expect("a C block").split("```").next().unwrap();
@@ -457,13 +456,10 @@ fn readme_homing_example_runs_as_written_through_the_machine_io() {
     let segs = trapezoid_by_rates(3000, 50_000, 5_000_000, 5_000_000, opts.clock_hz, &limits).unwrap();
     let run1 = AxisRun::run(&segs, &limits);
     let r: Vec<u64> = e0[1].iter().map(|&(c, _)| c).collect();
-    let l0 = r[0] as i64 - 1 - run1.edge_ticks[0] as i64;
     let emitted = r.iter().filter(|&&c| c < stop_at).count();
-    let e = (0..=run1.fifo.len()).find(|&e| run1.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
+    let e = entries_for_edges(&run1, emitted);
     let decel = 400_000_000;
-    let m = (e..=e + export::FIFO_DEPTH + 3)
-        .map(|c| cut_run(&run1, c, decel, &limits))
-        .find(|m| m.edge_ticks.len() == r.len() && m.edge_ticks.iter().zip(&r).all(|(&t, &g)| g as i64 == l0 + 1 + t as i64))
+    let (_, m) = stop_cut_matching(&run1, &r, e..=e + export::FIFO_DEPTH + 3, decel, &limits)
         .unwrap_or_else(|| panic!("no cut near {e} entries gives axis 1's {} edges", r.len()));
     assert_eq!(m.accepted.len(), 1, "a ramp");
     assert!(r.len() < 3000, "the stop shortened the move: {} edges", r.len());

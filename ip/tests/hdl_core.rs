@@ -811,7 +811,7 @@ fn controlled_stop_ramps_down_on_a_one_axis_core() {
 /// `rust_hdl`: compare the first scenarios' trace with rust-hdl's too.
 fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     use tdm_stepper::hdl::core::{gray, t_stop_form};
-    use tdm_stepper::model::stop::{cut_run, stop_segment};
+    use tdm_stepper::model::stop::stop_segment;
     let ax = K - 1;
     let bit = 1u128 << ax;
     let limits = Limits::default();
@@ -922,16 +922,11 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     let mut position = 0i64;
     for (what, run, from, stop, end) in &windows {
         let rises: Vec<u64> = r1.iter().copied().filter(|&x| x > *from && x < *end).collect();
-        let l0 = release_of(&rises[..2], &run.edge_ticks[..2], what).unwrap();
+        release_of(&rises[..2], &run.edge_ticks[..2], what).unwrap();
         let emitted = rises.iter().filter(|&&x| x <= *stop).count();
-        let e0 = (0..=run.fifo.len()).find(|&e| run.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
-        let cut = (e0..=(e0 + DEPTH + 3).min(run.fifo.len()))
-            .find(|&c| {
-                let m = cut_run(run, c, decel, &limits);
-                m.edge_ticks.len() == rises.len() && m.edge_ticks.iter().zip(&rises).all(|(&e, &r)| r as i64 == l0 + 1 + e as i64)
-            })
+        let e0 = entries_for_edges(run, emitted);
+        let (cut, m) = stop_cut_matching(run, &rises, e0..=(e0 + DEPTH + 3).min(run.fifo.len()), decel, &limits)
             .unwrap_or_else(|| panic!("{what}: no cut after {e0}..{} FIFO entries gives the {} edges seen (the move has {})", e0 + DEPTH + 3, rises.len(), run.edge_ticks.len()));
-        let m = cut_run(run, cut, decel, &limits);
         eprintln!("{what}: stop after {emitted} edges, cut after {cut} entries (+{}), ramp {:?}, {} edges", cut - e0, m.accepted.first(), rises.len());
         if *what == "in a dwell" {
             // At rest in the dwell: stopped as the hard stop does, with no edge after it.

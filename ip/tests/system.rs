@@ -1641,7 +1641,6 @@ fn soft_limits_reject_pushes_past_them_and_the_plan_follows_an_abort() {
 #[test]
 fn a_controlled_stop_through_the_bus_ramps_down_from_the_axis_speed() {
     use tdm_stepper::model::planner;
-    use tdm_stepper::model::stop::cut_run;
     const K: usize = 2;
     let limits = Limits::default();
     // Below the minimum of any minimum period (the export's and rust-hdl's here).
@@ -1696,17 +1695,11 @@ fn a_controlled_stop_through_the_bus_ramps_down_from_the_axis_speed() {
         let window = clk_cycle_at(t_start)..cycles;
         check_edges_in(t, &[m0.clone()], window.clone(), &format!("{sim}: axis 0 untouched"));
         let r: Vec<u64> = rises(t, 1).into_iter().filter(|c| window.contains(c)).collect();
-        let l0 = r[0] as i64 - 1 - run1.edge_ticks[0] as i64;
         let emitted = r.iter().filter(|&&c| c <= clk_cycle_at(t_stop)).count();
         assert!(emitted > 25 && emitted < 40, "{sim}: the stop came in the cruise ({emitted} edges)");
-        let e0 = (0..=run1.fifo.len()).find(|&e| run1.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
-        let cut = (e0..=e0 + DEPTH + 3)
-            .find(|&c| {
-                let m = cut_run(&run1, c, decel, &limits);
-                m.edge_ticks.len() == r.len() && m.edge_ticks.iter().zip(&r).all(|(&e, &g)| g as i64 == l0 + 1 + e as i64)
-            })
+        let e0 = entries_for_edges(&run1, emitted);
+        let (_, m) = stop_cut_matching(&run1, &r, e0..=e0 + DEPTH + 3, decel, &limits)
             .unwrap_or_else(|| panic!("{sim}: no cut after {e0}.. entries gives axis 1's {} edges", r.len()));
-        let m = cut_run(&run1, cut, decel, &limits);
         assert_eq!(m.accepted.len(), 1, "{sim}: a ramp");
         // (The test's moves decelerate harder than the hardest STOP_DECEL, 2^-25 steps/tick²,
         // 7.5·10^7 steps/s² at 50 MHz: the ramp runs farther than the move would have.)
@@ -1723,21 +1716,13 @@ fn a_controlled_stop_through_the_bus_ramps_down_from_the_axis_speed() {
     check("rust-hdl", &rh);
 }
 
-/// The edges `r` of an axis that a controlled stop cut: the model's [`cut_run`] of `run`
+/// The edges `r` of an axis that a controlled stop cut: the model's `cut_run` of `run`
 /// for the one cut within DEPTH + 3 entries of the `emitted` edges (two fewer, for a
 /// request time known to a few ticks) that gives exactly these edges.
 fn the_stop_ramp(sim: &str, r: &[u64], run: &AxisRun, emitted: usize, decel: u32) -> AxisRun {
-    use tdm_stepper::model::stop::cut_run;
-    let limits = Limits::default();
-    let l0 = r[0] as i64 - 1 - run.edge_ticks[0] as i64;
-    let e0 = (0..=run.fifo.len()).find(|&e| run.fifo[..e].iter().filter(|x| x.step).count() == emitted).unwrap();
-    let cut = (e0.saturating_sub(2)..=e0 + DEPTH + 3)
-        .find(|&c| {
-            let m = cut_run(run, c, decel, &limits);
-            m.edge_ticks.len() == r.len() && m.edge_ticks.iter().zip(r).all(|(&e, &g)| g as i64 == l0 + 1 + e as i64)
-        })
+    let e0 = entries_for_edges(run, emitted);
+    let (_, m) = stop_cut_matching(run, r, e0.saturating_sub(2)..=e0 + DEPTH + 3, decel, &Limits::default())
         .unwrap_or_else(|| panic!("{sim}: no cut near {e0} entries gives the {} edges", r.len()));
-    let m = cut_run(run, cut, decel, &limits);
     assert_eq!(m.accepted.len(), 1, "{sim}: a ramp");
     assert_ne!(r.len(), run.edge_ticks.len(), "{sim}: the motion changed");
     m

@@ -180,3 +180,28 @@ pub fn one_segment_core<const R: usize, const D: usize, const Q: usize>(
     u.cmd_valid.next = false;
     u
 }
+
+/// The FIFO entries of `run` that hold its first `edges` steps (the dwells among them
+/// included).
+pub fn entries_for_edges(run: &tdm_stepper::model::AxisRun, edges: usize) -> usize {
+    (0..=run.fifo.len())
+        .find(|&e| run.fifo[..e].iter().filter(|x| x.step).count() == edges)
+        .expect("the run has that many edges")
+}
+
+/// The controlled stop that gives exactly the STEP rising edges `rises` (clk cycles, the
+/// first one the axis's first edge): `model::stop::cut_run` of `run` after c FIFO
+/// entries, for the first c in `cuts` whose edges, aligned on the first one, are these.
+/// Returns c and the cut run.
+pub fn stop_cut_matching(
+    run: &tdm_stepper::model::AxisRun,
+    rises: &[u64],
+    cuts: std::ops::RangeInclusive<usize>,
+    decel: u32,
+    limits: &tdm_stepper::model::Limits,
+) -> Option<(usize, tdm_stepper::model::AxisRun)> {
+    let l0 = rises[0] as i64 - 1 - run.edge_ticks[0] as i64;
+    cuts.map(|c| (c, tdm_stepper::model::stop::cut_run(run, c, decel, limits))).find(|(_, m)| {
+        m.edge_ticks.len() == rises.len() && m.edge_ticks.iter().zip(rises).all(|(&e, &g)| g as i64 == l0 + 1 + e as i64)
+    })
+}
