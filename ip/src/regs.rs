@@ -754,11 +754,10 @@ fn contract(m: &mut String, p: &CoreParams) {
              queues and period FIFOs flushed, no new STEP edge (a pulse already high keeps its \
              high time), positions exact, drv_enable low. A segment pushed meanwhile is flushed \
              and counted as taken (LEVEL returns to 0); a START does nothing. From the first clk \
-             edge that samples estop_n active, no STEP rising edge comes after 3 + n ticks \
-             (n: the e-stop's filter, with IO_PRESCALE = 0).\n",
+             edge that samples estop_n active, no STEP rising edge comes after 4 + n ticks \
+             (3 + n unless a push reaches the core in that tick; n: the e-stop's filter, with \
+             IO_PRESCALE = 0).\n",
         );
-    }
-    if p.io_groups() & (IO_ESTOP | IO_WATCHDOG) != 0 {
         m.push_str(
             "* **Machine I/O: arming.** The e-stop latch is set by reset and CTRL.ENABLE = 0. After \
              ENABLE, wait for IO_STATUS.ESTOP_IN = 0, write IO_CMD.ESTOP_REARM (and WD_REARM), and \

@@ -21,8 +21,8 @@
 //! inactive), the watchdog (trips [`WATCHDOG_UNIT_TICKS`]·timeout ticks after the
 //! last feed or re-arm; sticky until a re-arm), the hard-stop request (`hard_stop`,
 //! registered: a tick behind the e-stop level, its latch and the trip) and the
-//! drivers' enables (registered from the same OR, so they fall with `hard_stop`), and says in which cycle the home and probe latches take the
-//! positions (the cycle before their filtered level changes, so a latch and the
+//! drivers' enables (registered from the same OR, so they fall with `hard_stop`), and
+//! says in which cycle the home and probe latches take the positions (the cycle before their filtered level changes, so a latch and the
 //! level change on the same clock edge). **The per-axis stop** (`axis_stop`, bit a,
 //! registered): axis a moving (the core's `active`) toward an active limit (DIR 0
 //! toward `limit_pos`, 1 toward `limit_neg`) in this cycle and the one before, or its
