@@ -8,6 +8,7 @@
 
 use proptest::prelude::*;
 use tdm_stepper::model::exact::{edge_within, step_time};
+use tdm_stepper::model::poly::*;
 use tdm_stepper::model::*;
 
 const CASES: u32 = 10_000;
@@ -537,4 +538,195 @@ fn the_stop_deceleration_unit_and_minimum() {
     let s = stop_segment(50, stop_decel_min(&l50), true).unwrap();
     assert_eq!(s.validate(&l50), Ok(()));
     assert!(s.t_ticks > MAX_T_TICKS / 2 && s.steps < 0, "{s:?}");
+}
+
+// ---------------------------------------------------------------------------------
+// Polynomial (S-curve) segments: model::poly.
+
+/// A polynomial segment in the range: its speed's Bernstein control points (Q0.32
+/// rates) each at 0, at RMAX, tiny, just under RMAX or anywhere between; n and A'
+/// rounded from them. Shapes: a cubic through the ends (a jerk-limited phase), a
+/// quartic starting with zero acceleration (from rest when b0 = 0), a near-uniform
+/// cubic (tiny jerk), a general quartic. Filtered to the valid ones.
+fn poly_segment(valid: bool) -> impl Strategy<Value = (PolySegment, Limits)> {
+    let point = (0u8..5, 0.0f64..=1.0);
+    (min_period(), log_uniform(1, POLY_MAX_T_TICKS as u64), [point.clone(), point.clone(), point.clone(), point], 0u8..4, -2i64..=2, any::<bool>())
+        .prop_filter_map("outside the range", move |(m, t, cps, shape, nudge, neg)| {
+            let limits = Limits::new(m).unwrap();
+            let rmax = limits.max_rate() as f64;
+            let b: Vec<f64> = cps
+                .iter()
+                .map(|&(k, x)| match k {
+                    0 => 0.0,
+                    1 => rmax,
+                    2 => (x * 1000.0).round(),
+                    3 => (rmax * (1.0 - x * 1e-3)).floor(),
+                    _ => (x * rmax).round(),
+                })
+                .collect();
+            let tf = t as f64;
+            let n = (tf * b.iter().sum::<f64>() / 4.0 / 2f64.powi(32)).round() as i64;
+            let (v0, v1) = (b[0] as u32, b[3] as u32);
+            let sign = |n: i64| if neg { -n } else { n } as i32;
+            let seg = match shape {
+                0 => PolySegment::cubic(v0, v1, t as u32, sign(n))?,
+                1 => PolySegment::new(v0, v1, 0, t as u32, sign(n)),
+                2 => {
+                    let n = (v0 as i64 * t as i64 + (1 << 31)) >> 32;
+                    PolySegment::cubic(v0, v0, t as u32, sign((n + nudge).max(0)))?
+                }
+                _ => PolySegment::new(v0, v1, (1.5 * (b[1] - b[0]) * tf).round() as i64, t as u32, sign(n)),
+            };
+            (seg.validate(&limits).is_ok() == valid).then_some((seg, limits))
+        })
+}
+
+/// Checks a valid polynomial segment: every edge (or windows of 48 beyond
+/// FULL_CHECK_STEPS) equal to its definition, within ½ tick of exact time exactly in
+/// integers and in f64, every period at least the minimum, the edges summing to T,
+/// and the search's words within POLY_WORD_BITS.
+fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, TestCaseError> {
+    prop_assert_eq!(seg.validate(limits), Ok(()));
+    let plan = PolyPlan::new(*seg);
+    let n = seg.n_steps();
+    let mut check = |i: u32, e: u32, prev: u32, by_definition: bool| -> Result<(), TestCaseError> {
+        prop_assert!(seg.edge_within(i, e as i64, 4), "step {i}: edge {e} not within ½ tick, {seg:?}");
+        let err = (e as f64 - seg.step_time_near(i, e)).abs();
+        prop_assert!(err <= POLY_EDGE_ERROR_BOUND_TICKS + 1e-5, "step {i}: error {err}");
+        prop_assert!(e - prev >= limits.min_period_ticks, "step {i}: period {} < {}", e - prev, limits.min_period_ticks);
+        if by_definition {
+            prop_assert_eq!(e, seg.edge_by_definition(i), "step {}", i);
+        }
+        Ok(())
+    };
+    let mut widest = 0;
+    if n <= FULL_CHECK_STEPS {
+        let mut s = plan.search();
+        let mut prev = 0;
+        for i in 1..=n {
+            let e = s.next_edge().unwrap();
+            check(i, e, prev, n <= 256 || i % 61 == 0)?;
+            prev = e;
+        }
+        prop_assert_eq!(s.next_edge(), None);
+        prop_assert_eq!(prev, if n == 0 { 0 } else { seg.t_ticks });
+        widest = s.widest_bits;
+    } else {
+        let mut x = seed | 1;
+        let mut starts = vec![0, n - 48];
+        for _ in 0..3 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            starts.push((x % (n as u64 - 48)) as u32);
+        }
+        for start in starts {
+            let mut prev = if start == 0 { 0 } else { seg.edge_by_definition(start) };
+            let mut s = plan.search_after(start, prev);
+            for i in start + 1..=start + 48 {
+                let e = s.next_edge().unwrap();
+                check(i, e, prev, true)?;
+                prev = e;
+            }
+            widest = widest.max(s.widest_bits);
+        }
+    }
+    prop_assert!(widest <= POLY_WORD_BITS, "search word of {widest} bits");
+    if std::env::var("POLY_STATS").is_ok() { eprintln!("STAT n={n} t={} deg={} widest={widest}", seg.t_ticks, seg.degree()); }
+    Ok(widest)
+}
+
+/// The extreme speeds of a polynomial segment in f64 (steps/tick): the ends and the
+/// interior zeros of the acceleration (a quadratic in t).
+fn poly_speed_range(seg: &PolySegment) -> (f64, f64) {
+    let t = seg.t_ticks as f64;
+    let mut ts = vec![0.0, t];
+    // a(t) = a0 + a1·t + a2·t²: from three samples.
+    let (a0, a_mid, a1) = (seg.derivatives_at(0.0).1, seg.derivatives_at(t / 2.0).1, seg.derivatives_at(t).1);
+    let c2 = 2.0 * (a0 - 2.0 * a_mid + a1) / (t * t);
+    let c1 = (a1 - a0) / t - c2 * t;
+    // Roots of c2·t² + c1·t + a0 in the cancellation-free form.
+    let disc = c1 * c1 - 4.0 * c2 * a0;
+    if disc >= 0.0 {
+        let q = -0.5 * (c1 + c1.signum() * disc.sqrt());
+        if q != 0.0 {
+            ts.push(a0 / q);
+        }
+        if c2 != 0.0 {
+            ts.push(q / c2);
+        }
+    }
+    ts.iter()
+        .filter(|&&x| (0.0..=t).contains(&x))
+        .map(|&x| seg.derivatives_at(x).0)
+        .fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)))
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Every edge of a valid polynomial segment is the nearest tick to exact time.
+    #[test]
+    fn poly_edges_are_the_nearest_tick_over_the_range((seg, limits) in poly_segment(true), seed in any::<u64>()) {
+        check_poly(&seg, &limits, seed)?;
+    }
+
+    /// Validation is sound (an accepted segment's speed stays within [0, RMAX]
+    /// everywhere) and gives away at most T²·|jerk|max/18 (a rejected one comes that
+    /// close to a limit), and any register image gets a verdict without a panic.
+    #[test]
+    fn poly_validation_is_sound_and_gives_away_at_most_the_bound(
+        (seg, limits) in prop_oneof![poly_segment(true), poly_segment(false)],
+        raw in (any::<u32>(), any::<u32>(), any::<i64>(), prop_oneof![any::<u32>(), 0u32..=POLY_MAX_T_TICKS + 2], any::<i32>()),
+    ) {
+        let rmax = limits.max_rate() as f64 / 2f64.powi(32);
+        let _ = PolySegment::new(raw.0, raw.1, raw.2, raw.3, raw.4).validate(&limits);
+        let (lo, hi) = poly_speed_range(&seg);
+        let t = seg.t_ticks as f64;
+        let jerk = seg.derivatives_at(0.0).2.abs().max(seg.derivatives_at(t).2.abs());
+        let give = t * t * jerk / 18.0 + 1e-12 + 4.0 * f64::EPSILON * rmax;
+        match seg.validate(&limits) {
+            Ok(()) => prop_assert!(lo >= -give * 1e-6 - 1e-12 && hi <= rmax + 1e-12, "{seg:?}: speed in [{lo}, {hi}], RMAX {rmax}"),
+            Err(SegmentError::Reverses) => prop_assert!(lo < give, "{seg:?}: min speed {lo}, bound {give}"),
+            Err(SegmentError::PeriodTooShort) => prop_assert!(hi > rmax - give, "{seg:?}: max speed {hi}, bound {give}"),
+            Err(e) => prop_assert!(false, "unexpected {e:?} for {seg:?}"),
+        }
+    }
+
+    /// Trapezoid and polynomial segments mixed on one axis: edges measured from the
+    /// move start, cumulatively, never drift; a rejected segment between them changes
+    /// nothing.
+    #[test]
+    fn mixed_trapezoid_and_poly_moves_do_not_drift(
+        parts in prop::collection::vec(prop_oneof![
+            valid_segment().prop_map(|(s, _)| Motion::Trapezoid(s)),
+            poly_segment(true).prop_map(|(p, _)| Motion::Poly(p)),
+        ], 1..7),
+        bad in poly_segment(false),
+        at in any::<prop::sample::Index>(),
+    ) {
+        let limits = Limits::default();
+        let moves: Vec<Motion> = parts.into_iter()
+            .filter(|m| m.n_steps() <= FULL_CHECK_STEPS && m.validate(&limits).is_ok())
+            .collect();
+        let run = AxisRun::run_motions(&moves, &limits);
+        prop_assert!(run.rejected.is_empty());
+        prop_assert_eq!(&run.motions, &moves.iter().map(|m| match m {
+            Motion::Trapezoid(s) => Motion::Trapezoid(s.effective()),
+            p => *p,
+        }).collect::<Vec<_>>());
+        prop_assert_eq!(run.end_tick, moves.iter().map(|m| m.t_ticks() as u64).sum::<u64>());
+        prop_assert_eq!(run.position, moves.iter().map(|m| m.steps() as i64).sum::<i64>());
+        prop_assert_eq!(run.fifo.iter().map(|f| f.ticks as u64).sum::<u64>(), run.end_tick);
+        prop_assert!(run.max_edge_error_ticks() <= EDGE_ERROR_BOUND_TICKS + 1e-6,
+            "cumulative error {} ticks", run.max_edge_error_ticks());
+        let mut with_bad = moves.clone();
+        with_bad.insert(at.index(moves.len() + 1), Motion::Poly(bad.0));
+        let mixed = AxisRun::run_motions(&with_bad, &limits);
+        if bad.0.validate(&limits).is_err() {
+            prop_assert_eq!(mixed.rejected.len(), 1);
+            prop_assert_eq!(&mixed.edge_ticks, &run.edge_ticks);
+            prop_assert_eq!(mixed.position, run.position);
+        }
+    }
 }

@@ -8,8 +8,73 @@
 
 use super::exact;
 use super::integer::SegmentPlan;
+use super::poly::{PolyPlan, PolySegment};
 use super::segment::{Limits, Segment, SegmentError};
 use serde::{Deserialize, Serialize};
+
+/// One queued motion command of an axis: a trapezoid segment (constant acceleration)
+/// or a polynomial segment (an S-curve phase). Both go through the same queue.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Motion {
+    Trapezoid(Segment),
+    Poly(PolySegment),
+}
+
+impl Motion {
+    /// Validation by the segment's own rules.
+    pub fn validate(&self, limits: &Limits) -> Result<(), SegmentError> {
+        match self {
+            Motion::Trapezoid(s) => s.validate(limits),
+            Motion::Poly(p) => p.validate(limits),
+        }
+    }
+
+    /// Duration T in ticks.
+    pub fn t_ticks(&self) -> u32 {
+        match self {
+            Motion::Trapezoid(s) => s.t_ticks,
+            Motion::Poly(p) => p.t_ticks,
+        }
+    }
+
+    /// Signed steps θ.
+    pub fn steps(&self) -> i32 {
+        match self {
+            Motion::Trapezoid(s) => s.steps,
+            Motion::Poly(p) => p.steps,
+        }
+    }
+
+    /// n = |θ|.
+    pub fn n_steps(&self) -> u32 {
+        self.steps().unsigned_abs()
+    }
+
+    /// Start and end speeds, Q0.32 steps/tick (the trapezoid's end speed rounded down).
+    pub fn end_rates(&self) -> (u32, u32) {
+        match self {
+            Motion::Trapezoid(s) => {
+                let e = s.effective();
+                let v_end = (e.v_end_t_q32().max(0) / e.t_ticks.max(1) as i128) as u32;
+                (e.v0_rate, v_end)
+            }
+            Motion::Poly(p) => (p.v0_rate, p.v1_rate),
+        }
+    }
+}
+
+impl From<Segment> for Motion {
+    fn from(s: Segment) -> Motion {
+        Motion::Trapezoid(s)
+    }
+}
+
+impl From<PolySegment> for Motion {
+    fn from(p: PolySegment) -> Motion {
+        Motion::Poly(p)
+    }
+}
 
 /// One entry of an axis's period FIFO: wait `ticks`, then emit a step (or, for a
 /// dwell, nothing).
@@ -31,8 +96,10 @@ pub struct Rejected {
 /// Everything one axis does for a list of segments.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AxisRun {
-    /// The accepted segments, in order, as the core runs them ([`Segment::effective`]).
+    /// The accepted trapezoid segments, in order, as the core runs them ([`Segment::effective`]).
     pub accepted: Vec<Segment>,
+    /// Every accepted motion of either kind, in order (trapezoids in their effective form).
+    pub motions: Vec<Motion>,
     /// Refused segments.
     pub rejected: Vec<Rejected>,
     /// The period FIFO stream.
@@ -50,14 +117,41 @@ pub struct AxisRun {
 impl AxisRun {
     /// Runs `segments` through validation and the integer model.
     pub fn run(segments: &[Segment], limits: &Limits) -> AxisRun {
+        let motions: Vec<Motion> = segments.iter().map(|&s| s.into()).collect();
+        AxisRun::run_motions(&motions, limits)
+    }
+
+    /// Runs trapezoid and polynomial segments, mixed, through validation and the
+    /// integer models, back to back.
+    pub fn run_motions(motions: &[Motion], limits: &Limits) -> AxisRun {
         let mut run = AxisRun::default();
-        for (index, seg) in segments.iter().enumerate() {
-            match seg.validate(limits) {
+        for (index, m) in motions.iter().enumerate() {
+            match m.validate(limits) {
                 Err(error) => run.rejected.push(Rejected { index, error }),
-                Ok(()) => run.push(*seg),
+                Ok(()) => match m {
+                    Motion::Trapezoid(seg) => run.push(*seg),
+                    Motion::Poly(p) => run.push_poly(*p),
+                },
             }
         }
         run
+    }
+
+    fn push_poly(&mut self, seg: PolySegment) {
+        let start = self.end_tick;
+        if seg.n_steps() == 0 {
+            self.fifo.push(FifoEntry { ticks: seg.t_ticks, step: false, reverse: false });
+        }
+        let mut prev = 0u32;
+        for (k, e) in PolyPlan::new(seg).edges().into_iter().enumerate() {
+            self.fifo.push(FifoEntry { ticks: e - prev, step: true, reverse: seg.reverse() });
+            self.edge_ticks.push(start + e as u64);
+            self.exact_ticks.push(start as f64 + seg.step_time_near(k as u32 + 1, e));
+            prev = e;
+        }
+        self.position += seg.steps as i64;
+        self.end_tick = start + seg.t_ticks as u64;
+        self.motions.push(Motion::Poly(seg));
     }
 
     fn push(&mut self, seg: Segment) {
@@ -78,6 +172,7 @@ impl AxisRun {
         self.position += seg.steps as i64;
         self.end_tick = start + seg.t_ticks as u64;
         self.accepted.push(seg);
+        self.motions.push(Motion::Trapezoid(seg));
     }
 
     /// Largest |edge − exact| over the move, in ticks.

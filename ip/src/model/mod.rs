@@ -6,6 +6,7 @@
 //! * [`integer`]: the bit-accurate integer model of the hardware algorithm;
 //! * [`axis`]: one axis running segments back to back;
 //! * [`units`]: steps/s and seconds to register units;
+//! * [`poly`]: polynomial (S-curve) segments: the form, validation, the exact edge search;
 //! * [`planner`]: trapezoid moves to segments;
 //! * [`guard`]: the machine I/O's push checks (limits, soft limits, a held axis) and the planned position;
 //! * [`io`]: machine inputs and safety (filters, e-stop latch, watchdog, latches), clock by clock;
@@ -20,12 +21,13 @@ pub mod guard;
 pub mod integer;
 pub mod io;
 pub mod planner;
+pub mod poly;
 pub mod pulse;
 pub mod segment;
 pub mod stop;
 pub mod units;
 
-pub use axis::{AxisRun, FifoEntry, Rejected};
+pub use axis::{AxisRun, FifoEntry, Motion, Rejected};
 pub use integer::{
     offset_root, PlanKind, SegmentPlan, ACC_BITS, EDGE_ERROR_BOUND_TICKS, OFFSET_ROOT_BITS, ROOT_BITS, TAU_FRAC_BITS,
 };

@@ -112,6 +112,7 @@ pub fn cut_run(run: &AxisRun, cut: usize, decel: u32, limits: &Limits) -> AxisRu
         out.position += ramp.position;
         out.end_tick = edge + ramp.end_tick;
         out.accepted.push(seg);
+        out.motions.push(seg.into());
     }
     out
 }

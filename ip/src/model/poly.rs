@@ -1,0 +1,616 @@
+//! Polynomial segments (S-curves): the position is a polynomial in time of degree
+//! at most 4, given by Hermite data, and every step edge is the nearest tick to the
+//! exact time, found by an exact integer search (docs/model.md, "Polynomial segments").
+//!
+//! # The form
+//! A polynomial segment is five register values: start speed `v0_rate` and end speed
+//! `v1_rate` (Q0.32 steps/tick, as the trapezoid's v0), duration `t_ticks` (T), signed
+//! steps `steps` (θ, n = |θ|) and `a_q32` (A·2^32), where A = a0·T²/2 is the distance
+//! the start acceleration a0 alone would add over the segment, in Q32 steps. With
+//! u = t/T and V0 = v0_rate/2^32, V1 = v1_rate/2^32:
+//!
+//! ```text
+//! x(t) = V0·t + A·u² + C·u³ + Q·u⁴,   x(T) = n,  x'(T) = V1
+//! C = 4·Rn − Rv,  Q = Rv − 3·Rn,  Rn = n − V0·T − A,  Rv = (V1 − V0)·T − 2A
+//! ```
+//!
+//! so a segment ends exactly at n steps in exactly T ticks at exactly its end speed,
+//! and the next segment, whose v0 is this one's v1, joins with continuous speed. With
+//! every value scaled by 2^32 the position is the integer polynomial
+//! `N(t) = x(t)·T⁴·2^32 = v0_rate·T⁴·t + A'·T²·t² + C'·T·t³ + Q'·t⁴` (primes: ×2^32,
+//! all exact integers). Q' = 0 is a cubic (constant jerk): [`PolySegment::cubic`]
+//! chooses `A' = 3n·2^32 − (2·v0_rate + v1_rate)·T`, the one start acceleration that
+//! makes it so. Q' ≠ 0 is a quartic (constant snap), whose a0 the host gives.
+//!
+//! # The edge
+//! Step i (1 ≤ i < n) is at `E_i = max{e ≤ T − 1 : x(e − ½) ≤ i}`, the nearest tick to
+//! the exact time t_i (|E_i − t_i| ≤ ½); `E_n = T`. In integers: with
+//! `M(e) = 16·N(e − ½)` (an integer polynomial in e) and the step scale
+//! `S = 16·2^32·T⁴`, `E_i` is the largest e ≤ T − 1 with `M(e) ≤ i·S`. The core finds
+//! it by a binary search, digit b = 20 down to 0, from the previous edge (E_0 = 0),
+//! on the Taylor words `W_k = m_k·2^(k·b)` (m_k the Taylor coefficients of M at the
+//! current e): a trial is `W1 + W2 + W3 + W4 = M(e + 2^b) − M(e)`, an accepted digit
+//! shifts the words (`W1 += 2·W2 + 3·W3 + 4·W4`, `W2 += 3·W3 + 6·W4`, `W3 += 4·W4`) and
+//! every digit halves h (`W_k >>= k`, exact). Only adds, subtracts and fixed shifts:
+//! no multiply, no divide, no rounding. [`PolyPlan`] is that search, bit for bit.
+//!
+//! # Validation
+//! [`PolySegment::validate`]: the range (T ≤ [`POLY_MAX_T_TICKS`], |θ| ≤ 2^24, both
+//! rates ≤ 2^31 − 1), then the speed's Bernstein control points: with
+//! `p(u) = v(t)·T·2^32 = p0 + p1·u + p2·u² + p3·u³` (p0 = v0_rate·T, p1 = 2A',
+//! p2 = 3C', p3 = 4Q'), the control points are `β_k/3` with β0 = 3p0, β1 = 3p0 + p1,
+//! β2 = 3p0 + 2p1 + p2, β3 = 3·v1_rate·T. The speed lies in the hull of its control
+//! points, so `0 ≤ β_k` (else REVERSES) and `β_k ≤ 3·RMAX·T` and both rates ≤ RMAX
+//! (else PERIOD_TOO_SHORT) keep the speed within [0, RMAX/2^32] everywhere in the
+//! segment, an interior peak included. The check is exact when the speed is a
+//! monotone quadratic (every cubic of a jerk-limited profile) and otherwise
+//! conservative by at most T²·|jerk|max/18 steps/tick (docs/model.md).
+
+use super::segment::{Limits, SegmentError, MAX_STEPS, MAX_V0_RATE, RATE_FRAC_BITS};
+use ethnum::I256;
+use serde::{Deserialize, Serialize};
+
+/// log2 of the longest polynomial segment.
+pub const POLY_T_LOG2: u32 = 20;
+/// Longest polynomial segment: 2^20 ticks (10.5 ms at 100 MHz, 21 ms at 50 MHz).
+pub const POLY_MAX_T_TICKS: u32 = 1 << POLY_T_LOG2;
+/// The search's top digit: h = 2^b for b = POLY_TOP_DIGIT down to 0 (21 digits).
+pub const POLY_TOP_DIGIT: u32 = POLY_T_LOG2;
+/// Width of the search's signed words (the Taylor words W_k, the remainder R and
+/// every trial): |value| < 2^(POLY_WORD_BITS − 1) over the documented range. The
+/// property tests check the largest word seen against it.
+pub const POLY_WORD_BITS: u32 = 140;
+/// Every edge of a polynomial segment is within this many ticks of exact time.
+pub const POLY_EDGE_ERROR_BOUND_TICKS: f64 = 0.5;
+
+/// One polynomial segment of one axis, in register units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct PolySegment {
+    /// Start speed, Q0.32 steps per tick.
+    pub v0_rate: u32,
+    /// End speed, Q0.32 steps per tick.
+    pub v1_rate: u32,
+    /// A·2^32 with A = a0·T²/2 (steps): the start acceleration's share of the distance.
+    pub a_q32: i64,
+    /// Duration in clock ticks.
+    pub t_ticks: u32,
+    /// Signed step count θ; the sign gives the direction.
+    pub steps: i32,
+}
+
+fn w(v: i128) -> I256 {
+    I256::from(v)
+}
+
+impl PolySegment {
+    /// A segment from its five register values.
+    pub const fn new(v0_rate: u32, v1_rate: u32, a_q32: i64, t_ticks: u32, steps: i32) -> PolySegment {
+        PolySegment { v0_rate, v1_rate, a_q32, t_ticks, steps }
+    }
+
+    /// The cubic (constant jerk) through the Hermite data: A' = 3n·2^32 − (2·v0 + v1)·T,
+    /// so Q' = 0. None when A' does not fit the register (never within the range).
+    pub fn cubic(v0_rate: u32, v1_rate: u32, t_ticks: u32, steps: i32) -> Option<PolySegment> {
+        let n = steps.unsigned_abs() as i128;
+        let a = 3 * (n << RATE_FRAC_BITS) - (2 * v0_rate as i128 + v1_rate as i128) * t_ticks as i128;
+        let a = i64::try_from(a).ok()?;
+        Some(PolySegment::new(v0_rate, v1_rate, a, t_ticks, steps))
+    }
+
+    /// n = |θ|.
+    pub fn n_steps(&self) -> u32 {
+        self.steps.unsigned_abs()
+    }
+
+    /// True when the segment steps in the negative direction.
+    pub fn reverse(&self) -> bool {
+        self.steps < 0
+    }
+
+    /// (C', Q'): the cubic and quartic coefficients of x in u, ×2^32. Exact.
+    pub fn hermite_q32(&self) -> (i128, i128) {
+        let t = self.t_ticks as i128;
+        let a = self.a_q32 as i128;
+        let rn = ((self.n_steps() as i128) << RATE_FRAC_BITS) - self.v0_rate as i128 * t - a;
+        let rv = (self.v1_rate as i128 - self.v0_rate as i128) * t - 2 * a;
+        (4 * rn - rv, rv - 3 * rn)
+    }
+
+    /// 3 for a cubic (Q' = 0, C' ≠ 0), 4 for a quartic, less for lower degrees.
+    pub fn degree(&self) -> u32 {
+        let (c, q) = self.hermite_q32();
+        if q != 0 {
+            4
+        } else if c != 0 {
+            3
+        } else if self.a_q32 != 0 {
+            2
+        } else if self.v0_rate != 0 {
+            1
+        } else {
+            0
+        }
+    }
+
+    /// The coefficients c_1..c_4 of N(t) = x(t)·T⁴·2^32 = Σ c_k·t^k (c_0 = 0).
+    pub fn n_coefficients(&self) -> [I256; 4] {
+        let t = w(self.t_ticks as i128);
+        let (c, q) = self.hermite_q32();
+        let t2 = t * t;
+        [w(self.v0_rate as i128) * t2 * t2, w(self.a_q32 as i128) * t2, w(c) * t, w(q)]
+    }
+
+    /// N(num/2^s)·2^(4s): the position at the rational time num/2^s ticks, scaled by
+    /// T⁴·2^32·2^(4s). Exact (s ≤ 24 and |num| ≤ 2^46 keep it below 2^255).
+    pub fn position_scaled(&self, num: i128, s: u32) -> I256 {
+        let c = self.n_coefficients();
+        let x = w(num);
+        // Horner on Σ c_k·num^k·2^(s(4−k)).
+        let mut acc = c[3];
+        for k in (0..3).rev() {
+            acc = acc * x + (c[k] << (s * (3 - k as u32)));
+        }
+        acc * x
+    }
+
+    /// i·T⁴·2^32·2^(4s): step i on the scale of [`Self::position_scaled`].
+    pub fn step_scaled(&self, i: u32, s: u32) -> I256 {
+        let t = w(self.t_ticks as i128);
+        (w(i as i128) * t * t * t * t) << (RATE_FRAC_BITS + 4 * s)
+    }
+
+    /// The speed's Bernstein control points ×3 on the scale v·T·2^32:
+    /// [β0, β1, β2, β3] (see the module text).
+    pub fn speed_bernstein3(&self) -> [i128; 4] {
+        let (c, q) = self.hermite_q32();
+        let p0 = self.v0_rate as i128 * self.t_ticks as i128;
+        let p1 = 2 * self.a_q32 as i128;
+        let p2 = 3 * c;
+        let p3 = 4 * q;
+        let b3 = 3 * (p0 + p1 + p2 + p3);
+        debug_assert_eq!(b3, 3 * self.v1_rate as i128 * self.t_ticks as i128);
+        [3 * p0, 3 * p0 + p1, 3 * p0 + 2 * p1 + p2, b3]
+    }
+
+    /// True for a dwell: no steps and no motion (v0 = v1 = 0, A = 0).
+    pub fn is_dwell(&self) -> bool {
+        self.steps == 0 && self.v0_rate == 0 && self.v1_rate == 0 && self.a_q32 == 0
+    }
+
+    /// Checks the segment against the documented range and the limits, in this order:
+    /// T = 0, T range, steps range, rate range (either end), reversal (a speed control
+    /// point below 0), minimum period (either rate above RMAX or a control point above
+    /// it). A dwell (n = 0, v0 = v1 = 0, A = 0) is valid; any other n = 0 segment has a
+    /// negative control point (its speed integrates to 0 without being 0).
+    pub fn validate(&self, limits: &Limits) -> Result<(), SegmentError> {
+        if self.t_ticks == 0 {
+            return Err(SegmentError::TicksZero);
+        }
+        if self.t_ticks > POLY_MAX_T_TICKS {
+            return Err(SegmentError::TicksRange);
+        }
+        if self.n_steps() > MAX_STEPS {
+            return Err(SegmentError::StepsRange);
+        }
+        if self.v0_rate > MAX_V0_RATE || self.v1_rate > MAX_V0_RATE {
+            return Err(SegmentError::RateRange);
+        }
+        let b = self.speed_bernstein3();
+        if b[1] < 0 || b[2] < 0 {
+            return Err(SegmentError::Reverses);
+        }
+        let rmax = limits.max_rate() as i128;
+        let hull_max = 3 * rmax * self.t_ticks as i128;
+        if self.v0_rate as i128 > rmax || self.v1_rate as i128 > rmax || b[1] > hull_max || b[2] > hull_max {
+            return Err(SegmentError::PeriodTooShort);
+        }
+        Ok(())
+    }
+
+    /// Speed (steps/tick), acceleration (steps/tick²) and jerk (steps/tick³) at t ticks.
+    pub fn derivatives_at(&self, t_ticks: f64) -> (f64, f64, f64) {
+        let t = self.t_ticks as f64;
+        let q32 = (1u64 << RATE_FRAC_BITS) as f64;
+        let (c, q) = self.hermite_q32();
+        let (a, c, q) = (self.a_q32 as f64 / q32, c as f64 / q32, q as f64 / q32);
+        let u = t_ticks / t;
+        let v = self.v0_rate as f64 / q32 + (2.0 * a * u + 3.0 * c * u * u + 4.0 * q * u * u * u) / t;
+        let acc = (2.0 * a + 6.0 * c * u + 12.0 * q * u * u) / (t * t);
+        let jerk = (6.0 * c + 24.0 * q * u) / (t * t * t);
+        (v, acc, jerk)
+    }
+
+    /// Exactly decides |tick − t_i| ≤ tol_eighths/8 ticks for step i (1 ≤ i ≤ n) of a
+    /// valid segment: x is nondecreasing on [0, T], so it holds iff
+    /// x(lo) ≤ i ≤ x(hi) with lo, hi = tick ∓ tol clamped to [0, T].
+    pub fn edge_within(&self, i: u32, tick: i64, tol_eighths: i64) -> bool {
+        let t8 = 8 * self.t_ticks as i128;
+        let lo = (8 * tick as i128 - tol_eighths as i128).max(0);
+        let hi = (8 * tick as i128 + tol_eighths as i128).min(t8);
+        if lo > hi {
+            return false;
+        }
+        let target = self.step_scaled(i, 3);
+        self.position_scaled(lo, 3) <= target && target <= self.position_scaled(hi, 3)
+    }
+
+    /// The exact time of step i (1 ≤ i ≤ n), in ticks after the segment start, to
+    /// within 2^−20 tick: bisection with exact comparisons on [E_i − 1, E_i + 1]
+    /// (clamped to [0, T]), where `edge` is the nearest tick (within ½ of it).
+    pub fn step_time_near(&self, i: u32, edge: u32) -> f64 {
+        const S: u32 = 20;
+        let target = self.step_scaled(i, S);
+        let mut lo = ((edge as i128 - 1) << S).max(0);
+        let mut hi = ((edge as i128 + 1) << S).min((self.t_ticks as i128) << S);
+        // Invariant: x(lo) ≤ i ≤ x(hi) (x nondecreasing on [0, T]).
+        while hi - lo > 1 {
+            let mid = (lo + hi) / 2;
+            if self.position_scaled(mid, S) < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        (lo + hi) as f64 / 2.0 / (1u64 << S) as f64
+    }
+
+    /// E_i by its definition, without the search: the largest e ≤ T − 1 with
+    /// x(e − ½) ≤ i, by bisection on exact evaluations (E_n = T). For the tests.
+    pub fn edge_by_definition(&self, i: u32) -> u32 {
+        let n = self.n_steps();
+        assert!(i >= 1 && i <= n);
+        if i == n {
+            return self.t_ticks;
+        }
+        let target = self.step_scaled(i, 1);
+        let ok = |e: u32| self.position_scaled(2 * e as i128 - 1, 1) <= target;
+        // ok(0) holds (x(−½) < 1 ≤ i for a valid segment); find the last ok e.
+        let (mut lo, mut hi) = (0u32, self.t_ticks); // ok(lo), !ok(hi) (x(T − ½) > n − 1)
+        debug_assert!(ok(0) && !ok(self.t_ticks));
+        while hi - lo > 1 {
+            let mid = lo + (hi - lo) / 2;
+            if ok(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+}
+
+/// The per-segment constants of the search (the core's setup): the step scale S and
+/// the Taylor coefficients of M at e = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PolyPlan {
+    pub segment: PolySegment,
+    /// S = 16·2^32·T⁴, the distance of one step on M's scale.
+    pub step: I256,
+    /// M(0) = 16·N(−½).
+    pub m0: I256,
+    /// m_1..m_4: M's Taylor coefficients at e = 0.
+    pub taylor: [I256; 4],
+}
+
+impl PolyPlan {
+    /// Setup, once per segment (the segment must be valid).
+    ///
+    /// With N = Σ c_k t^k: M(0) = −8c1 + 4c2 − 2c3 + c4, m1 = 16c1 − 16c2 + 12c3 − 8c4,
+    /// m2 = 16c2 − 24c3 + 24c4, m3 = 16c3 − 32c4, m4 = 16c4.
+    pub fn new(segment: PolySegment) -> PolyPlan {
+        let [c1, c2, c3, c4] = segment.n_coefficients();
+        let k = |v: i128| I256::from(v);
+        let t = k(segment.t_ticks as i128);
+        PolyPlan {
+            segment,
+            step: (t * t * t * t) << (RATE_FRAC_BITS + 4),
+            m0: k(-8) * c1 + k(4) * c2 - k(2) * c3 + c4,
+            taylor: [
+                k(16) * c1 - k(16) * c2 + k(12) * c3 - k(8) * c4,
+                k(16) * c2 - k(24) * c3 + k(24) * c4,
+                k(16) * c3 - k(32) * c4,
+                k(16) * c4,
+            ],
+        }
+    }
+
+    /// The search from step 1: the state the core keeps per axis between steps.
+    pub fn search(&self) -> PolySearch {
+        PolySearch {
+            plan: *self,
+            i: 0,
+            base: 0,
+            rem: -self.m0,
+            taylor: self.taylor,
+            widest_bits: 0,
+            digits: 0,
+            trials: 0,
+            accepts: 0,
+        }
+    }
+
+    /// The search resumed after step i (0 ≤ i < n) whose edge is `edge` (E_i): the
+    /// state computed directly from the polynomial, m_k(e) = Σ_{j≥k} C(j,k)·μ_j·e^(j−k)
+    /// with μ_j the coefficients of M in e. For sampled checks of long segments.
+    pub fn search_after(&self, i: u32, edge: u32) -> PolySearch {
+        let mu = [self.m0, self.taylor[0], self.taylor[1], self.taylor[2], self.taylor[3]];
+        let e = I256::from(edge as i128);
+        const BINOM: [[i128; 5]; 5] =
+            [[1, 0, 0, 0, 0], [1, 1, 0, 0, 0], [1, 2, 1, 0, 0], [1, 3, 3, 1, 0], [1, 4, 6, 4, 1]];
+        let mut at = [I256::ZERO; 5];
+        for (k, slot) in at.iter_mut().enumerate() {
+            let mut pow = I256::ONE;
+            for (j, &m) in mu.iter().enumerate().skip(k) {
+                *slot += I256::from(BINOM[j][k]) * m * pow;
+                pow *= e;
+            }
+        }
+        let mut s = self.search();
+        s.i = i;
+        s.base = edge;
+        s.rem = I256::from(i as i128) * self.step - at[0];
+        s.taylor = [at[1], at[2], at[3], at[4]];
+        s
+    }
+
+    /// The edges E_1..E_n, by the search.
+    pub fn edges(&self) -> Vec<u32> {
+        let mut s = self.search();
+        std::iter::from_fn(|| s.next_edge()).collect()
+    }
+
+    /// The periods Δ_i = E_i − E_{i−1}, by the search.
+    pub fn periods(&self) -> Vec<u32> {
+        let mut prev = 0;
+        self.edges()
+            .into_iter()
+            .map(|e| {
+                let d = e - prev;
+                prev = e;
+                d
+            })
+            .collect()
+    }
+}
+
+/// The search between steps: what the core keeps per axis (`base` = E_{i}, `rem` =
+/// (i+1)·S − M(base) before the next step's target is added, the Taylor coefficients
+/// at `base`), and counters the tests and the report read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PolySearch {
+    pub plan: PolyPlan,
+    /// Steps done.
+    pub i: u32,
+    /// E_i, the tick of the last edge (0 before step 1).
+    pub base: u32,
+    /// i·S − M(base): the target of the last step minus M at its edge (≥ 0).
+    pub rem: I256,
+    /// m_1..m_4 at `base`.
+    pub taylor: [I256; 4],
+    /// The widest signed word the search has held, in bits (sign included).
+    pub widest_bits: u32,
+    /// Digits examined, trials made (digits within the cap) and trials accepted.
+    pub digits: u64,
+    pub trials: u64,
+    pub accepts: u64,
+}
+
+/// Bits of a signed value, sign included (two's complement width).
+pub fn signed_bits(v: I256) -> u32 {
+    let mag = if v < 0 { !v } else { v };
+    257 - mag.leading_zeros()
+}
+
+impl PolySearch {
+    fn note(&mut self, v: I256) {
+        self.widest_bits = self.widest_bits.max(signed_bits(v));
+    }
+
+    /// The next edge E_{i+1} (ticks after the segment start), or None after step n.
+    pub fn next_edge(&mut self) -> Option<u32> {
+        let seg = self.plan.segment;
+        let n = seg.n_steps();
+        if self.i >= n {
+            return None;
+        }
+        self.i += 1;
+        if self.i == n {
+            self.base = seg.t_ticks;
+            return Some(seg.t_ticks);
+        }
+        // Target i·S: R = i·S − M(base).
+        let mut r = self.rem + self.plan.step;
+        self.note(r);
+        let cap = seg.t_ticks - 1;
+        let mut e = self.base;
+        let b_top = POLY_TOP_DIGIT;
+        let [m1, m2, m3, m4] = self.taylor;
+        let mut w1 = m1 << b_top;
+        let mut w2 = m2 << (2 * b_top);
+        let mut w3 = m3 << (3 * b_top);
+        let mut w4 = m4 << (4 * b_top);
+        for v in [w1, w2, w3, w4] {
+            self.note(v);
+        }
+        for b in (0..=b_top).rev() {
+            self.digits += 1;
+            if e as u64 + (1u64 << b) <= cap as u64 {
+                self.trials += 1;
+                let trial = w1 + w2 + w3 + w4;
+                self.note(trial);
+                if trial <= r {
+                    self.accepts += 1;
+                    r -= trial;
+                    e += 1 << b;
+                    w1 += (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
+                    w2 += w3 + (w3 << 1) + (w4 << 2) + (w4 << 1);
+                    w3 += w4 << 2;
+                    for v in [r, w1, w2, w3] {
+                        self.note(v);
+                    }
+                }
+            }
+            if b > 0 {
+                debug_assert!(w1 % 2 == 0 && w2 % 4 == 0 && w3 % 8 == 0 && w4 % 16 == 0);
+                w1 >>= 1;
+                w2 >>= 2;
+                w3 >>= 3;
+                w4 >>= 4;
+            }
+        }
+        self.taylor = [w1, w2, w3, w4];
+        self.rem = r;
+        self.base = e;
+        assert!(
+            self.widest_bits <= POLY_WORD_BITS,
+            "poly search word of {} bits exceeds {POLY_WORD_BITS}: {seg:?}",
+            self.widest_bits
+        );
+        Some(e)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn limits() -> Limits {
+        Limits::default()
+    }
+
+    fn check(seg: PolySegment) -> Vec<u32> {
+        seg.validate(&limits()).unwrap();
+        let plan = PolyPlan::new(seg);
+        let edges = plan.edges();
+        assert_eq!(edges.len() as u32, seg.n_steps());
+        for (k, &e) in edges.iter().enumerate() {
+            let i = k as u32 + 1;
+            assert_eq!(e, seg.edge_by_definition(i), "step {i} of {seg:?}");
+            assert!(seg.edge_within(i, e as i64, 4), "step {i} of {seg:?} not within ½ tick");
+        }
+        edges
+    }
+
+    #[test]
+    fn a_cubic_from_rest_has_its_edges_at_the_cube_root() {
+        // x = n·u³ (v0 = 0, A = 0): v1 = 3n/T. T = 2^16, n = 1000: v1·2^32 = 3000·2^16.
+        let t = 1u32 << 16;
+        let seg = PolySegment::cubic(0, 3000 << 16, t, 1000).unwrap();
+        assert_eq!(seg.a_q32, 0);
+        assert_eq!(seg.degree(), 3);
+        let edges = check(seg);
+        for (k, &e) in edges.iter().enumerate() {
+            let exact = t as f64 * ((k + 1) as f64 / 1000.0).cbrt();
+            assert!((e as f64 - exact).abs() <= 0.5 + 1e-9, "step {}: {e} vs {exact}", k + 1);
+        }
+    }
+
+    #[test]
+    fn a_quartic_from_rest_matches_the_fourth_root() {
+        // x = n·u⁴: v0 = 0, A = 0, C = 0, Q = n → Rn = n, Rv = v1·T = 4n.
+        let t = 1u32 << 18;
+        let n = 4096;
+        let seg = PolySegment::new(0, ((4 * n as u64) << 32 >> 18) as u32, 0, t, n);
+        assert_eq!(seg.hermite_q32(), (0, (n as i128) << 32));
+        let edges = check(seg);
+        for (k, &e) in edges.iter().enumerate() {
+            let exact = t as f64 * ((k + 1) as f64 / n as f64).powf(0.25);
+            assert!((e as f64 - exact).abs() <= 0.5 + 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_uniform_segment_is_bresenham() {
+        let seg = PolySegment::cubic(1 << 28, 1 << 28, 1 << 20, 1 << 16).unwrap();
+        assert_eq!(seg.degree(), 1);
+        let edges = check(seg);
+        for (k, &e) in edges.iter().enumerate() {
+            assert_eq!(e, 16 * (k as u32 + 1));
+        }
+    }
+
+    #[test]
+    fn rest_to_rest_in_one_cubic_and_one_step() {
+        // x = n(3u² − 2u³): v0 = v1 = 0, A = 3n.
+        let seg = PolySegment::cubic(0, 0, POLY_MAX_T_TICKS, 1).unwrap();
+        assert_eq!(seg.a_q32, 3 << 32);
+        assert_eq!(check(seg), vec![POLY_MAX_T_TICKS]);
+        let seg = PolySegment::cubic(0, 0, POLY_MAX_T_TICKS, 2).unwrap();
+        assert_eq!(check(seg), vec![POLY_MAX_T_TICKS / 2, POLY_MAX_T_TICKS]);
+    }
+
+    #[test]
+    fn the_search_resumes_from_any_step() {
+        let mut seg = PolySegment::cubic(1 << 27, 3 << 26, 1 << 19, 20000).unwrap();
+        seg.a_q32 += 1 << 44; // a quartic
+        assert_eq!(seg.degree(), 4);
+        seg.validate(&limits()).unwrap();
+        let plan = PolyPlan::new(seg);
+        let edges = plan.edges();
+        for i in [0u32, 1, 77, 6000, 19998] {
+            let base = if i == 0 { 0 } else { edges[i as usize - 1] };
+            let mut s = plan.search_after(i, base);
+            let again: Vec<u32> = std::iter::from_fn(|| s.next_edge()).collect();
+            assert_eq!(&again[..], &edges[i as usize..]);
+        }
+    }
+
+    /// The widest search word over the corners of the range: every speed control point
+    /// at 0 or RMAX (minimum period 2), T = 2^20 and 2^20 − 1, in windows at the start,
+    /// the middle and the end of each segment.
+    #[test]
+    fn the_search_words_fit_at_the_corners() {
+        let l = limits();
+        let rmax = l.max_rate() as i128;
+        let mut widest = 0;
+        for t in [POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1, 1 << 12] {
+            for bits in 0u32..16 {
+                let b: Vec<i128> = (0..4).map(|k| if bits >> k & 1 == 1 { rmax } else { 0 }).collect();
+                let tt = t as i128;
+                let n = ((b.iter().sum::<i128>() * tt + (1 << 33)) >> 34) as i32;
+                let a = (3 * (b[1] - b[0]) * tt / 2) as i64;
+                let mut seg = PolySegment::new(b[0] as u32, b[3] as u32, a, t, n);
+                // Rounding n and A may push a control point out: pull A in until valid.
+                let mut tries = 0;
+                while seg.validate(&l).is_err() && tries < 64 {
+                    seg.a_q32 -= seg.a_q32.signum() * (1 << 30);
+                    tries += 1;
+                }
+                if seg.validate(&l).is_err() || seg.n_steps() == 0 {
+                    continue;
+                }
+                let plan = PolyPlan::new(seg);
+                let n = seg.n_steps();
+                for start in [0, n / 2, n.saturating_sub(40)] {
+                    let base = if start == 0 { 0 } else { seg.edge_by_definition(start) };
+                    let mut s = plan.search_after(start, base);
+                    for _ in 0..40 {
+                        if s.next_edge().is_none() {
+                            break;
+                        }
+                    }
+                    widest = widest.max(s.widest_bits);
+                }
+            }
+        }
+        eprintln!("widest poly search word: {widest} bits");
+        assert!(widest <= POLY_WORD_BITS && widest + 8 > POLY_WORD_BITS, "widest {widest}");
+    }
+
+    #[test]
+    fn validation_catches_interior_reversal_and_peak() {
+        let l = limits();
+        let rmax = l.max_rate();
+        // n = 0 with an acceleration term reverses inside.
+        assert_eq!(PolySegment::new(0, 0, 1 << 40, 1000, 0).validate(&l), Err(SegmentError::Reverses));
+        assert!(PolySegment::new(0, 0, 0, 1000, 0).validate(&l).is_ok());
+        // Rest to rest over T with n steps peaks at 1.5·n/T: too fast when that exceeds RMAX
+        // although both ends are at rest.
+        let t = 3000u32;
+        let n = ((rmax as u64 * t as u64) >> 32) as i32; // average speed ≈ RMAX
+        assert_eq!(PolySegment::cubic(0, 0, t, n).unwrap().validate(&l), Err(SegmentError::PeriodTooShort));
+        assert_eq!(PolySegment::cubic(0, 0, t, 2 * n / 5).unwrap().validate(&l), Ok(()));
+        assert_eq!(PolySegment::cubic(0, 0, POLY_MAX_T_TICKS + 1, 1).unwrap().validate(&l), Err(SegmentError::TicksRange));
+        assert_eq!(PolySegment::new(MAX_V0_RATE + 1, 0, 0, 10, 1).validate(&l), Err(SegmentError::RateRange));
+    }
+}
