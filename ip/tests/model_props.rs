@@ -9,6 +9,7 @@
 use proptest::prelude::*;
 use tdm_stepper::model::exact::{edge_within, step_time};
 use tdm_stepper::model::poly::*;
+use tdm_stepper::model::scurve;
 use tdm_stepper::model::*;
 
 const CASES: u32 = 10_000;
@@ -74,14 +75,11 @@ fn valid_segment() -> impl Strategy<Value = (Segment, Limits)> {
 /// A nearly uniform segment: |D·2^32| small, so P is huge (up to the sqrt path's width
 /// and past it, into the uniform fallback). Built by solving v0_rate·T ≡ −d (mod 2^32).
 fn nearly_uniform_segment() -> impl Strategy<Value = (Segment, Limits)> {
-    (0u32..(1 << 28), -4000i64..4000, any::<bool>()).prop_filter_map(
-        "no segment in range",
-        |(half_rate, d, neg)| {
-            let seg = Segment::with_tiny_d(2 * half_rate + 1, d, neg)?;
-            let limits = Limits::default();
-            seg.validate(&limits).ok().map(|_| (seg, limits))
-        },
-    )
+    (0u32..(1 << 28), -4000i64..4000, any::<bool>()).prop_filter_map("no segment in range", |(half_rate, d, neg)| {
+        let seg = Segment::with_tiny_d(2 * half_rate + 1, d, neg)?;
+        let limits = Limits::default();
+        seg.validate(&limits).ok().map(|_| (seg, limits))
+    })
 }
 
 /// Checks one segment's edges; returns the largest f64 error seen.
@@ -550,7 +548,14 @@ fn the_stop_deceleration_unit_and_minimum() {
 /// cubic (tiny jerk), a general quartic. Filtered to the valid ones.
 fn poly_segment(valid: bool) -> impl Strategy<Value = (PolySegment, Limits)> {
     let point = (0u8..5, 0.0f64..=1.0);
-    (min_period(), log_uniform(1, POLY_MAX_T_TICKS as u64), [point.clone(), point.clone(), point.clone(), point], 0u8..4, -2i64..=2, any::<bool>())
+    (
+        min_period(),
+        log_uniform(1, POLY_MAX_T_TICKS as u64),
+        [point.clone(), point.clone(), point.clone(), point],
+        0u8..4,
+        -2i64..=2,
+        any::<bool>(),
+    )
         .prop_filter_map("outside the range", move |(m, t, cps, shape, nudge, neg)| {
             let limits = Limits::new(m).unwrap();
             let rmax = limits.max_rate() as f64;
@@ -593,7 +598,12 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
         prop_assert!(seg.edge_within(i, e as i64, 4), "step {i}: edge {e} not within ½ tick, {seg:?}");
         let err = (e as f64 - seg.step_time_near(i, e)).abs();
         prop_assert!(err <= POLY_EDGE_ERROR_BOUND_TICKS + 1e-5, "step {i}: error {err}");
-        prop_assert!(e - prev >= limits.min_period_ticks, "step {i}: period {} < {}", e - prev, limits.min_period_ticks);
+        prop_assert!(
+            e - prev >= limits.min_period_ticks,
+            "step {i}: period {} < {}",
+            e - prev,
+            limits.min_period_ticks
+        );
         if by_definition {
             prop_assert_eq!(e, seg.edge_by_definition(i), "step {}", i);
         }
@@ -632,7 +642,6 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
         }
     }
     prop_assert!(widest <= POLY_WORD_BITS, "search word of {widest} bits");
-    if std::env::var("POLY_STATS").is_ok() { eprintln!("STAT n={n} t={} deg={} widest={widest}", seg.t_ticks, seg.degree()); }
     Ok(widest)
 }
 
@@ -693,6 +702,12 @@ proptest! {
         }
     }
 
+}
+
+proptest! {
+    // 1,000 cases: each runs up to seven segments of up to 4,096 steps twice.
+    #![proptest_config(ProptestConfig { cases: config().cases.min(1_000), ..config() })]
+
     /// Trapezoid and polynomial segments mixed on one axis: edges measured from the
     /// move start, cumulatively, never drift; a rejected segment between them changes
     /// nothing.
@@ -727,6 +742,174 @@ proptest! {
             prop_assert_eq!(mixed.rejected.len(), 1);
             prop_assert_eq!(&mixed.edge_ticks, &run.edge_ticks);
             prop_assert_eq!(mixed.position, run.position);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// S-curve planner: model::scurve.
+
+/// Random S-curve limits at a clock: (clock, min period, steps, v_start, v_end, v_max,
+/// a, j, d, jd, snap), each in a range a machine uses.
+fn scurve_inputs() -> impl Strategy<Value = (u32, u32, i64, f64, f64, f64, f64, f64, f64, f64, f64)> {
+    (
+        prop_oneof![Just(10_000_000u32), Just(50_000_000), Just(100_000_000)],
+        min_period(),
+        log_uniform(1, 40_000),
+        any::<bool>(),
+        (0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0),
+        (0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0, 0.0f64..=1.0),
+        0u8..4,
+    )
+        .prop_map(|(f, m, n, neg, (xv, xs, xe), (xa, xj, xd, xjd, xsn, _), ends)| {
+            let rmax = Limits::new(m).unwrap().max_rate() as f64 / 2f64.powi(32) * f as f64;
+            // The planner's documented domain: v_max ≤ 0.95·RMAX, and every speed
+            // change spanning at least 4 steps (a, d ≤ v_max²/8).
+            let v_max = (100f64.ln() + xv * (0.95 * rmax / 100.0).ln()).exp();
+            let lu = |x: f64, lo: f64, hi: f64| (lo.ln() + x * (hi / lo).ln()).exp();
+            // Reach the top speed in 0.1 ms .. 1 s; the jerk phases 2% .. 100% of that.
+            let a_top = (v_max / 1e-4).min(v_max * v_max / 8.0).max(v_max);
+            let a = lu(xa, v_max / 1.0, a_top);
+            let d = lu(xd, v_max / 1.0, a_top);
+            let j = lu(xj, a / (v_max / a), a / (0.02 * v_max / a));
+            let jd = lu(xjd, d / (v_max / d), d / (0.02 * v_max / d));
+            let snap = lu(xsn, j / (a / j), j / (0.02 * a / j));
+            let (vs, ve) = match ends {
+                0 => (0.0, 0.0),
+                1 => (xs * v_max, 0.0),
+                2 => (0.0, xe * v_max),
+                _ => (xs * v_max, xe * v_max),
+            };
+            let steps = if neg { -(n as i64) } else { n as i64 };
+            (f, m, steps, vs, ve, v_max, a, j, d, jd, snap)
+        })
+}
+
+/// Checks a planned S-curve move: every segment valid, steps and ticks summing to the
+/// move, each boundary on the exact profile (position within ½ step, speed within a
+/// few rate units; the rest-end correction may lower a speed further, never raise
+/// it), the end speed exact, and the edges within the bounds when run.
+fn check_scurve(
+    moves: &[Motion],
+    prof: &scurve::Profile,
+    steps: i64,
+    v_end: f64,
+    f: u32,
+    limits: &Limits,
+) -> Result<(), TestCaseError> {
+    let n = steps.unsigned_abs() as i64;
+    prop_assert_eq!(moves.iter().map(|m| m.steps() as i64).sum::<i64>(), steps);
+    let total: u64 = moves.iter().map(|m| m.t_ticks() as u64).sum();
+    prop_assert!((total as f64 - prof.duration() * f as f64).abs() <= 0.5 + 1e-6 * total as f64);
+    let one = 2f64.powi(32);
+    let (mut tick, mut pos) = (0u64, 0i64);
+    let mut worst_rate = 0.0f64;
+    for (k, m) in moves.iter().enumerate() {
+        prop_assert_eq!(m.validate(limits), Ok(()), "segment {}", k);
+        // The boundary is where the profile reaches a whole step, rounded to a tick.
+        let ff = f as f64;
+        let [x, v, a, _] = prof.state_at(tick as f64 / ff);
+        prop_assert!((pos as f64 - x).abs() <= 0.5 + 1e-6 * n as f64, "boundary {k}: position {pos}, exact {x}");
+        let (v0, _) = m.end_rates();
+        let exact = v / ff * one;
+        let slack = 0.5 * a.abs() / ff / ff * one + 1.0 + 1e-9 * exact;
+        // Pieces of a few steps follow the profile only as closely as whole steps allow.
+        let few = m.n_steps() < 20 || (k > 0 && moves[k - 1].n_steps() < 20);
+        if !few {
+            worst_rate = worst_rate.max(((v0 as f64 - exact).abs() - slack).max(0.0));
+        }
+        tick += m.t_ticks() as u64;
+        pos += m.n_steps() as i64;
+    }
+    prop_assert_eq!(pos, n);
+    // A repaired boundary's speed may move (never past RMAX): within 5% of v_max
+    // between pieces of 20 steps or more.
+    let v_max_rate = prof.starts.iter().map(|s| s[2]).fold(0.0, f64::max) / f as f64 * one;
+    prop_assert!(
+        worst_rate <= 0.05 * v_max_rate + 2.0,
+        "a boundary speed {worst_rate} rate units off the profile (v_max {v_max_rate})"
+    );
+    if let Some(Motion::Poly(p)) = moves.last() {
+        prop_assert_eq!(p.v1_rate, (v_end / f as f64 * one).round() as u32);
+    }
+    let run = AxisRun::run_motions(moves, limits);
+    prop_assert!(run.rejected.is_empty());
+    prop_assert_eq!(run.edge_ticks.len() as i64, n);
+    prop_assert!(
+        run.max_edge_error_ticks() <= EDGE_ERROR_BOUND_TICKS + 1e-6,
+        "edge error {}",
+        run.max_edge_error_ticks()
+    );
+    Ok(())
+}
+
+/// The longest time between two consecutive whole steps of the exact profile (from
+/// its start, to its end), ticks.
+fn longest_gap_ticks(prof: &scurve::Profile, n: u64, f: u32) -> f64 {
+    let total = prof.duration();
+    let time_of = |x: f64| {
+        let (mut lo, mut hi) = (0.0, total);
+        for _ in 0..100 {
+            let mid = (lo + hi) / 2.0;
+            if prof.state_at(mid)[0] < x {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        hi
+    };
+    let mut prev = 0.0;
+    let mut gap = 0.0f64;
+    for i in 1..=n {
+        let t = if i == n { total } else { time_of(i as f64) };
+        gap = gap.max(t - prev);
+        prev = t;
+    }
+    gap * f as f64
+}
+
+proptest! {
+    // 300 cases: each runs a whole move through the models.
+    #![proptest_config(ProptestConfig { cases: config().cases.min(300), ..config() })]
+
+    /// Jerk-limited moves over the range: planned, or refused only when the move is
+    /// shorter than its speed change needs.
+    #[test]
+    fn jerk_limited_moves_plan_exactly((f, m, steps, vs, ve, v_max, a, j, d, jd, _snap) in scurve_inputs()) {
+        let limits = Limits::new(m).unwrap();
+        let up = scurve::SideLimits { accel: a, jerk: j, snap: None };
+        let down = scurve::SideLimits { accel: d, jerk: jd, snap: None };
+        let n = steps.unsigned_abs() as f64;
+        match scurve::jerk_limited(steps, vs, ve, v_max, a, j, d, jd, f, &limits) {
+            Ok(moves) => {
+                let prof = scurve::profile(n, vs, ve, v_max, up, down).unwrap();
+                check_scurve(&moves, &prof, steps, ve, f, &limits)?;
+            }
+            Err(scurve::ScurveError::TooShort(need)) => prop_assert!(need > n),
+            Err(scurve::ScurveError::TooSlow) => {
+                let prof = scurve::profile(n, vs, ve, v_max, up, down).unwrap();
+                let gap = longest_gap_ticks(&prof, steps.unsigned_abs(), f);
+                prop_assert!(gap > (1u64 << 22) as f64, "TooSlow, but the longest stretch without a step is {gap} ticks");
+            }
+            Err(e) => prop_assert!(false, "{e}"),
+        }
+    }
+
+    /// Fourth-order moves (rest to rest) over the range.
+    #[test]
+    fn fourth_order_moves_plan_exactly((f, m, steps, _vs, _ve, v_max, a, j, _d, _jd, snap) in scurve_inputs()) {
+        let limits = Limits::new(m).unwrap();
+        let side = scurve::SideLimits { accel: a, jerk: j, snap: Some(snap) };
+        let n = steps.unsigned_abs() as f64;
+        let prof = scurve::profile(n, 0.0, 0.0, v_max, side, side).unwrap();
+        match scurve::fourth_order(steps, v_max, a, j, snap, f, &limits) {
+            Ok(moves) => check_scurve(&moves, &prof, steps, 0.0, f, &limits)?,
+            Err(scurve::ScurveError::TooSlow) => {
+                let gap = longest_gap_ticks(&prof, steps.unsigned_abs(), f);
+                prop_assert!(gap > (1u64 << 22) as f64, "TooSlow, but the longest stretch without a step is {gap} ticks");
+            }
+            Err(e) => prop_assert!(false, "{e}"),
         }
     }
 }

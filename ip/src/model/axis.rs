@@ -177,10 +177,6 @@ impl AxisRun {
 
     /// Largest |edge − exact| over the move, in ticks.
     pub fn max_edge_error_ticks(&self) -> f64 {
-        self.edge_ticks
-            .iter()
-            .zip(&self.exact_ticks)
-            .map(|(&e, &x)| (e as f64 - x).abs())
-            .fold(0.0, f64::max)
+        self.edge_ticks.iter().zip(&self.exact_ticks).map(|(&e, &x)| (e as f64 - x).abs()).fold(0.0, f64::max)
     }
 }

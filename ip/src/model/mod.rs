@@ -8,6 +8,7 @@
 //! * [`units`]: steps/s and seconds to register units;
 //! * [`poly`]: polynomial (S-curve) segments: the form, validation, the exact edge search;
 //! * [`planner`]: trapezoid moves to segments;
+//! * [`scurve`]: jerk-limited and fourth-order (S-curve) moves to segments;
 //! * [`guard`]: the machine I/O's push checks (limits, soft limits, a held axis) and the planned position;
 //! * [`io`]: machine inputs and safety (filters, e-stop latch, watchdog, latches), clock by clock;
 //! * [`stop`]: the controlled stop's segment, formed from an axis's last period;
@@ -23,6 +24,7 @@ pub mod io;
 pub mod planner;
 pub mod poly;
 pub mod pulse;
+pub mod scurve;
 pub mod segment;
 pub mod stop;
 pub mod units;

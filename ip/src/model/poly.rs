@@ -51,15 +51,15 @@ use ethnum::I256;
 use serde::{Deserialize, Serialize};
 
 /// log2 of the longest polynomial segment.
-pub const POLY_T_LOG2: u32 = 20;
-/// Longest polynomial segment: 2^20 ticks (10.5 ms at 100 MHz, 21 ms at 50 MHz).
+pub const POLY_T_LOG2: u32 = 24;
+/// Longest polynomial segment: 2^24 ticks (168 ms at 100 MHz, 336 ms at 50 MHz).
 pub const POLY_MAX_T_TICKS: u32 = 1 << POLY_T_LOG2;
-/// The search's top digit: h = 2^b for b = POLY_TOP_DIGIT down to 0 (21 digits).
+/// The search's top digit: h = 2^b for b = POLY_TOP_DIGIT down to 0 (25 digits).
 pub const POLY_TOP_DIGIT: u32 = POLY_T_LOG2;
 /// Width of the search's signed words (the Taylor words W_k, the remainder R and
 /// every trial): |value| < 2^(POLY_WORD_BITS − 1) over the documented range. The
 /// property tests check the largest word seen against it.
-pub const POLY_WORD_BITS: u32 = 140;
+pub const POLY_WORD_BITS: u32 = 160;
 /// Every edge of a polynomial segment is within this many ticks of exact time.
 pub const POLY_EDGE_ERROR_BOUND_TICKS: f64 = 0.5;
 
@@ -610,7 +610,10 @@ mod tests {
         let n = ((rmax as u64 * t as u64) >> 32) as i32; // average speed ≈ RMAX
         assert_eq!(PolySegment::cubic(0, 0, t, n).unwrap().validate(&l), Err(SegmentError::PeriodTooShort));
         assert_eq!(PolySegment::cubic(0, 0, t, 2 * n / 5).unwrap().validate(&l), Ok(()));
-        assert_eq!(PolySegment::cubic(0, 0, POLY_MAX_T_TICKS + 1, 1).unwrap().validate(&l), Err(SegmentError::TicksRange));
+        assert_eq!(
+            PolySegment::cubic(0, 0, POLY_MAX_T_TICKS + 1, 1).unwrap().validate(&l),
+            Err(SegmentError::TicksRange)
+        );
         assert_eq!(PolySegment::new(MAX_V0_RATE + 1, 0, 0, 10, 1).validate(&l), Err(SegmentError::RateRange));
     }
 }
