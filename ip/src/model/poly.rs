@@ -27,7 +27,7 @@
 //! the exact time t_i (|E_i − t_i| ≤ ½); `E_n = T`. In integers: with
 //! `M(e) = 16·N(e − ½)` (an integer polynomial in e) and the step scale
 //! `S = 16·2^32·T⁴`, `E_i` is the largest e ≤ T − 1 with `M(e) ≤ i·S`. The core finds
-//! it by a binary search, digit b = 20 down to 0, from the previous edge (E_0 = 0),
+//! it by a binary search, digit b = 24 down to 0 (T ≤ 2^24), from the previous edge (E_0 = 0),
 //! on the Taylor words `W_k = m_k·2^(k·b)` (m_k the Taylor coefficients of M at the
 //! current e): a trial is `W1 + W2 + W3 + W4 = M(e + 2^b) − M(e)`, an accepted digit
 //! shifts the words (`W1 += 2·W2 + 3·W3 + 4·W4`, `W2 += 3·W3 + 6·W4`, `W3 += 4·W4`) and
@@ -556,7 +556,7 @@ mod tests {
     }
 
     /// The widest search word over the corners of the range: every speed control point
-    /// at 0 or RMAX (minimum period 2), T = 2^20 and 2^20 − 1, in windows at the start,
+    /// at 0 or RMAX (minimum period 2), T = 2^24, 2^24 − 1 and 2^12, in windows at the start,
     /// the middle and the end of each segment.
     #[test]
     fn the_search_words_fit_at_the_corners() {
