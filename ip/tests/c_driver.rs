@@ -4,7 +4,8 @@
 //!   Cortex-M4, with `arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -Os` (no warnings;
 //!   the code size the README states);
 //! * the C planner gives exactly the Rust planner's segments and errors on random
-//!   moves (both forms, across and beyond the documented ranges);
+//!   moves (both forms, across and beyond the documented ranges), and so does the C
+//!   S-curve planner (`ip/c/tdm_scurve.[ch]`, jerk-limited and fourth-order moves);
 //! * the driver against the exported IP in Verilator, through a pin-level EXMC shim
 //!   (tests/c/exmc_shim.cpp, the documented minimum FSMC timing): the paper's
 //!   experiment and random moves planned in C on three axes, every STEP edge equal to
@@ -20,6 +21,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use tdm_stepper::export::{self, ExportOptions};
 use tdm_stepper::model::planner::{trapezoid_by_rates, trapezoid_by_ticks, PlanError};
+use tdm_stepper::model::scurve::{self, ScurveError};
+use tdm_stepper::model::Motion;
 use tdm_stepper::model::{AxisRun, Limits, Segment};
 use tdm_stepper::verify::Simulator;
 
@@ -187,6 +190,101 @@ fn the_c_planner_gives_the_rust_planners_segments() {
     let inputs: Vec<&str> = input.lines().collect();
     for (i, (g, w)) in got.iter().zip(&want).enumerate() {
         assert_eq!(g, w, "input {i}: `{}`: C planner against Rust planner", inputs[i]);
+    }
+}
+
+/// One S-curve plan as scurve_check prints it: rc, count (the bad segment's index for
+/// a segment error), then v0 v1 A T steps per segment.
+fn scurve_c_form(r: &Result<Vec<Motion>, ScurveError>) -> String {
+    match r {
+        Ok(moves) => {
+            let mut s = format!("0 {}", moves.len());
+            for m in moves {
+                let Motion::Poly(p) = m else { panic!("the S-curve planner plans polynomial segments") };
+                s += &format!(" {} {} {} {} {}", p.v0_rate, p.v1_rate, p.a_q32, p.t_ticks, p.steps);
+            }
+            s
+        }
+        Err(e) => {
+            let index = if let ScurveError::Segment { index, .. } = e { *index } else { 0 };
+            format!("{} {index}", e.c_code())
+        }
+    }
+}
+
+/// The C S-curve planner (`tdm_scurve.c`, built with -ffp-contract=off) gives exactly
+/// the Rust planner's segments and errors: jerk-limited and fourth-order moves over
+/// and beyond the planner's domain, with bad limits, moves too short for their speed
+/// change and moves too slow for a segment.
+#[test]
+fn the_c_scurve_planner_gives_the_rust_planners_segments() {
+    let dir = sim_dir("c_scurve", Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let c_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("c");
+    let bin = dir.join("scurve_check");
+    let gcc = |src: PathBuf, obj: &str| {
+        let out = dir.join(obj);
+        let mut cmd = Command::new("gcc");
+        cmd.args(GCC_FLAGS).args(["-O2", "-ffp-contract=off", "-I"]).arg(&c_dir).arg("-c").arg(&src).arg("-o").arg(&out);
+        let text = run(&mut cmd, &format!("gcc {}", src.display()));
+        assert!(text.trim().is_empty(), "gcc printed diagnostics for {}:\n{text}", src.display());
+        out
+    };
+    let objs = [gcc(c_dir.join("tdm_scurve.c"), "s.o"), gcc(tests_c().join("scurve_check.c"), "c.o")];
+    // It builds for a Cortex-M4 (soft double) without a warning too.
+    let mut arm = Command::new("arm-none-eabi-gcc");
+    arm.args(["-mcpu=cortex-m4", "-mthumb", "-Os", "-ffp-contract=off"]).args(GCC_FLAGS).arg("-c").arg(c_dir.join("tdm_scurve.c")).arg("-o").arg(dir.join("s.arm.o"));
+    let text = run(&mut arm, "arm-none-eabi-gcc tdm_scurve.c");
+    assert!(text.trim().is_empty(), "arm-none-eabi-gcc printed diagnostics:\n{text}");
+    run(Command::new("gcc").args(&objs).arg("-lm").arg("-o").arg(&bin), "link scurve_check");
+
+    let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+    let unit = |rng: &mut Rng| (rng.next() % 1_000_000) as f64 / 1e6;
+    let (mut input, mut want) = (String::new(), Vec::new());
+    let (mut ok, mut errs) = (0, 0);
+    for k in 0..1500 {
+        let clock = [50_000_000u32, 100_000_000, 10_000_000, 24_000_000][k % 4];
+        let limits = Limits::new([2u32, 44, 66, 1000][(k / 4) % 4]).unwrap();
+        let max_rate = limits.max_rate();
+        let rmax = max_rate as f64 * clock as f64 / 2f64.powi(32);
+        let sign = if rng.next() % 2 == 0 { 1 } else { -1 };
+        let steps = sign * log_uniform(&mut rng, 1.0, 2e5) as i64;
+        // Mostly within the domain, some beyond it (v_max up to 1.2·RMAX, a bad limit).
+        let v_max = match rng.next() % 20 {
+            0 => 0.0,
+            1 => f64::NAN,
+            _ => log_uniform(&mut rng, 50.0, 1.2 * rmax) as f64 + unit(&mut rng),
+        };
+        let lu = |rng: &mut Rng, lo: f64, hi: f64| (lo.ln() + unit(rng) * (hi / lo).ln()).exp();
+        let a = lu(&mut rng, v_max.max(1.0) / 2.0, v_max.max(1.0) / 1e-4);
+        let j = lu(&mut rng, a / (v_max.max(1.0) / a), 50.0 * a * a / v_max.max(1.0));
+        let r;
+        if k % 2 == 0 {
+            let d = lu(&mut rng, v_max.max(1.0) / 2.0, v_max.max(1.0) / 1e-4);
+            let jd = lu(&mut rng, d / (v_max.max(1.0) / d), 50.0 * d * d / v_max.max(1.0));
+            let vs = if rng.next() % 2 == 0 { 0.0 } else { unit(&mut rng) * v_max };
+            let ve = if rng.next() % 2 == 0 { 0.0 } else { unit(&mut rng) * v_max };
+            input += &format!("jerk {steps} {vs:e} {ve:e} {v_max:e} {a:e} {j:e} {d:e} {jd:e} {clock} {max_rate}\n");
+            r = scurve::jerk_limited(steps, vs, ve, v_max, a, j, d, jd, clock, &limits);
+        } else {
+            let s = lu(&mut rng, j / (a / j), 50.0 * j * j / a);
+            input += &format!("fourth {steps} {v_max:e} {a:e} {j:e} {s:e} {clock} {max_rate}\n");
+            r = scurve::fourth_order(steps, v_max, a, j, s, clock, &limits);
+        }
+        if r.is_ok() { ok += 1 } else { errs += 1 }
+        want.push(scurve_c_form(&r));
+    }
+    assert!(ok > 600 && errs > 100, "the inputs cover both outcomes: {ok} planned, {errs} errors");
+    let in_path = dir.join("scurves.txt");
+    std::fs::write(&in_path, &input).unwrap();
+    let out = Command::new(&bin).stdin(std::fs::File::open(&in_path).unwrap()).output().unwrap();
+    assert!(out.status.success());
+    let got: Vec<String> = String::from_utf8(out.stdout).unwrap().lines().map(|s| s.to_string()).collect();
+    assert_eq!(got.len(), want.len(), "one result per input");
+    let inputs: Vec<&str> = input.lines().collect();
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert_eq!(g, w, "input {i}: `{}`: C S-curve planner against Rust planner", inputs[i]);
     }
 }
 

@@ -49,6 +49,8 @@ pub const SPLIT_TICKS: u64 = 1 << 23;
 /// dropped, so that the ½-tick rounding of a boundary moves a piece's mean speed by at
 /// most 1/64 (0.8% at each end).
 pub const MIN_PIECE_TICKS: u64 = 64;
+/// The most segments one move plans into (the C planner's arrays).
+pub const MAX_SCURVE_SEGMENTS: usize = 128;
 /// Bisection steps for a peak speed or acceleration (enough to reach f64's resolution).
 pub const BISECTION_STEPS: u32 = 100;
 
@@ -64,6 +66,9 @@ pub enum ScurveError {
     /// ticks, or 2^30 for a cruise): the speed is too low for too long (a start from
     /// rest whose first step comes more than 2^24 ticks in, a jerk too small).
     TooSlow,
+    /// The move needs more than [`MAX_SCURVE_SEGMENTS`] segments (more than about
+    /// 128·2^23 ticks long): plan it as several moves.
+    TooManySegments,
     /// Segment `index` is not valid.
     Segment { index: usize, error: SegmentError },
 }
@@ -80,6 +85,7 @@ impl fmt::Display for ScurveError {
             ScurveError::TooSlow => {
                 write!(f, "the move goes more than 2^24 ticks without a step (raise the jerk or the speed)")
             }
+            ScurveError::TooManySegments => write!(f, "the move needs more than {MAX_SCURVE_SEGMENTS} segments: plan it as several moves"),
             ScurveError::Segment { index, error } => write!(f, "segment {index}: {error}"),
         }
     }
@@ -95,6 +101,7 @@ impl ScurveError {
             ScurveError::BadLimit(..) => -21,
             ScurveError::TooShort(_) => -24,
             ScurveError::TooSlow => -25,
+            ScurveError::TooManySegments => -26,
         }
     }
 }
@@ -349,6 +356,9 @@ fn plan(
     clock_hz: u32,
     limits: &Limits,
 ) -> Result<Vec<Motion>, ScurveError> {
+    if clock_hz == 0 {
+        return Err(ScurveError::BadLimit("clock_hz", 0.0));
+    }
     let v_max = check_limit("v_max", v_max, false)?;
     let v_start = check_limit("v_start", v_start, true)?;
     let v_end = check_limit("v_end", v_end, true)?;
@@ -383,7 +393,7 @@ fn plan(
         }
     }
     cand.pop(); // the move's end
-                // The time at which the exact profile reaches position x (it never moves back).
+    // The time at which the exact profile reaches position x (it never moves back).
     let time_of = |x: f64| -> f64 {
         let (mut lo, mut hi) = (0.0, total_s);
         for _ in 0..BISECTION_STEPS {
@@ -414,6 +424,9 @@ fn plan(
         marks.push((tick, xs, ts));
     }
     marks.push((total, n, total_s));
+    if marks.len() - 1 > MAX_SCURVE_SEGMENTS {
+        return Err(ScurveError::TooManySegments);
+    }
     // Each piece: may it be a quartic (it overlaps a phase with snap)?
     let mut ticks: Vec<(u64, bool)> = vec![(0, false)]; // (tick, overlaps snap)
     for k in 1..marks.len() {
