@@ -8,7 +8,7 @@
 //! (like Fig. 11 of the paper) into the output folder.
 
 use crate::model::alternatives::Algorithm;
-use crate::model::{planner, AxisRun, Limits, Segment};
+use crate::model::{planner, scurve, AxisRun, Limits, Motion, Segment};
 use crate::vectors::{paper_experiment_segments, PAPER_CLOCK_HZ};
 use plotters::prelude::*;
 use serde::Serialize;
@@ -173,6 +173,99 @@ pub fn table(reports: &[AxisReport]) -> String {
     s
 }
 
+/// One profile of the S-curve comparison: the same move and limits planned as a
+/// trapezoid, a jerk-limited and a fourth-order profile, run through the model.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProfileRow {
+    pub profile: &'static str,
+    pub segments: usize,
+    pub steps: usize,
+    pub duration_ms: f64,
+    /// Largest |acceleration| anywhere in the segments, steps/s².
+    pub peak_accel: f64,
+    /// Largest |jerk| inside a segment, steps/s³ (0 inside a trapezoid's segments).
+    pub peak_jerk_inside: f64,
+    /// Largest jump of the acceleration where two segments join, steps/s² (a jerk
+    /// without bound there).
+    pub largest_accel_jump: f64,
+    /// Largest |edge − exact time| against the segments' exact kinematics, ticks.
+    pub max_edge_error_ticks: f64,
+}
+
+/// The comparison's move: 50 MHz, 20,000 steps, v_max 50,000 steps/s, a_max 500,000
+/// steps/s², j_max 2·10⁷ steps/s³, s_max 2·10⁹ steps/s⁴.
+pub const COMPARISON: (u32, i64, f64, f64, f64, f64) = (50_000_000, 20_000, 50_000.0, 500_000.0, 2e7, 2e9);
+
+/// Runs the comparison (see [`ProfileRow`]).
+pub fn profile_comparison() -> Vec<ProfileRow> {
+    let (f, steps, v, a, j, s) = COMPARISON;
+    let lim = Limits::default();
+    let trapezoid: Vec<Motion> =
+        planner::trapezoid_by_limits(steps, v, a, f, &lim).expect("plans").into_iter().map(Motion::from).collect();
+    let jerk = scurve::jerk_limited(steps, 0.0, 0.0, v, a, j, a, j, f, &lim).expect("plans");
+    let fourth = scurve::fourth_order(steps, v, a, j, s, f, &lim).expect("plans");
+    let ff = f as f64;
+    [("trapezoid", trapezoid), ("jerk-limited", jerk), ("fourth-order", fourth)]
+        .into_iter()
+        .map(|(profile, moves)| {
+            let run = AxisRun::run_motions(&moves, &lim);
+            assert!(run.rejected.is_empty(), "{profile}: a planned segment was rejected");
+            // (acceleration at start, at end, largest |jerk| inside), per tick units.
+            let ends: Vec<(f64, f64, f64)> = moves
+                .iter()
+                .map(|m| match m {
+                    Motion::Trapezoid(seg) => {
+                        let t = seg.t_ticks as f64;
+                        let alpha = 2.0 * (seg.d_q32() as f64 / 2f64.powi(32)) / (t * t);
+                        (alpha, alpha, 0.0)
+                    }
+                    Motion::Poly(p) => {
+                        let (_, a0, j0) = p.derivatives_at(0.0);
+                        let (_, a1, j1) = p.derivatives_at(p.t_ticks as f64);
+                        (a0, a1, j0.abs().max(j1.abs()))
+                    }
+                })
+                .collect();
+            let peak_accel = ends.iter().map(|e| e.0.abs().max(e.1.abs())).fold(0.0, f64::max) * ff * ff;
+            let peak_jerk_inside = ends.iter().map(|e| e.2).fold(0.0, f64::max) * ff * ff * ff;
+            let mut jumps = vec![ends.first().map_or(0.0, |e| e.0.abs()), ends.last().map_or(0.0, |e| e.1.abs())];
+            jumps.extend(ends.windows(2).map(|w| (w[1].0 - w[0].1).abs()));
+            ProfileRow {
+                profile,
+                segments: moves.len(),
+                steps: run.edge_ticks.len(),
+                duration_ms: run.end_tick as f64 / ff * 1e3,
+                peak_accel,
+                peak_jerk_inside,
+                largest_accel_jump: jumps.into_iter().fold(0.0, f64::max) * ff * ff,
+                max_edge_error_ticks: run.max_edge_error_ticks(),
+            }
+        })
+        .collect()
+}
+
+/// The comparison as a markdown table.
+pub fn profile_table(rows: &[ProfileRow]) -> String {
+    let mut s = String::from(
+        "| profile | segments | steps | duration (ms) | peak acceleration (steps/s²) | peak jerk inside segments (steps/s³) | largest acceleration jump at a join (steps/s²) | max abs edge error (ticks) |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.3} | {:.0} | {:.4e} | {:.1} | {:.3} |",
+            r.profile,
+            r.segments,
+            r.steps,
+            r.duration_ms,
+            r.peak_accel,
+            r.peak_jerk_inside,
+            r.largest_accel_jump,
+            r.max_edge_error_ticks
+        );
+    }
+    s
+}
+
 /// The committed accuracy.md text for these reports.
 pub fn markdown(reports: &[AxisReport]) -> String {
     let mut s = String::from(
@@ -190,6 +283,18 @@ pub fn markdown(reports: &[AxisReport]) -> String {
     for r in reports {
         let _ = writeln!(s, "![{} axis {}]({})", r.move_name, r.axis, svg_name(r));
     }
+    let (f, steps, v, a, j, snap) = COMPARISON;
+    let _ = write!(
+        s,
+        "\n## S-curve profiles\n\nOne move, {steps} steps at {} MHz with v_max {v} steps/s and a_max {a} \
+         steps/s² (both sides), planned three ways: a trapezoid (`trapezoid_by_limits`), a \
+         jerk-limited profile (j_max {j:e} steps/s³, `scurve::jerk_limited`) and the fourth-order \
+         profile (also s_max {snap:e} steps/s⁴, `scurve::fourth_order`), each run through the \
+         model. The edge error is against the exact kinematics of the segments; an S-curve's \
+         acceleration jumps at a join only by the rounding of its boundaries.\n\n",
+        f / 1_000_000
+    );
+    s.push_str(&profile_table(&profile_comparison()));
     s
 }
 

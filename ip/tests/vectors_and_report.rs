@@ -127,6 +127,29 @@ fn accuracy_report_meets_the_targets_on_the_paper_experiment() {
     }
 }
 
+/// The S-curve comparison: the same move as a trapezoid, jerk-limited and fourth-order
+/// profile. The S-curves keep the jerk inside their segments near j_max and their
+/// acceleration continuous up to the rounding of the boundaries (where the
+/// trapezoid's jumps by a_max), take longer, and put every edge within ½ tick.
+#[test]
+fn the_s_curve_comparison_says_what_the_profiles_do() {
+    let (_, steps, _, a, j, _) = accuracy::COMPARISON;
+    let rows = accuracy::profile_comparison();
+    assert_eq!(rows.iter().map(|r| r.profile).collect::<Vec<_>>(), ["trapezoid", "jerk-limited", "fourth-order"]);
+    for r in &rows {
+        assert_eq!(r.steps as i64, steps);
+        assert!((r.peak_accel - a).abs() <= 0.01 * a, "{}: peak acceleration {}", r.profile, r.peak_accel);
+    }
+    let (t, jl, fo) = (&rows[0], &rows[1], &rows[2]);
+    assert!((t.largest_accel_jump - a).abs() <= 0.01 * a && t.peak_jerk_inside == 0.0);
+    for s in [jl, fo] {
+        assert!(s.largest_accel_jump <= 0.002 * a, "{}: a jump of {}", s.profile, s.largest_accel_jump);
+        assert!(s.peak_jerk_inside <= 1.1 * j && s.peak_jerk_inside >= 0.9 * j, "{}: jerk {}", s.profile, s.peak_jerk_inside);
+        assert!(s.max_edge_error_ticks <= tdm_stepper::model::poly::POLY_EDGE_ERROR_BOUND_TICKS + 1e-6);
+    }
+    assert!(t.duration_ms < jl.duration_ms && jl.duration_ms < fo.duration_ms);
+}
+
 #[test]
 fn committed_accuracy_report_is_current() {
     let path = repo().join("docs/accuracy/accuracy.md");
