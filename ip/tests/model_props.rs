@@ -843,6 +843,13 @@ fn check_scurve(
     Ok(())
 }
 
+/// A move needs more than 128 segments only when its phases, split into parts of at
+/// most 2^23 ticks, are more than 128 (each part at most one segment).
+fn too_long_for_128(prof: &scurve::Profile, f: u32) -> bool {
+    let parts: f64 = prof.phases.iter().map(|p| (p.dur * f as f64 / (1u64 << 23) as f64).ceil().max(1.0)).sum();
+    parts > scurve::MAX_SCURVE_SEGMENTS as f64
+}
+
 /// The longest time between two consecutive whole steps of the exact profile (from
 /// its start, to its end), ticks.
 fn longest_gap_ticks(prof: &scurve::Profile, n: u64, f: u32) -> f64 {
@@ -892,6 +899,10 @@ proptest! {
                 let gap = longest_gap_ticks(&prof, steps.unsigned_abs(), f);
                 prop_assert!(gap > (1u64 << 22) as f64, "TooSlow, but the longest stretch without a step is {gap} ticks");
             }
+            Err(scurve::ScurveError::TooManySegments) => {
+                let prof = scurve::profile(n, vs, ve, v_max, up, down).unwrap();
+                prop_assert!(too_long_for_128(&prof, f), "TooManySegments for a move of {} s", prof.duration());
+            }
             Err(e) => prop_assert!(false, "{e}"),
         }
     }
@@ -908,6 +919,9 @@ proptest! {
             Err(scurve::ScurveError::TooSlow) => {
                 let gap = longest_gap_ticks(&prof, steps.unsigned_abs(), f);
                 prop_assert!(gap > (1u64 << 22) as f64, "TooSlow, but the longest stretch without a step is {gap} ticks");
+            }
+            Err(scurve::ScurveError::TooManySegments) => {
+                prop_assert!(too_long_for_128(&prof, f), "TooManySegments for a move of {} s", prof.duration());
             }
             Err(e) => prop_assert!(false, "{e}"),
         }
