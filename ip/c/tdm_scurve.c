@@ -134,6 +134,20 @@ static double rise(double ap, double j, double s)
     return ap * s <= j * j ? 2.0 * sqrt(ap / s) : ap / j + j / s;
 }
 
+/* A change of x whose own rate is limited to `limit` and whose rate's rate is r (a
+ * speed change: dv, a, j; an acceleration ramp: ap, j, s): the ramp time and the hold
+ * at the limit. */
+static void ramp(double x, double limit, double r, double *t_ramp, double *t_hold)
+{
+    if (x * r <= limit * limit) {
+        *t_ramp = sqrt(x / r);
+        *t_hold = 0.0;
+    } else {
+        *t_ramp = limit / r;
+        *t_hold = x / limit - limit / r;
+    }
+}
+
 /* The phases of a speed change of dv with sign (+1 up, -1 down); returns their count. */
 static unsigned speed_change(double dv, const side_limits *l, double sign, phase *out)
 {
@@ -141,13 +155,7 @@ static unsigned speed_change(double dv, const side_limits *l, double sign, phase
     if (dv <= 0.0) return 0;
     if (s == 0.0) {
         double tj, th;
-        if (dv * j <= a * a) {
-            tj = sqrt(dv / j);
-            th = 0.0;
-        } else {
-            tj = a / j;
-            th = dv / a - a / j;
-        }
+        ramp(dv, a, j, &tj, &th);
         out[0].dur = tj, out[0].jerk = sign * j, out[0].snap = 0.0;
         out[1].dur = th, out[1].jerk = 0.0, out[1].snap = 0.0;
         out[2].dur = tj, out[2].jerk = -sign * j, out[2].snap = 0.0;
@@ -168,13 +176,7 @@ static unsigned speed_change(double dv, const side_limits *l, double sign, phase
             ap = lo;
             th = 0.0;
         }
-        if (ap * s <= j * j) {
-            ts = sqrt(ap / s);
-            tjh = 0.0;
-        } else {
-            ts = j / s;
-            tjh = ap / j - j / s;
-        }
+        ramp(ap, j, s, &ts, &tjh);
         js = sign * s * ts;
         q = sign * s;
         out[0].dur = ts, out[0].jerk = 0.0, out[0].snap = q;
@@ -300,7 +302,6 @@ static int try_delta(boundary *b, unsigned k, unsigned which, int64_t delta, int
 static int plan(int32_t steps, double v_start, double v_end, double v_max, const side_limits *up,
                 const side_limits *down, uint32_t clock_hz, uint32_t max_rate, tdm_poly_segment *out, unsigned *count)
 {
-    static const double one = RATE_ONE;
     profile pr;
     boundary b[TDM_SCURVE_MAX_SEGMENTS + 2];
     int snaps[TDM_SCURVE_MAX_SEGMENTS + 2];
@@ -366,7 +367,6 @@ static int plan(int32_t steps, double v_start, double v_end, double v_max, const
     }
     b[0].rate = to_rate(v_start, f);
     b[nb - 1].rate = to_rate(v_end, f);
-    (void)one;
     sign = steps < 0 ? -1 : 1;
     last = nb - 1;
     for (k = 1; k < nb; k++) {

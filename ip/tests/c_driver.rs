@@ -50,9 +50,14 @@ fn export_dir(name: &str, axes: usize) -> (PathBuf, ExportOptions) {
 
 /// gcc -c of `src` into `dir/<obj>` with the project's flags (warnings are errors).
 fn gcc_c(dir: &Path, src: &Path, obj: &str) -> PathBuf {
+    gcc_c_with(dir, dir, src, obj, &[])
+}
+
+/// gcc -c of `src` into `dir/<obj>`, headers from `include`, the project's flags and `extra`.
+fn gcc_c_with(dir: &Path, include: &Path, src: &Path, obj: &str, extra: &[&str]) -> PathBuf {
     let out = dir.join(obj);
     let mut cmd = Command::new("gcc");
-    cmd.args(GCC_FLAGS).args(["-O2", "-I"]).arg(dir).arg("-c").arg(src).arg("-o").arg(&out);
+    cmd.args(GCC_FLAGS).args(extra).args(["-O2", "-I"]).arg(include).arg("-c").arg(src).arg("-o").arg(&out);
     let text = run(&mut cmd, &format!("gcc {}", src.display()));
     assert!(text.trim().is_empty(), "gcc printed diagnostics for {}:\n{text}", src.display());
     out
@@ -181,15 +186,20 @@ fn the_c_planner_gives_the_rust_planners_segments() {
         want.push(c_form(&r));
     }
     assert!(ok > 1500 && errs > 1000, "the inputs cover both outcomes: {ok} planned, {errs} errors");
-    let in_path = dir.join("plans.txt");
-    std::fs::write(&in_path, &input).unwrap();
-    let out = Command::new(&bin).stdin(std::fs::File::open(&in_path).unwrap()).output().unwrap();
+    assert_c_prints(&bin, &dir.join("plans.txt"), &input, &want, "C planner");
+}
+
+/// Runs `bin` on `input` (written to `in_path`), one line in and one line out per
+/// case, and asserts each output line equals `want`'s (what the Rust planner gives).
+fn assert_c_prints(bin: &Path, in_path: &Path, input: &str, want: &[String], what: &str) {
+    std::fs::write(in_path, input).unwrap();
+    let out = Command::new(bin).stdin(std::fs::File::open(in_path).unwrap()).output().unwrap();
     assert!(out.status.success());
     let got: Vec<String> = String::from_utf8(out.stdout).unwrap().lines().map(|s| s.to_string()).collect();
     assert_eq!(got.len(), want.len(), "one result per input");
     let inputs: Vec<&str> = input.lines().collect();
-    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        assert_eq!(g, w, "input {i}: `{}`: C planner against Rust planner", inputs[i]);
+    for (i, (g, w)) in got.iter().zip(want).enumerate() {
+        assert_eq!(g, w, "input {i}: `{}`: {what} against Rust planner", inputs[i]);
     }
 }
 
@@ -223,15 +233,11 @@ fn the_c_scurve_planner_gives_the_rust_planners_segments() {
     std::fs::create_dir_all(&dir).unwrap();
     let c_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("c");
     let bin = dir.join("scurve_check");
-    let gcc = |src: PathBuf, obj: &str| {
-        let out = dir.join(obj);
-        let mut cmd = Command::new("gcc");
-        cmd.args(GCC_FLAGS).args(["-O2", "-ffp-contract=off", "-I"]).arg(&c_dir).arg("-c").arg(&src).arg("-o").arg(&out);
-        let text = run(&mut cmd, &format!("gcc {}", src.display()));
-        assert!(text.trim().is_empty(), "gcc printed diagnostics for {}:\n{text}", src.display());
-        out
-    };
-    let objs = [gcc(c_dir.join("tdm_scurve.c"), "s.o"), gcc(tests_c().join("scurve_check.c"), "c.o")];
+    let fp = ["-ffp-contract=off"];
+    let objs = [
+        gcc_c_with(&dir, &c_dir, &c_dir.join("tdm_scurve.c"), "s.o", &fp),
+        gcc_c_with(&dir, &c_dir, &tests_c().join("scurve_check.c"), "c.o", &fp),
+    ];
     // It builds for a Cortex-M4 (soft double) without a warning too.
     let mut arm = Command::new("arm-none-eabi-gcc");
     arm.args(["-mcpu=cortex-m4", "-mthumb", "-Os", "-ffp-contract=off"]).args(GCC_FLAGS).arg("-c").arg(c_dir.join("tdm_scurve.c")).arg("-o").arg(dir.join("s.arm.o"));
@@ -276,16 +282,7 @@ fn the_c_scurve_planner_gives_the_rust_planners_segments() {
         want.push(scurve_c_form(&r));
     }
     assert!(ok > 600 && errs > 100, "the inputs cover both outcomes: {ok} planned, {errs} errors");
-    let in_path = dir.join("scurves.txt");
-    std::fs::write(&in_path, &input).unwrap();
-    let out = Command::new(&bin).stdin(std::fs::File::open(&in_path).unwrap()).output().unwrap();
-    assert!(out.status.success());
-    let got: Vec<String> = String::from_utf8(out.stdout).unwrap().lines().map(|s| s.to_string()).collect();
-    assert_eq!(got.len(), want.len(), "one result per input");
-    let inputs: Vec<&str> = input.lines().collect();
-    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
-        assert_eq!(g, w, "input {i}: `{}`: C S-curve planner against Rust planner", inputs[i]);
-    }
+    assert_c_prints(&bin, &dir.join("scurves.txt"), &input, &want, "C S-curve planner");
 }
 
 /// Random rest-to-rest moves for the core, kept to what K = 3 axes sustain: at most

@@ -594,7 +594,7 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
     prop_assert_eq!(seg.validate(limits), Ok(()));
     let plan = PolyPlan::new(*seg);
     let n = seg.n_steps();
-    let mut check = |i: u32, e: u32, prev: u32, by_definition: bool| -> Result<(), TestCaseError> {
+    let check = |i: u32, e: u32, prev: u32, by_definition: bool| -> Result<(), TestCaseError> {
         prop_assert!(seg.edge_within(i, e as i64, 4), "step {i}: edge {e} not within ½ tick, {seg:?}");
         let err = (e as f64 - seg.step_time_near(i, e)).abs();
         prop_assert!(err <= POLY_EDGE_ERROR_BOUND_TICKS + 1e-5, "step {i}: error {err}");
@@ -810,7 +810,7 @@ fn check_scurve(
         let ff = f as f64;
         let [x, v, a, _] = prof.state_at(tick as f64 / ff);
         prop_assert!((pos as f64 - x).abs() <= 0.5 + 1e-6 * n as f64, "boundary {k}: position {pos}, exact {x}");
-        let (v0, _) = m.end_rates();
+        let v0 = m.v0_rate();
         let exact = v / ff * one;
         let slack = 0.5 * a.abs() / ff / ff * one + 1.0 + 1e-9 * exact;
         // Pieces of a few steps follow the profile only as closely as whole steps allow.

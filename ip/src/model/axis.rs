@@ -51,15 +51,11 @@ impl Motion {
         self.steps().unsigned_abs()
     }
 
-    /// Start and end speeds, Q0.32 steps/tick (the trapezoid's end speed rounded down).
-    pub fn end_rates(&self) -> (u32, u32) {
+    /// Start speed, Q0.32 steps/tick.
+    pub fn v0_rate(&self) -> u32 {
         match self {
-            Motion::Trapezoid(s) => {
-                let e = s.effective();
-                let v_end = (e.v_end_t_q32().max(0) / e.t_ticks.max(1) as i128) as u32;
-                (e.v0_rate, v_end)
-            }
-            Motion::Poly(p) => (p.v0_rate, p.v1_rate),
+            Motion::Trapezoid(s) => s.v0_rate,
+            Motion::Poly(p) => p.v0_rate,
         }
     }
 }

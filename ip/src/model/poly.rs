@@ -46,7 +46,7 @@
 //! monotone quadratic (every cubic of a jerk-limited profile) and otherwise
 //! conservative by at most T²·|jerk|max/18 steps/tick (docs/model.md).
 
-use super::segment::{Limits, SegmentError, MAX_STEPS, MAX_V0_RATE, RATE_FRAC_BITS};
+use super::segment::{check_range, Limits, SegmentError, RATE_FRAC_BITS};
 use ethnum::I256;
 use serde::{Deserialize, Serialize};
 
@@ -172,29 +172,13 @@ impl PolySegment {
         [3 * p0, 3 * p0 + p1, 3 * p0 + 2 * p1 + p2, b3]
     }
 
-    /// True for a dwell: no steps and no motion (v0 = v1 = 0, A = 0).
-    pub fn is_dwell(&self) -> bool {
-        self.steps == 0 && self.v0_rate == 0 && self.v1_rate == 0 && self.a_q32 == 0
-    }
-
     /// Checks the segment against the documented range and the limits, in this order:
     /// T = 0, T range, steps range, rate range (either end), reversal (a speed control
     /// point below 0), minimum period (either rate above RMAX or a control point above
     /// it). A dwell (n = 0, v0 = v1 = 0, A = 0) is valid; any other n = 0 segment has a
     /// negative control point (its speed integrates to 0 without being 0).
     pub fn validate(&self, limits: &Limits) -> Result<(), SegmentError> {
-        if self.t_ticks == 0 {
-            return Err(SegmentError::TicksZero);
-        }
-        if self.t_ticks > POLY_MAX_T_TICKS {
-            return Err(SegmentError::TicksRange);
-        }
-        if self.n_steps() > MAX_STEPS {
-            return Err(SegmentError::StepsRange);
-        }
-        if self.v0_rate > MAX_V0_RATE || self.v1_rate > MAX_V0_RATE {
-            return Err(SegmentError::RateRange);
-        }
+        check_range(self.t_ticks, POLY_MAX_T_TICKS, self.n_steps(), self.v0_rate.max(self.v1_rate))?;
         let b = self.speed_bernstein3();
         if b[1] < 0 || b[2] < 0 {
             return Err(SegmentError::Reverses);
@@ -323,9 +307,6 @@ impl PolyPlan {
             rem: -self.m0,
             taylor: self.taylor,
             widest_bits: 0,
-            digits: 0,
-            trials: 0,
-            accepts: 0,
         }
     }
 
@@ -358,24 +339,11 @@ impl PolyPlan {
         let mut s = self.search();
         std::iter::from_fn(|| s.next_edge()).collect()
     }
-
-    /// The periods Δ_i = E_i − E_{i−1}, by the search.
-    pub fn periods(&self) -> Vec<u32> {
-        let mut prev = 0;
-        self.edges()
-            .into_iter()
-            .map(|e| {
-                let d = e - prev;
-                prev = e;
-                d
-            })
-            .collect()
-    }
 }
 
 /// The search between steps: what the core keeps per axis (`base` = E_{i}, `rem` =
-/// (i+1)·S − M(base) before the next step's target is added, the Taylor coefficients
-/// at `base`), and counters the tests and the report read.
+/// i·S − M(base), the Taylor coefficients at `base`), and the widest word it has held
+/// (the tests check it against [`POLY_WORD_BITS`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PolySearch {
     pub plan: PolyPlan,
@@ -389,10 +357,6 @@ pub struct PolySearch {
     pub taylor: [I256; 4],
     /// The widest signed word the search has held, in bits (sign included).
     pub widest_bits: u32,
-    /// Digits examined, trials made (digits within the cap) and trials accepted.
-    pub digits: u64,
-    pub trials: u64,
-    pub accepts: u64,
 }
 
 /// Bits of a signed value, sign included (two's complement width).
@@ -433,13 +397,10 @@ impl PolySearch {
             self.note(v);
         }
         for b in (0..=b_top).rev() {
-            self.digits += 1;
             if e as u64 + (1u64 << b) <= cap as u64 {
-                self.trials += 1;
                 let trial = w1 + w2 + w3 + w4;
                 self.note(trial);
                 if trial <= r {
-                    self.accepts += 1;
                     r -= trial;
                     e += 1 << b;
                     w1 += (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
@@ -473,6 +434,7 @@ impl PolySearch {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::segment::MAX_V0_RATE;
 
     fn limits() -> Limits {
         Limits::default()

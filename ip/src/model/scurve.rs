@@ -121,7 +121,6 @@ pub struct Profile {
     pub phases: Vec<Phase>,
     /// (t, x, v, a) at each phase start (s, steps, steps/s, steps/s²), and at the end.
     pub starts: Vec<[f64; 4]>,
-    pub v_start: f64,
 }
 
 impl Profile {
@@ -134,7 +133,7 @@ impl Profile {
             s = Self::advance(s, p, p.dur);
         }
         starts.push(s);
-        Profile { phases, starts, v_start }
+        Profile { phases, starts }
     }
 
     fn advance(s: [f64; 4], p: &Phase, tau: f64) -> [f64; 4] {
@@ -169,6 +168,32 @@ impl Profile {
     }
 }
 
+/// `BISECTION_STEPS` halvings of [lo, hi] keeping `below(lo)` and `!below(hi)`: the
+/// final (lo, hi).
+fn bisect(mut lo: f64, mut hi: f64, below: impl Fn(f64) -> bool) -> (f64, f64) {
+    for _ in 0..BISECTION_STEPS {
+        let mid = (lo + hi) / 2.0;
+        if below(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo, hi)
+}
+
+/// A change of `x` whose own rate is limited to `limit` and whose rate's rate is `r`
+/// (a speed change: x = dv, limit = a, r = j; an acceleration ramp: x = ap, limit = j,
+/// r = s): the ramp time and the hold at the limit, (√(x/r), 0) when the limit is not
+/// reached, else (limit/r, x/limit − limit/r).
+fn ramp(x: f64, limit: f64, r: f64) -> (f64, f64) {
+    if x * r <= limit * limit {
+        ((x / r).sqrt(), 0.0)
+    } else {
+        (limit / r, x / limit - limit / r)
+    }
+}
+
 /// A speed change of `dv` ≥ 0 with acceleration limit `a`, jerk `j` and (fourth
 /// order) snap `s`: its phases with the sign `sign` (+1 speeding up, −1 slowing).
 fn speed_change(dv: f64, a: f64, j: f64, snap: Option<f64>, sign: f64) -> Vec<Phase> {
@@ -178,7 +203,7 @@ fn speed_change(dv: f64, a: f64, j: f64, snap: Option<f64>, sign: f64) -> Vec<Ph
     match snap {
         None => {
             // Jerk ±j for tj, a hold of the peak acceleration for th.
-            let (tj, th) = if dv * j <= a * a { ((dv / j).sqrt(), 0.0) } else { (a / j, dv / a - a / j) };
+            let (tj, th) = ramp(dv, a, j);
             vec![
                 Phase { dur: tj, jerk: sign * j, snap: 0.0 },
                 Phase { dur: th, jerk: 0.0, snap: 0.0 },
@@ -198,18 +223,9 @@ fn speed_change(dv: f64, a: f64, j: f64, snap: Option<f64>, sign: f64) -> Vec<Ph
             let (ap, th) = if a * rise(a) <= dv {
                 (a, (dv - a * rise(a)) / a)
             } else {
-                let (mut lo, mut hi) = (0.0, a);
-                for _ in 0..BISECTION_STEPS {
-                    let mid = (lo + hi) / 2.0;
-                    if mid * rise(mid) <= dv {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                (lo, 0.0)
+                (bisect(0.0, a, |ap| ap * rise(ap) <= dv).0, 0.0)
             };
-            let (ts, tjh) = if ap * s <= j * j { ((ap / s).sqrt(), 0.0) } else { (j / s, ap / j - j / s) };
+            let (ts, tjh) = ramp(ap, j, s);
             let js = sign * s * ts; // the jerk reached
             let q = sign * s;
             vec![
@@ -261,16 +277,7 @@ pub fn profile(
     let (vp, cruise) = if need(vmax) <= dist {
         (vmax, (dist - need(vmax)) / vmax)
     } else {
-        let (mut lo, mut hi) = (floor, vmax);
-        for _ in 0..BISECTION_STEPS {
-            let mid = (lo + hi) / 2.0;
-            if need(mid) <= dist {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        (lo, 0.0)
+        (bisect(floor, vmax, |vp| need(vp) <= dist).0, 0.0)
     };
     let mut phases = acc(vp);
     phases.push(Phase { dur: cruise, jerk: 0.0, snap: 0.0 });
@@ -394,18 +401,7 @@ fn plan(
     }
     cand.pop(); // the move's end
     // The time at which the exact profile reaches position x (it never moves back).
-    let time_of = |x: f64| -> f64 {
-        let (mut lo, mut hi) = (0.0, total_s);
-        for _ in 0..BISECTION_STEPS {
-            let mid = (lo + hi) / 2.0;
-            if prof.state_at(mid)[0] < x {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        hi
-    };
+    let time_of = |x: f64| -> f64 { bisect(0.0, total_s, |t| prof.state_at(t)[0] < x).1 };
     // Each boundary moves to where the profile reaches the nearest whole step, and
     // that time is rounded to a tick: (tick, position, exact time). A boundary that
     // would leave a piece without a step or without a tick is dropped (merged).
@@ -477,7 +473,7 @@ fn plan(
         let mut chosen = None;
         for &snap in forms {
             if make(k, &bounds, snap).validate(limits).is_ok() {
-                chosen = Some((snap, None));
+                chosen = Some(snap);
                 break;
             }
         }
@@ -526,10 +522,10 @@ fn plan(
                 if which == k - 1 {
                     out[k - 2] = make(k - 1, &bounds, snaps[k - 1]);
                 }
-                chosen = Some((snap, Some(which)));
+                chosen = Some(snap);
             }
         }
-        snaps[k] = chosen.map_or(false, |c| c.0);
+        snaps[k] = chosen.unwrap_or(false);
         out.push(make(k, &bounds, snaps[k]));
     }
     for (index, m) in out.iter().enumerate() {

@@ -111,6 +111,25 @@ impl fmt::Display for SegmentError {
 
 impl std::error::Error for SegmentError {}
 
+/// The range checks every kind of segment makes first, in this order: T = 0, T above
+/// `max_t_ticks`, n above [`MAX_STEPS`], a rate (the largest of the segment's) above
+/// [`MAX_V0_RATE`].
+pub(crate) fn check_range(t_ticks: u32, max_t_ticks: u32, n_steps: u32, rate: u32) -> Result<(), SegmentError> {
+    if t_ticks == 0 {
+        return Err(SegmentError::TicksZero);
+    }
+    if t_ticks > max_t_ticks {
+        return Err(SegmentError::TicksRange);
+    }
+    if n_steps > MAX_STEPS {
+        return Err(SegmentError::StepsRange);
+    }
+    if rate > MAX_V0_RATE {
+        return Err(SegmentError::RateRange);
+    }
+    Ok(())
+}
+
 /// Per-core limits that validation depends on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Limits {
@@ -232,18 +251,7 @@ impl Segment {
     /// (integer) period is at least min_period. (The hardware checks exactly this,
     /// with one 31×32-bit multiply.)
     pub fn validate(&self, limits: &Limits) -> Result<(), SegmentError> {
-        if self.t_ticks == 0 {
-            return Err(SegmentError::TicksZero);
-        }
-        if self.t_ticks > MAX_T_TICKS {
-            return Err(SegmentError::TicksRange);
-        }
-        if self.n_steps() > MAX_STEPS {
-            return Err(SegmentError::StepsRange);
-        }
-        if self.v0_rate > MAX_V0_RATE {
-            return Err(SegmentError::RateRange);
-        }
+        check_range(self.t_ticks, MAX_T_TICKS, self.n_steps(), self.v0_rate)?;
         let seg = self.effective();
         let v_end_t = seg.v_end_t_q32();
         if v_end_t < 0 {
