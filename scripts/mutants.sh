@@ -99,6 +99,8 @@ mutants=(
   "66#ip/src/hdl/top.rs#s/self.stop_regs.cstop.val\(\) \| self.\\\$io.axis_cstop.val\(\)/self.stop_regs.cstop.val()/#system#stop_modes#the sources in controlled mode never reach the core"
   "67#ip/src/hdl/stop_ramp.rs#s/c_bypass: Constant::new\(K == 1\),/c_bypass: Constant::new(false),/#hdl_core#controlled_stop_ramps_down_on_a_one_axis_core#K = 1 reads the last period before its registered write reaches the RAM"
   "68#ip/src/hdl/io_regs.rs#s/self.c_one.val\(\) << self.rd_axis_next.val\(\).get_bits::<4>\(0\)/self.c_one.val()/#system#io_axis_reads#IO_AXIS of every axis reads axis 0's inputs"
+  "69#ip/src/hdl/poly_check.rs#s/self.fast_rate.q.val\(\) \| self.big1.q.val\(\) \| self.big2.val\(\)/self.fast_rate.q.val() | self.big1.q.val()/#hdl_push_check#poly::verdicts_equal_the_model#the polynomial check misses a second control point above the hull"
+  "70#ip/src/hdl/poly_check.rs#s/\(self.pv1.val\(\) << 1\) \+ self.pv1.val\(\)/(self.pv1.val() << 1)/#hdl_push_check#poly::verdicts_equal_the_model#β2 takes 2·v1·T for 3·v1·T"
 )
 
 only=("$@")

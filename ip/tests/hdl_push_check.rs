@@ -1,5 +1,5 @@
-//! PushCheck three ways: the model (`Segment::validate` and `Segment::effective`),
-//! rust-hdl, and the exported Verilog in Verilator and Icarus. Pushes at every range
+//! PushCheck and PolyCheck (in `mod poly` below) three ways. PushCheck: the model
+//! (`Segment::validate` and `Segment::effective`), rust-hdl, and the exported Verilog in Verilator and Icarus. Pushes at every range
 //! boundary (T = 0, 2^30, |θ| = 2^24, v0 = 2^31 − 1, v0 = RMAX, end rate = RMAX, a
 //! deceleration that rounds past rest and one rate unit beyond), random segments, and
 //! START and ABORT between them, for three minimum periods, offered 4 to 7 cycles
@@ -247,5 +247,210 @@ fn verdicts_equal_the_model_three_ways() {
             &rows,
             &want,
         );
+    }
+}
+
+/// PolyCheck (the polynomial segment's push check), three ways.
+mod poly {
+    // PolyCheck three ways: the model (`PolySegment::validate`), rust-hdl, and the
+    // exported Verilog in Verilator and Icarus. Segments at every range boundary (T = 0,
+    // 2^24, 2^24 + 1, |θ| = 2^24, i32::MIN, either rate at 2^31 − 1 and RMAX and one
+    // above), A' at its extremes, each control point exactly at 0 and at the hull
+    // `3·RMAX·T` and one unit either side, dwells, the planners' cubics, and random
+    // segments, for three minimum periods, offered 6 to 9 cycles apart with a second
+    // offer while busy (ignored): each verdict comes out POLY_CHECK_LATENCY cycles later
+    // with the model's code, and `busy` covers the cycles in between. A reset drops the
+    // segment in flight.
+    use super::*;
+    use tdm_stepper::hdl::poly_check::{PolyCheck, POLY_CHECK_LATENCY};
+    use tdm_stepper::model::poly::{PolySegment, POLY_MAX_T_TICKS};
+
+    fn spec() -> TbSpec {
+        TbSpec {
+            clock: "clock".into(),
+            inputs: vec![
+                Port::new("reset", 1),
+                Port::new("in_valid", 1),
+                Port::new("in_v0", 32),
+                Port::new("in_v1", 32),
+                Port::new("in_a", 64),
+                Port::new("in_t", 32),
+                Port::new("in_steps", 32),
+            ],
+            outputs: vec![Port::new("busy", 1), Port::new("out_valid", 1), Port::new("out_code", 4)],
+        }
+    }
+
+    fn code(seg: &PolySegment, limits: &Limits) -> u128 {
+        seg.validate(limits).err().map_or(0, |e| e.code() as u128)
+    }
+
+    /// A' putting β1 (`which` = 1) or β2 (`which` = 2) at `target`, rounded down to an
+    /// integer (the caller tries it and one unit either side).
+    fn a_for(which: u32, v0: u32, v1: u32, t: u32, n: u32, target: i128) -> i128 {
+        let (v0t, v1t) = (v0 as i128 * t as i128, v1 as i128 * t as i128);
+        let twice = match which {
+            1 => target - 3 * v0t,
+            _ => ((12 * n as i128) << 32) - 6 * v0t - 3 * v1t - target,
+        };
+        twice.div_euclid(2)
+    }
+
+    fn segments(limits: &Limits, rng: &mut Rng) -> Vec<PolySegment> {
+        let rmax = limits.max_rate();
+        let big_t = POLY_MAX_T_TICKS;
+        let mut v = vec![
+            PolySegment::new(0, 0, 0, 0, 5),
+            PolySegment::new(0, 0, 0, 0, 0),
+            PolySegment::new(0, 0, 0, big_t, 0),
+            PolySegment::new(0, 0, 0, big_t + 1, 0),
+            PolySegment::new(0, 0, 0, u32::MAX, 0),
+            PolySegment::new(0, 0, 0, 1000, MAX_STEPS as i32 + 1),
+            PolySegment::new(0, 0, 0, 1000, -(MAX_STEPS as i32) - 1),
+            PolySegment::new(0, 0, 0, 1000, i32::MIN),
+            PolySegment::new(MAX_V0_RATE + 1, 0, 0, 1000, 10),
+            PolySegment::new(0, MAX_V0_RATE + 1, 0, 1000, 10),
+            PolySegment::new(u32::MAX, u32::MAX, i64::MIN, u32::MAX, i32::MIN),
+            PolySegment::new(MAX_V0_RATE, MAX_V0_RATE, 0, 1000, 10),
+            PolySegment::new(rmax, rmax, 0, 1 << 20, ((rmax as u64) << 20 >> 32) as i32),
+            PolySegment::new(rmax + 1, rmax, 0, 1 << 20, ((rmax as u64) << 20 >> 32) as i32),
+            PolySegment::new(rmax, rmax + 1, 0, 1 << 20, ((rmax as u64) << 20 >> 32) as i32),
+            PolySegment::new(0, 0, i64::MAX, 1000, 10),
+            PolySegment::new(0, 0, i64::MIN, 1000, 10),
+            PolySegment::new(0, 0, i64::MIN, big_t, MAX_STEPS as i32),
+            PolySegment::new(0, 0, i64::MAX, big_t, -(MAX_STEPS as i32)),
+            PolySegment::new(0, 0, 0, 7, 0), // a dwell
+            PolySegment::new(0, 0, 1, 7, 0),
+        ];
+        // Cubics from rest, to rest and between speeds.
+        for _ in 0..12 {
+            let t = 1 + (rng.next() % big_t as u64) as u32;
+            let v0 = (rng.next() % (rmax as u64 + 1)) as u32;
+            let v1 = (rng.next() % (rmax as u64 + 1)) as u32;
+            let n = ((v0 as u64 + v1 as u64) * t as u64 >> 33) as i32;
+            let n = if rng.next() % 2 == 0 { n } else { -n };
+            if let Some(c) = PolySegment::cubic(v0, v1, t, n) {
+                v.push(c);
+            }
+        }
+        // Each control point at 0 and at the hull, and one unit either side.
+        for _ in 0..8 {
+            let t = 1 + (rng.next() % big_t as u64) as u32;
+            let v0 = (rng.next() % (rmax as u64 + 1)) as u32;
+            let v1 = (rng.next() % (rmax as u64 + 1)) as u32;
+            let n = ((v0 as u64 + v1 as u64) * t as u64 >> 33).min(MAX_STEPS as u64) as u32;
+            let hull = 3 * rmax as i128 * t as i128;
+            for which in [1, 2] {
+                for target in [0, hull] {
+                    let a0 = a_for(which, v0, v1, t, n, target);
+                    for d in [-1i128, 0, 1] {
+                        let a = (a0 + d).clamp(i64::MIN as i128, i64::MAX as i128) as i64;
+                        v.push(PolySegment::new(v0, v1, a, t, n as i32));
+                    }
+                }
+            }
+        }
+        // Random: any values, weighted towards the documented range.
+        while v.len() < 160 {
+            let t = match rng.next() % 4 {
+                0 => rng.next() as u32,
+                _ => 1 + (rng.next() % big_t as u64) as u32,
+            };
+            let v0 = (rng.next() >> (32 + rng.next() % 3)) as u32;
+            let v1 = (rng.next() >> (32 + rng.next() % 3)) as u32;
+            let n = ((v0 as u128 + v1 as u128) * t as u128 >> 33).min(1 << 40) as i64 + (rng.next() % 5) as i64 - 2;
+            let n = n.clamp(0, MAX_STEPS as i64 + 1) as i32;
+            let a = match rng.next() % 3 {
+                0 => rng.next() as i64,
+                1 => (rng.next() as i64) >> (rng.next() % 40),
+                _ => 0,
+            };
+            v.push(PolySegment::new(v0, v1, a, t, if rng.next() % 2 == 0 { n } else { -n }));
+        }
+        v
+    }
+
+    fn row(reset: bool, valid: bool, s: &PolySegment) -> Vec<u128> {
+        vec![
+            reset as u128,
+            valid as u128,
+            s.v0_rate as u128,
+            s.v1_rate as u128,
+            s.a_q32 as u64 as u128,
+            s.t_ticks as u128,
+            s.steps as u32 as u128,
+        ]
+    }
+
+    #[test]
+    fn verdicts_equal_the_model_three_ways() {
+        const L: usize = POLY_CHECK_LATENCY;
+        let mut rng = Rng(0x5eed_0f_be27_57e1);
+        for min_period in [2u32, 24, 66] {
+            let limits = Limits::new(min_period).unwrap();
+            let segs = segments(&limits, &mut rng);
+            let junk = |rng: &mut Rng| PolySegment::new(rng.next() as u32, rng.next() as u32, rng.next() as i64, rng.next() as u32, rng.next() as i32);
+            let mut rows: Vec<Vec<u128>> = vec![row(true, false, &junk(&mut rng)), row(false, false, &junk(&mut rng))];
+            // The offers (row, code, dropped by a reset in its cycle 3), then the
+            // protocol's outputs row by row.
+            let mut offers: Vec<(usize, u128, bool)> = Vec::new();
+            let mut codes = std::collections::BTreeSet::new();
+            for (k, seg) in segs.iter().enumerate() {
+                let c = code(seg, &limits);
+                codes.insert(c);
+                let dropped = k % 11 == 5;
+                offers.push((rows.len(), c, dropped));
+                rows.push(row(false, true, seg));
+                // The next offer 6 to 9 cycles later (6: in the verdict's cycle).
+                let gap = L + (rng.next() % 4) as usize;
+                for j in 1..gap {
+                    // A second offer while busy (ignored); a reset in cycle 3.
+                    rows.push(row(dropped && j == 3, j == 2, &junk(&mut rng)));
+                }
+            }
+            rows.push(row(false, false, &junk(&mut rng)));
+            let mut want: Vec<Vec<Option<u128>>> = vec![vec![Some(0), Some(0), None]; rows.len()];
+            want[0] = vec![None; 3];
+            for &(r, c, dropped) in &offers {
+                let busy_to = if dropped { 3 } else { L - 1 };
+                for j in 1..=busy_to {
+                    want[r + j][0] = Some(1);
+                }
+                if !dropped {
+                    want[r + L] = vec![Some(0), Some(1), Some(c)];
+                }
+            }
+            assert_eq!(codes, [0u128, 1, 2, 3, 4, 5, 6].into_iter().collect(), "min period {min_period}: every code is tried");
+            three_ways(
+                &format!("poly_check_{min_period}"),
+                || {
+                    let mut u = PolyCheck::new(limits);
+                    u.clock.connect();
+                    u.reset.connect();
+                    u.in_valid.connect();
+                    u.in_v0.connect();
+                    u.in_v1.connect();
+                    u.in_a.connect();
+                    u.in_t.connect();
+                    u.in_steps.connect();
+                    u.connect_all();
+                    u
+                },
+                |u, c| u.clock.next = Clock::from(c),
+                |u, r| {
+                    u.reset.next = r[0] == 1;
+                    u.in_valid.next = r[1] == 1;
+                    u.in_v0.next = (r[2] as u64).into();
+                    u.in_v1.next = (r[3] as u64).into();
+                    u.in_a.next = (r[4] as u64).into();
+                    u.in_t.next = (r[5] as u64).into();
+                    u.in_steps.next = (r[6] as u64).into();
+                },
+                |u| vec![u.busy.val() as u128, u.out_valid.val() as u128, u.out_code.val().to_u64() as u128],
+                &spec(),
+                &rows,
+                &want,
+            );
+        }
     }
 }

@@ -86,6 +86,7 @@ pub mod mul_wide;
 pub mod lut_ram;
 pub mod machine_io;
 pub mod pulse_stage;
+pub mod poly_check;
 pub mod push_check;
 pub mod push_guard;
 pub mod ram_fifo;
