@@ -612,15 +612,27 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
     let mut widest = 0;
     if n <= FULL_CHECK_STEPS {
         let mut s = plan.search();
-        let mut prev = 0;
+        // The core's galloping search, from the last period's digit (every ninth
+        // step from a digit off by up to 3 either way): the same edges and state.
+        let mut g = plan.search();
+        let (mut prev, mut delta, mut x) = (0, 0, seed | 1);
         for i in 1..=n {
             let e = s.next_edge().unwrap();
             check(i, e, prev, n <= 256 || i % 61 == 0)?;
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let b = gallop_start(delta) as i64 + if i % 9 == 0 { (x % 7) as i64 - 3 } else { 0 };
+            let (ge, _) = g.next_edge_galloping(b.clamp(0, POLY_TOP_DIGIT as i64) as u32).unwrap();
+            prop_assert_eq!(ge, e, "galloping search, step {}", i);
+            prop_assert_eq!((g.rem, g.taylor), (s.rem, s.taylor), "galloping search's state, step {}", i);
+            delta = e - prev;
             prev = e;
         }
         prop_assert_eq!(s.next_edge(), None);
+        prop_assert_eq!(g.next_edge_galloping(0), None);
         prop_assert_eq!(prev, if n == 0 { 0 } else { seg.t_ticks });
-        widest = s.widest_bits;
+        widest = s.widest_bits.max(g.widest_bits);
     } else {
         let mut x = seed | 1;
         let mut starts = vec![0, n - 48];
@@ -633,12 +645,18 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
         for start in starts {
             let mut prev = if start == 0 { 0 } else { seg.edge_by_definition(start) };
             let mut s = plan.search_after(start, prev);
+            let mut g = plan.search_after(start, prev);
+            let before = if start <= 1 { 0 } else { seg.edge_by_definition(start - 1) };
+            let mut delta = if start == 0 { 0 } else { prev - before };
             for i in start + 1..=start + 48 {
                 let e = s.next_edge().unwrap();
                 check(i, e, prev, true)?;
+                let (ge, _) = g.next_edge_galloping(gallop_start(delta)).unwrap();
+                prop_assert_eq!(ge, e, "galloping search, step {}", i);
+                delta = e - prev;
                 prev = e;
             }
-            widest = widest.max(s.widest_bits);
+            widest = widest.max(s.widest_bits).max(g.widest_bits);
         }
     }
     prop_assert!(widest <= POLY_WORD_BITS, "search word of {widest} bits");

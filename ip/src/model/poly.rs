@@ -63,6 +63,16 @@ pub const POLY_WORD_BITS: u32 = 160;
 /// Every edge of a polynomial segment is within this many ticks of exact time.
 pub const POLY_EDGE_ERROR_BOUND_TICKS: f64 = 0.5;
 
+/// The galloping search's first digit after a period of `delta` ticks: ⌊log2 Δ⌋,
+/// at most [`POLY_TOP_DIGIT`] (0 before the first step, Δ = 0).
+pub fn gallop_start(delta: u32) -> u32 {
+    if delta == 0 {
+        0
+    } else {
+        (31 - delta.leading_zeros()).min(POLY_TOP_DIGIT)
+    }
+}
+
 /// One polynomial segment of one axis, in register units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct PolySegment {
@@ -428,6 +438,87 @@ impl PolySearch {
             self.widest_bits
         );
         Some(e)
+    }
+
+    /// The next edge by a galloping search, as the core's polynomial unit does it:
+    /// the words go up from scale 1 to scale 2^`b_start` (W_k <<= k, exact), then
+    /// trials at h = 2^b with b rising after each accepted one (exponential), and
+    /// once one fails or passes the cap, b falls to 0 as in [`Self::next_edge`]
+    /// (binary). The unit starts at b_start = ⌊log2 Δ⌋ of the previous period Δ, so
+    /// a step near the last one's period takes about log2 Δ trials instead of 25.
+    /// The predicate `M(e) ≤ i·S` is monotone from the base on (the speed is ≥ 0
+    /// inside a valid segment), so both searches find the same edge; the state after
+    /// it (remainder and Taylor words at the edge) depends on the edge alone, so it
+    /// equals [`Self::next_edge`]'s too. Returns the edge and the trials made.
+    pub fn next_edge_galloping(&mut self, b_start: u32) -> Option<(u32, u32)> {
+        let seg = self.plan.segment;
+        let n = seg.n_steps();
+        if self.i >= n {
+            return None;
+        }
+        self.i += 1;
+        if self.i == n {
+            self.base = seg.t_ticks;
+            return Some((seg.t_ticks, 0));
+        }
+        assert!(b_start <= POLY_TOP_DIGIT, "b_start {b_start} above the top digit");
+        let mut r = self.rem + self.plan.step;
+        self.note(r);
+        let cap = seg.t_ticks as u64 - 1;
+        let mut e = self.base;
+        let mut b = b_start;
+        let [m1, m2, m3, m4] = self.taylor;
+        let (mut w1, mut w2, mut w3, mut w4) = (m1 << b, m2 << (2 * b), m3 << (3 * b), m4 << (4 * b));
+        let mut rising = true;
+        let mut trials = 0;
+        loop {
+            let mut accepted = false;
+            if e as u64 + (1u64 << b) <= cap {
+                trials += 1;
+                let trial = w1 + w2 + w3 + w4;
+                self.note(trial);
+                if trial <= r {
+                    accepted = true;
+                    r -= trial;
+                    e += 1 << b;
+                    w1 += (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
+                    w2 += w3 + (w3 << 1) + (w4 << 2) + (w4 << 1);
+                    w3 += w4 << 2;
+                    for v in [r, w1, w2, w3] {
+                        self.note(v);
+                    }
+                }
+            }
+            if rising && accepted && b < POLY_TOP_DIGIT {
+                b += 1;
+                w1 <<= 1;
+                w2 <<= 2;
+                w3 <<= 3;
+                w4 <<= 4;
+                for v in [w1, w2, w3, w4] {
+                    self.note(v);
+                }
+                continue;
+            }
+            rising = false;
+            if b == 0 {
+                break;
+            }
+            b -= 1;
+            w1 >>= 1;
+            w2 >>= 2;
+            w3 >>= 3;
+            w4 >>= 4;
+        }
+        self.taylor = [w1, w2, w3, w4];
+        self.rem = r;
+        self.base = e;
+        assert!(
+            self.widest_bits <= POLY_WORD_BITS,
+            "poly search word of {} bits exceeds {POLY_WORD_BITS}: {seg:?}",
+            self.widest_bits
+        );
+        Some((e, trials))
     }
 }
 
