@@ -87,6 +87,7 @@ pub mod lut_ram;
 pub mod machine_io;
 pub mod pulse_stage;
 pub mod poly_check;
+pub mod poly_step;
 pub mod push_check;
 pub mod push_guard;
 pub mod ram_fifo;

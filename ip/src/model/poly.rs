@@ -73,6 +73,17 @@ pub fn gallop_start(delta: u32) -> u32 {
     }
 }
 
+/// What one galloping search did: digits visited (each a trial, or none when it
+/// would pass the cap), trials made, trials passed. The core's unit takes
+/// `1 + b_start + 2·digits + trials + 4·passes` cycles for it
+/// ([`crate::hdl::poly_step::PolyStep`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GallopStats {
+    pub digits: u32,
+    pub trials: u32,
+    pub passes: u32,
+}
+
 /// One polynomial segment of one axis, in register units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct PolySegment {
@@ -449,8 +460,8 @@ impl PolySearch {
     /// The predicate `M(e) ≤ i·S` is monotone from the base on (the speed is ≥ 0
     /// inside a valid segment), so both searches find the same edge; the state after
     /// it (remainder and Taylor words at the edge) depends on the edge alone, so it
-    /// equals [`Self::next_edge`]'s too. Returns the edge and the trials made.
-    pub fn next_edge_galloping(&mut self, b_start: u32) -> Option<(u32, u32)> {
+    /// equals [`Self::next_edge`]'s too. Returns the edge and what the search did.
+    pub fn next_edge_galloping(&mut self, b_start: u32) -> Option<(u32, GallopStats)> {
         let seg = self.plan.segment;
         let n = seg.n_steps();
         if self.i >= n {
@@ -459,7 +470,7 @@ impl PolySearch {
         self.i += 1;
         if self.i == n {
             self.base = seg.t_ticks;
-            return Some((seg.t_ticks, 0));
+            return Some((seg.t_ticks, GallopStats::default()));
         }
         assert!(b_start <= POLY_TOP_DIGIT, "b_start {b_start} above the top digit");
         let mut r = self.rem + self.plan.step;
@@ -470,15 +481,17 @@ impl PolySearch {
         let [m1, m2, m3, m4] = self.taylor;
         let (mut w1, mut w2, mut w3, mut w4) = (m1 << b, m2 << (2 * b), m3 << (3 * b), m4 << (4 * b));
         let mut rising = true;
-        let mut trials = 0;
+        let mut stats = GallopStats::default();
         loop {
             let mut accepted = false;
+            stats.digits += 1;
             if e as u64 + (1u64 << b) <= cap {
-                trials += 1;
+                stats.trials += 1;
                 let trial = w1 + w2 + w3 + w4;
                 self.note(trial);
                 if trial <= r {
                     accepted = true;
+                    stats.passes += 1;
                     r -= trial;
                     e += 1 << b;
                     w1 += (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
@@ -518,7 +531,7 @@ impl PolySearch {
             "poly search word of {} bits exceeds {POLY_WORD_BITS}: {seg:?}",
             self.widest_bits
         );
-        Some((e, trials))
+        Some((e, stats))
     }
 }
 

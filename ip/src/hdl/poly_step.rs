@@ -1,0 +1,409 @@
+//! One step of the polynomial (S-curve) edge search: from the Taylor words of M at
+//! the last edge and the step's remainder, the next edge and the words and remainder
+//! there. Bit for bit [`crate::model::poly::PolySearch::next_edge_galloping`]
+//! (docs/model.md, "Polynomial segments"): the words go up from scale 1 to 2^`b0`,
+//! trials at h = 2^b rise while they pass and fall to b = 0 once one fails or would
+//! pass the cap.
+//!
+//! One three-input adder, 161 bits (every word fits 160 bits signed, so sums of them
+//! are exact modulo 2^161), does all the arithmetic, one operation per cycle:
+//!
+//! | state | adder | then |
+//! |---|---|---|
+//! | UP | — | W_k <<= k, b += 1 (b0 times) |
+//! | TRY | X = W1 + W2 + W3 | e + 2^b ≤ cap registered |
+//! | DEC1 | G = X + W4 + Q | past the cap: no trial, fall; else G and its sign registered |
+//! | DEC2 | Z = W3 + 2·W4 | G < 0 (trial ≤ R): Q = G, e += 2^b; else fall |
+//! | A2, A3, A4 | W3 = Z + 2·W4; W1 = X + W2 + 2Z; W2 = W2 + Z + 2Z | |
+//! | SH | — | rising: W_k <<= k, b += 1; else fall |
+//!
+//! where "fall" is: b = 0 ends the step, else W_k >>= k (exact: W_k is a multiple of
+//! 2^k there), b −= 1, TRY. Q holds ¬R = −R − 1 (R = i·S − M(e), the step's target
+//! less M at the current edge), so a trial passes when X + W4 + Q < 0 and Q takes the
+//! sum: no subtraction anywhere. The slots: a ∈ {W1, X, Z}, b ∈ {W2, W4, 2·W4},
+//! c ∈ {W3, Q, 2·Z}, 0 where unused; every word register takes the load, its two
+//! shifts and the adder.
+//!
+//! Ports: pulse `start` while idle with the words `in_w1`..`in_w4` (m_1..m_4 at the
+//! base, scale 1, sign-extended to 161 bits), `in_q` (¬R for the step: ¬(rem + S)),
+//! `in_base` (the last edge, E_i), `in_cap` (T − 1) and `in_b0` (the first digit,
+//! [`crate::model::poly::gallop_start`] of the last period). `done` pulses one cycle
+//! when the step ends, with `out_edge` (E_{i+1}) and `out_q`, `out_w1`..`out_w4` (the
+//! state at E_{i+1}) held until the next start. `busy` from the start's edge to
+//! `done`. Latency: `1 + b0 + 2·digits + trials + 4·passes` cycles
+//! ([`crate::model::poly::GallopStats`]: digits visited, trials made, trials passed):
+//! 46 on average over the tests' steps (many near the last one's period), 238 at
+//! most there (a slow step started four digits too high).
+//!
+//! Every decision is taken from flip-flops (the trial's sign, e + 2^b ≤ cap, b = 0,
+//! rising) and the adder's operand selects are registered from the next state, so
+//! the paths are: operand select → adder → word register, and flags → next state.
+
+use rust_hdl::prelude::*;
+
+/// Width of every word register: 160 bits signed (the model's
+/// [`crate::model::poly::POLY_WORD_BITS`]) plus one, so that sums of two words are exact.
+pub const POLY_REG_BITS: usize = 161;
+const W: usize = POLY_REG_BITS;
+// The sign tests and sign extensions read bit 160 by a literal index (rust-hdl writes
+// a Rust constant's name into the Verilog).
+const _: () = assert!(W == 161 && crate::model::poly::POLY_WORD_BITS as usize + 1 == W);
+
+/// The search's highest digit.
+const TOP: u64 = crate::model::poly::POLY_TOP_DIGIT as u64;
+
+const ST_IDLE: u64 = 0;
+const ST_UP: u64 = 1;
+const ST_TRY: u64 = 2;
+const ST_DEC1: u64 = 3;
+const ST_DEC2: u64 = 4;
+const ST_A2: u64 = 5;
+const ST_A3: u64 = 6;
+const ST_A4: u64 = 7;
+const ST_SH: u64 = 8;
+
+#[derive(LogicBlock)]
+pub struct PolyStep {
+    pub clock: Signal<In, Clock>,
+    pub start: Signal<In, Bit>,
+    pub in_w1: Signal<In, Bits<W>>,
+    pub in_w2: Signal<In, Bits<W>>,
+    pub in_w3: Signal<In, Bits<W>>,
+    pub in_w4: Signal<In, Bits<W>>,
+    pub in_q: Signal<In, Bits<W>>,
+    pub in_base: Signal<In, Bits<32>>,
+    pub in_cap: Signal<In, Bits<32>>,
+    pub in_b0: Signal<In, Bits<5>>,
+    pub busy: Signal<Out, Bit>,
+    pub done: Signal<Out, Bit>,
+    pub out_edge: Signal<Out, Bits<32>>,
+    pub out_q: Signal<Out, Bits<W>>,
+    pub out_w1: Signal<Out, Bits<W>>,
+    pub out_w2: Signal<Out, Bits<W>>,
+    pub out_w3: Signal<Out, Bits<W>>,
+    pub out_w4: Signal<Out, Bits<W>>,
+    st: DFF<Bits<4>>,
+    w1: DFF<Bits<W>>,
+    w2: DFF<Bits<W>>,
+    w3: DFF<Bits<W>>,
+    w4: DFF<Bits<W>>,
+    q: DFF<Bits<W>>,
+    x: DFF<Bits<W>>,
+    z: DFF<Bits<W>>,
+    g: DFF<Bits<W>>,
+    pass: DFF<Bit>,
+    /// e + 2^b ≤ cap, registered in TRY for DEC1 (a trial is made only then).
+    fit: DFF<Bit>,
+    /// 2^b, kept beside b.
+    h: DFF<Bits<32>>,
+    e: DFF<Bits<32>>,
+    cap: DFF<Bits<32>>,
+    b: DFF<Bits<5>>,
+    b0: DFF<Bits<5>>,
+    rising: DFF<Bit>,
+    fin: DFF<Bit>,
+    /// The adder's operand selects, registered from the next state (so no state
+    /// decode lies in front of the adder): a 0 W1 X Z, b 0 W2 W4 2·W4, c 0 W3 Q 2·Z.
+    oa: DFF<Bits<2>>,
+    ob: DFF<Bits<2>>,
+    oc: DFF<Bits<2>>,
+    c_top: Constant<Bits<5>>,
+    /// The top 1, 2, 3 and 4 bits set: the arithmetic right shifts' sign fill.
+    c_fill1: Constant<Bits<W>>,
+    c_fill2: Constant<Bits<W>>,
+    c_fill3: Constant<Bits<W>>,
+    c_fill4: Constant<Bits<W>>,
+    k_idle: Constant<Bits<4>>,
+    k_up: Constant<Bits<4>>,
+    k_try: Constant<Bits<4>>,
+    k_dec1: Constant<Bits<4>>,
+    k_dec2: Constant<Bits<4>>,
+    k_a2: Constant<Bits<4>>,
+    k_a3: Constant<Bits<4>>,
+    k_a4: Constant<Bits<4>>,
+    k_sh: Constant<Bits<4>>,
+    opa: Signal<Local, Bits<W>>,
+    opb: Signal<Local, Bits<W>>,
+    opc: Signal<Local, Bits<W>>,
+    p: Signal<Local, Bits<W>>,
+    /// Each word shifted down (arithmetic) and up by its k.
+    dn1: Signal<Local, Bits<W>>,
+    dn2: Signal<Local, Bits<W>>,
+    dn3: Signal<Local, Bits<W>>,
+    dn4: Signal<Local, Bits<W>>,
+    f1: Signal<Local, Bits<W>>,
+    f2: Signal<Local, Bits<W>>,
+    f3: Signal<Local, Bits<W>>,
+    f4: Signal<Local, Bits<W>>,
+    /// Move down a digit (or end at b = 0), or up one.
+    fall: Signal<Local, Bit>,
+    climb: Signal<Local, Bit>,
+    nst: Signal<Local, Bits<4>>,
+}
+
+impl Default for PolyStep {
+    fn default() -> Self {
+        let fill = |k: usize| {
+            let ones = (num_bigint::BigUint::from(1u32) << k) - 1u32;
+            Constant::new(Bits::<W>::from(ones << (W - k)))
+        };
+        PolyStep {
+            clock: Default::default(),
+            start: Default::default(),
+            in_w1: Default::default(),
+            in_w2: Default::default(),
+            in_w3: Default::default(),
+            in_w4: Default::default(),
+            in_q: Default::default(),
+            in_base: Default::default(),
+            in_cap: Default::default(),
+            in_b0: Default::default(),
+            busy: Default::default(),
+            done: Default::default(),
+            out_edge: Default::default(),
+            out_q: Default::default(),
+            out_w1: Default::default(),
+            out_w2: Default::default(),
+            out_w3: Default::default(),
+            out_w4: Default::default(),
+            st: Default::default(),
+            w1: Default::default(),
+            w2: Default::default(),
+            w3: Default::default(),
+            w4: Default::default(),
+            q: Default::default(),
+            x: Default::default(),
+            z: Default::default(),
+            g: Default::default(),
+            pass: Default::default(),
+            fit: Default::default(),
+            h: Default::default(),
+            e: Default::default(),
+            cap: Default::default(),
+            b: Default::default(),
+            b0: Default::default(),
+            rising: Default::default(),
+            fin: Default::default(),
+            oa: Default::default(),
+            ob: Default::default(),
+            oc: Default::default(),
+            c_top: Constant::new(TOP.into()),
+            c_fill1: fill(1),
+            c_fill2: fill(2),
+            c_fill3: fill(3),
+            c_fill4: fill(4),
+            k_idle: Constant::new(ST_IDLE.into()),
+            k_up: Constant::new(ST_UP.into()),
+            k_try: Constant::new(ST_TRY.into()),
+            k_dec1: Constant::new(ST_DEC1.into()),
+            k_dec2: Constant::new(ST_DEC2.into()),
+            k_a2: Constant::new(ST_A2.into()),
+            k_a3: Constant::new(ST_A3.into()),
+            k_a4: Constant::new(ST_A4.into()),
+            k_sh: Constant::new(ST_SH.into()),
+            opa: Default::default(),
+            opb: Default::default(),
+            opc: Default::default(),
+            p: Default::default(),
+            dn1: Default::default(),
+            dn2: Default::default(),
+            dn3: Default::default(),
+            dn4: Default::default(),
+            f1: Default::default(),
+            f2: Default::default(),
+            f3: Default::default(),
+            f4: Default::default(),
+            fall: Default::default(),
+            climb: Default::default(),
+            nst: Default::default(),
+        }
+    }
+}
+
+impl Logic for PolyStep {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, oa, ob, oc);
+
+        // The adder's operands, by the registered selects (0 where unused).
+        self.opa.next = 0.into();
+        if self.oa.q.val() == 1 {
+            self.opa.next = self.w1.q.val();
+        } else if self.oa.q.val() == 2 {
+            self.opa.next = self.x.q.val();
+        } else if self.oa.q.val() == 3 {
+            self.opa.next = self.z.q.val();
+        }
+        self.opb.next = 0.into();
+        if self.ob.q.val() == 1 {
+            self.opb.next = self.w2.q.val();
+        } else if self.ob.q.val() == 2 {
+            self.opb.next = self.w4.q.val();
+        } else if self.ob.q.val() == 3 {
+            self.opb.next = self.w4.q.val() << 1;
+        }
+        self.opc.next = 0.into();
+        if self.oc.q.val() == 1 {
+            self.opc.next = self.w3.q.val();
+        } else if self.oc.q.val() == 2 {
+            self.opc.next = self.q.q.val();
+        } else if self.oc.q.val() == 3 {
+            self.opc.next = self.z.q.val() << 1;
+        }
+        self.p.next = self.opa.val() + self.opb.val() + self.opc.val();
+
+        // The words shifted down a digit (arithmetic, exact) for a fall.
+        self.f1.next = 0.into();
+        self.f2.next = 0.into();
+        self.f3.next = 0.into();
+        self.f4.next = 0.into();
+        if self.w1.q.val().get_bit(160) {
+            self.f1.next = self.c_fill1.val();
+        }
+        if self.w2.q.val().get_bit(160) {
+            self.f2.next = self.c_fill2.val();
+        }
+        if self.w3.q.val().get_bit(160) {
+            self.f3.next = self.c_fill3.val();
+        }
+        if self.w4.q.val().get_bit(160) {
+            self.f4.next = self.c_fill4.val();
+        }
+        self.dn1.next = (self.w1.q.val() >> 1) | self.f1.val();
+        self.dn2.next = (self.w2.q.val() >> 2) | self.f2.val();
+        self.dn3.next = (self.w3.q.val() >> 3) | self.f3.val();
+        self.dn4.next = (self.w4.q.val() >> 4) | self.f4.val();
+
+        self.fall.next = false;
+        self.climb.next = false;
+        self.fin.d.next = false;
+        self.nst.next = self.st.q.val();
+
+        if self.st.q.val() == self.k_idle.val() {
+            if self.start.val() {
+                self.w1.d.next = self.in_w1.val();
+                self.w2.d.next = self.in_w2.val();
+                self.w3.d.next = self.in_w3.val();
+                self.w4.d.next = self.in_w4.val();
+                self.q.d.next = self.in_q.val();
+                self.e.d.next = self.in_base.val();
+                self.cap.d.next = self.in_cap.val();
+                self.b0.d.next = self.in_b0.val();
+                self.b.d.next = 0.into();
+                self.h.d.next = 1.into();
+                self.rising.d.next = true;
+                if self.in_b0.val() == 0 {
+                    self.nst.next = self.k_try.val();
+                } else {
+                    self.nst.next = self.k_up.val();
+                }
+            }
+        } else if self.st.q.val() == self.k_up.val() {
+            self.climb.next = true;
+            if (self.b.q.val() + 1) == self.b0.q.val() {
+                self.nst.next = self.k_try.val();
+            }
+        } else if self.st.q.val() == self.k_try.val() {
+            self.x.d.next = self.p.val();
+            self.fit.d.next = (self.e.q.val() + self.h.q.val()) <= self.cap.q.val();
+            self.nst.next = self.k_dec1.val();
+        } else if self.st.q.val() == self.k_dec1.val() {
+            if self.fit.q.val() {
+                self.pass.d.next = self.p.val().get_bit(160);
+                self.g.d.next = self.p.val();
+                self.nst.next = self.k_dec2.val();
+            } else {
+                self.fall.next = true;
+            }
+        } else if self.st.q.val() == self.k_dec2.val() {
+            self.z.d.next = self.p.val();
+            if self.pass.q.val() {
+                self.q.d.next = self.g.q.val();
+                self.e.d.next = self.e.q.val() + self.h.q.val();
+                self.nst.next = self.k_a2.val();
+            } else {
+                self.fall.next = true;
+            }
+        } else if self.st.q.val() == self.k_a2.val() {
+            self.w3.d.next = self.p.val();
+            self.nst.next = self.k_a3.val();
+        } else if self.st.q.val() == self.k_a3.val() {
+            self.w1.d.next = self.p.val();
+            self.nst.next = self.k_a4.val();
+        } else if self.st.q.val() == self.k_a4.val() {
+            self.w2.d.next = self.p.val();
+            self.nst.next = self.k_sh.val();
+        } else if self.st.q.val() == self.k_sh.val() {
+            if self.rising.q.val() & (self.b.q.val() != self.c_top.val()) {
+                self.climb.next = true;
+                self.nst.next = self.k_try.val();
+            } else {
+                self.fall.next = true;
+            }
+        }
+
+        // Up a digit: every word times 2^k (exact: the words fit 160 bits there).
+        if self.climb.val() {
+            self.w1.d.next = self.w1.q.val() << 1;
+            self.w2.d.next = self.w2.q.val() << 2;
+            self.w3.d.next = self.w3.q.val() << 3;
+            self.w4.d.next = self.w4.q.val() << 4;
+            self.b.d.next = self.b.q.val() + 1;
+            self.h.d.next = self.h.q.val() << 1;
+        }
+        // Down a digit, or the end at digit 0; the rise is over either way.
+        if self.fall.val() {
+            self.rising.d.next = false;
+            if self.b.q.val() == 0 {
+                self.nst.next = self.k_idle.val();
+                self.fin.d.next = true;
+            } else {
+                self.w1.d.next = self.dn1.val();
+                self.w2.d.next = self.dn2.val();
+                self.w3.d.next = self.dn3.val();
+                self.w4.d.next = self.dn4.val();
+                self.b.d.next = self.b.q.val() - 1;
+                self.h.d.next = self.h.q.val() >> 1;
+                self.nst.next = self.k_try.val();
+            }
+        }
+
+        // The next state, and the adder's operand selects for it.
+        self.st.d.next = self.nst.val();
+        self.oa.d.next = 0.into();
+        self.ob.d.next = 0.into();
+        self.oc.d.next = 0.into();
+        if self.nst.val() == self.k_try.val() {
+            self.oa.d.next = 1.into();
+            self.ob.d.next = 1.into();
+            self.oc.d.next = 1.into();
+        } else if self.nst.val() == self.k_dec1.val() {
+            self.oa.d.next = 2.into();
+            self.ob.d.next = 2.into();
+            self.oc.d.next = 2.into();
+        } else if self.nst.val() == self.k_dec2.val() {
+            self.ob.d.next = 3.into();
+            self.oc.d.next = 1.into();
+        } else if self.nst.val() == self.k_a2.val() {
+            self.oa.d.next = 3.into();
+            self.ob.d.next = 3.into();
+        } else if self.nst.val() == self.k_a3.val() {
+            self.oa.d.next = 2.into();
+            self.ob.d.next = 1.into();
+            self.oc.d.next = 3.into();
+        } else if self.nst.val() == self.k_a4.val() {
+            self.oa.d.next = 3.into();
+            self.ob.d.next = 1.into();
+            self.oc.d.next = 3.into();
+        }
+
+        self.busy.next = self.st.q.val() != self.k_idle.val();
+        self.done.next = self.fin.q.val();
+        self.out_edge.next = self.e.q.val();
+        self.out_q.next = self.q.q.val();
+        self.out_w1.next = self.w1.q.val();
+        self.out_w2.next = self.w2.q.val();
+        self.out_w3.next = self.w3.q.val();
+        self.out_w4.next = self.w4.q.val();
+    }
+}

@@ -1,0 +1,375 @@
+//! The polynomial (S-curve) unit's blocks three ways: the model
+//! (`PolySearch::next_edge_galloping`), rust-hdl, and the exported Verilog in
+//! Verilator and Icarus.
+//!
+//! PolyStep: steps of valid polynomial segments over the documented range and at its
+//! corners (cubics from rest over 2^24 ticks, near-uniform segments, the fastest
+//! segments at RMAX, the slowest with periods near 2^23 ticks, quartics, the first
+//! step, the last searched step, segments of two steps), each from the model's state
+//! at the step before it, started from the digit of the period before (and from
+//! digits off by up to 3): the edge, the remainder and the four Taylor words equal
+//! the model's, and the step takes exactly `1 + b0 + 2·digits + trials + 4·passes`
+//! cycles. The block's 161-bit ports are reached through a test harness that loads
+//! and reads them 32 bits at a time (the simulators' ports are at most 128 bits).
+
+mod common;
+
+use common::*;
+use ethnum::{I256, U256};
+use rust_hdl::prelude::*;
+use tdm_stepper::hdl::poly_step::{PolyStep, POLY_REG_BITS};
+use tdm_stepper::model::poly::{gallop_start, GallopStats, PolyPlan, PolySegment, POLY_MAX_T_TICKS, POLY_TOP_DIGIT};
+use tdm_stepper::model::Limits;
+use tdm_stepper::verify::{Port, TbSpec};
+
+const W: usize = POLY_REG_BITS;
+/// 32-bit limbs of a word.
+const LIMBS: usize = 6;
+
+/// PolyStep behind 32-bit load and read ports: `ld` writes `ld_data` into limb
+/// `ld_limb` of input word `ld_sel` (0..3: w1..w4, 4: q); `rd_data` is limb `rd_limb`
+/// of output word `rd_sel` (same numbering).
+#[derive(LogicBlock)]
+struct StepHarness {
+    clock: Signal<In, Clock>,
+    ld: Signal<In, Bit>,
+    ld_sel: Signal<In, Bits<3>>,
+    ld_limb: Signal<In, Bits<3>>,
+    ld_data: Signal<In, Bits<32>>,
+    start: Signal<In, Bit>,
+    base: Signal<In, Bits<32>>,
+    cap: Signal<In, Bits<32>>,
+    b0: Signal<In, Bits<5>>,
+    rd_sel: Signal<In, Bits<3>>,
+    rd_limb: Signal<In, Bits<3>>,
+    busy: Signal<Out, Bit>,
+    done: Signal<Out, Bit>,
+    edge_out: Signal<Out, Bits<32>>,
+    rd_data: Signal<Out, Bits<32>>,
+    step: PolyStep,
+    r1: DFF<Bits<W>>,
+    r2: DFF<Bits<W>>,
+    r3: DFF<Bits<W>>,
+    r4: DFF<Bits<W>>,
+    rq: DFF<Bits<W>>,
+    c_mask: Constant<Bits<W>>,
+    sh: Signal<Local, Bits<8>>,
+    rsh: Signal<Local, Bits<8>>,
+    keep: Signal<Local, Bits<W>>,
+    put: Signal<Local, Bits<W>>,
+    word: Signal<Local, Bits<W>>,
+    shifted: Signal<Local, Bits<W>>,
+}
+
+impl Default for StepHarness {
+    fn default() -> Self {
+        StepHarness {
+            clock: Default::default(),
+            ld: Default::default(),
+            ld_sel: Default::default(),
+            ld_limb: Default::default(),
+            ld_data: Default::default(),
+            start: Default::default(),
+            base: Default::default(),
+            cap: Default::default(),
+            b0: Default::default(),
+            rd_sel: Default::default(),
+            rd_limb: Default::default(),
+            busy: Default::default(),
+            done: Default::default(),
+            edge_out: Default::default(),
+            rd_data: Default::default(),
+            step: Default::default(),
+            r1: Default::default(),
+            r2: Default::default(),
+            r3: Default::default(),
+            r4: Default::default(),
+            rq: Default::default(),
+            c_mask: Constant::new(Bits::<W>::from(0xffff_ffffu64)),
+            sh: Default::default(),
+            rsh: Default::default(),
+            keep: Default::default(),
+            put: Default::default(),
+            word: Default::default(),
+            shifted: Default::default(),
+        }
+    }
+}
+
+impl Logic for StepHarness {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, r1, r2, r3, r4, rq);
+        self.step.clock.next = self.clock.val();
+        self.step.start.next = self.start.val();
+        self.step.in_w1.next = self.r1.q.val();
+        self.step.in_w2.next = self.r2.q.val();
+        self.step.in_w3.next = self.r3.q.val();
+        self.step.in_w4.next = self.r4.q.val();
+        self.step.in_q.next = self.rq.q.val();
+        self.step.in_base.next = self.base.val();
+        self.step.in_cap.next = self.cap.val();
+        self.step.in_b0.next = self.b0.val();
+        self.busy.next = self.step.busy.val();
+        self.done.next = self.step.done.val();
+        self.edge_out.next = self.step.out_edge.val();
+
+        self.sh.next = bit_cast::<8, 3>(self.ld_limb.val()) << 5;
+        self.keep.next = !(self.c_mask.val() << self.sh.val());
+        self.put.next = bit_cast::<W, 32>(self.ld_data.val()) << self.sh.val();
+        if self.ld.val() {
+            if self.ld_sel.val() == 0 {
+                self.r1.d.next = (self.r1.q.val() & self.keep.val()) | self.put.val();
+            } else if self.ld_sel.val() == 1 {
+                self.r2.d.next = (self.r2.q.val() & self.keep.val()) | self.put.val();
+            } else if self.ld_sel.val() == 2 {
+                self.r3.d.next = (self.r3.q.val() & self.keep.val()) | self.put.val();
+            } else if self.ld_sel.val() == 3 {
+                self.r4.d.next = (self.r4.q.val() & self.keep.val()) | self.put.val();
+            } else {
+                self.rq.d.next = (self.rq.q.val() & self.keep.val()) | self.put.val();
+            }
+        }
+        self.word.next = self.step.out_q.val();
+        if self.rd_sel.val() == 0 {
+            self.word.next = self.step.out_w1.val();
+        } else if self.rd_sel.val() == 1 {
+            self.word.next = self.step.out_w2.val();
+        } else if self.rd_sel.val() == 2 {
+            self.word.next = self.step.out_w3.val();
+        } else if self.rd_sel.val() == 3 {
+            self.word.next = self.step.out_w4.val();
+        }
+        self.rsh.next = bit_cast::<8, 3>(self.rd_limb.val()) << 5;
+        self.shifted.next = self.word.val() >> self.rsh.val();
+        self.rd_data.next = self.shifted.val().get_bits::<32>(0);
+    }
+}
+
+fn harness() -> StepHarness {
+    let mut u = StepHarness::default();
+    u.clock.connect();
+    u.ld.connect();
+    u.ld_sel.connect();
+    u.ld_limb.connect();
+    u.ld_data.connect();
+    u.start.connect();
+    u.base.connect();
+    u.cap.connect();
+    u.b0.connect();
+    u.rd_sel.connect();
+    u.rd_limb.connect();
+    u.connect_all();
+    u
+}
+
+fn spec() -> TbSpec {
+    TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("ld", 1),
+            Port::new("ld_sel", 3),
+            Port::new("ld_limb", 3),
+            Port::new("ld_data", 32),
+            Port::new("start", 1),
+            Port::new("base", 32),
+            Port::new("cap", 32),
+            Port::new("b0", 5),
+            Port::new("rd_sel", 3),
+            Port::new("rd_limb", 3),
+        ],
+        outputs: vec![Port::new("busy", 1), Port::new("done", 1), Port::new("edge_out", 32), Port::new("rd_data", 32)],
+    }
+}
+
+/// The 32-bit limbs of a signed value as 161-bit two's complement.
+fn limbs(v: I256) -> [u32; LIMBS] {
+    let u: U256 = v.as_u256() & ((U256::ONE << W as u32) - 1);
+    std::array::from_fn(|k| (u >> (32 * k as u32)).as_u32())
+}
+
+/// One step to check: the state before it and the model's answer.
+struct Case {
+    words: [I256; 4],
+    q: I256,
+    base: u32,
+    cap: u32,
+    b0: u32,
+    edge: u32,
+    out_words: [I256; 4],
+    out_q: I256,
+    stats: GallopStats,
+}
+
+/// The step after step `i` (0 ≤ i < n − 1) of `seg`, started from digit `b0`.
+fn case(seg: &PolySegment, i: u32, b0: u32) -> Case {
+    let plan = PolyPlan::new(*seg);
+    let e_i = if i == 0 { 0 } else { seg.edge_by_definition(i) };
+    let before = plan.search_after(i, e_i);
+    let mut after = before;
+    let (edge, stats) = after.next_edge_galloping(b0).unwrap();
+    Case {
+        words: before.taylor,
+        q: !(before.rem + plan.step),
+        base: e_i,
+        cap: seg.t_ticks - 1,
+        b0,
+        edge,
+        out_words: after.taylor,
+        out_q: !after.rem,
+        stats,
+    }
+}
+
+/// The digit the unit starts step i + 1 from: that of the period before it.
+fn start_digit(seg: &PolySegment, i: u32) -> u32 {
+    let e = |k: u32| if k == 0 { 0 } else { seg.edge_by_definition(k) };
+    if i == 0 {
+        0
+    } else {
+        gallop_start(e(i) - e(i - 1))
+    }
+}
+
+fn cases() -> Vec<Case> {
+    let limits = Limits::default();
+    let rmax = limits.max_rate();
+    let big_t = POLY_MAX_T_TICKS;
+    let mut segs: Vec<PolySegment> = vec![
+        // A cubic from rest over 2^24 ticks (the time goes as the cube root).
+        PolySegment::cubic(0, 3 * 50_000 << 8, big_t, 50_000).unwrap(),
+        // Near-uniform: a tiny jerk.
+        PolySegment::cubic(1 << 28, (1 << 28) + 3, 1 << 22, 1 << 18).unwrap(),
+        // The fastest: at RMAX throughout (periods of 2 to 3 ticks).
+        PolySegment::cubic(rmax, rmax, 1 << 16, ((rmax as u64) << 16 >> 32) as i32).unwrap(),
+        // The slowest: two steps over 2^24 ticks, periods near 2^23.
+        PolySegment::cubic(1 << 9, 1 << 9, big_t, 2).unwrap(),
+        PolySegment::cubic(0, 0, big_t, 2).unwrap(),
+        // Decelerating to rest, backwards.
+        PolySegment::cubic(1 << 30, 0, 1 << 20, -(1 << 17)).unwrap(),
+    ];
+    // Quartics: a cubic's A' moved by a random part of its range (kept if valid).
+    let mut rng = Rng(0x90_1e5_7e9);
+    for _ in 0..10_000 {
+        if segs.len() == 14 {
+            break;
+        }
+        let t = 4 + (rng.next() % big_t as u64) as u32;
+        let v0 = (rng.next() % (rmax as u64 / 2)) as u32;
+        let v1 = (rng.next() % (rmax as u64 / 2)) as u32;
+        let n = ((v0 as u64 + v1 as u64) * t as u64 >> 33).max(2) as i32;
+        if let Some(c) = PolySegment::cubic(v0, v1, t, n) {
+            let span = (v0 as i64 + v1 as i64) * t as i64 / 16;
+            let a = c.a_q32 + (rng.next() as i64 % span.max(1));
+            let q = PolySegment::new(v0, v1, a, t, n);
+            if q.validate(&limits).is_ok() && q.degree() == 4 {
+                segs.push(q);
+            }
+        }
+    }
+    let mut v = Vec::new();
+    for (k, seg) in segs.iter().enumerate() {
+        assert_eq!(seg.validate(&limits), Ok(()), "{seg:?}");
+        let n = seg.n_steps();
+        // The first step, the last searched one, and some in between.
+        let mut steps = vec![0, n - 2];
+        for _ in 0..3 {
+            steps.push((rng.next() % (n as u64 - 1)) as u32);
+        }
+        steps.sort();
+        steps.dedup();
+        for (j, &i) in steps.iter().enumerate() {
+            let b = start_digit(seg, i) as i64;
+            let off = if (k + j) % 3 == 2 { (rng.next() % 7) as i64 - 3 } else { 0 };
+            v.push(case(seg, i, (b + off).clamp(0, POLY_TOP_DIGIT as i64) as u32));
+        }
+    }
+    v
+}
+
+/// Rows of the harness: per case, load the five words (30 rows), start, wait the
+/// model's latency and two more, read the five words back (30 rows). Returns the
+/// rows and, per case, the start row.
+fn rows(cases: &[Case]) -> (Vec<Vec<u128>>, Vec<usize>) {
+    // ld, ld_sel, ld_limb, ld_data, start, base, cap, b0, rd_sel, rd_limb
+    let mut rows = vec![vec![0u128; 10]];
+    let mut starts = Vec::new();
+    for c in cases {
+        let words = [c.words[0], c.words[1], c.words[2], c.words[3], c.q];
+        for (sel, w) in words.iter().enumerate() {
+            for (limb, d) in limbs(*w).iter().enumerate() {
+                rows.push(vec![1, sel as u128, limb as u128, *d as u128, 0, 0, 0, 0, 0, 0]);
+            }
+        }
+        starts.push(rows.len());
+        rows.push(vec![0, 0, 0, 0, 1, c.base as u128, c.cap as u128, c.b0 as u128, 0, 0]);
+        for _ in 0..latency(c) + 2 {
+            rows.push(vec![0; 10]);
+        }
+        for sel in 0..5u128 {
+            for limb in 0..LIMBS as u128 {
+                rows.push(vec![0, 0, 0, 0, 0, 0, 0, 0, sel, limb]);
+            }
+        }
+    }
+    (rows, starts)
+}
+
+/// Rows from the start row to `done`: the block's documented latency.
+fn latency(c: &Case) -> usize {
+    (1 + c.b0 + 2 * c.stats.digits + c.stats.trials + 4 * c.stats.passes) as usize
+}
+
+#[test]
+fn poly_step_equals_the_model_three_ways() {
+    let cases = cases();
+    let (rows, starts) = rows(&cases);
+    let got = tdm_stepper::verify::run_rust_hdl(
+        &mut harness(),
+        &rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.ld.next = r[0] == 1;
+            u.ld_sel.next = (r[1] as u64).into();
+            u.ld_limb.next = (r[2] as u64).into();
+            u.ld_data.next = (r[3] as u64).into();
+            u.start.next = r[4] == 1;
+            u.base.next = (r[5] as u64).into();
+            u.cap.next = (r[6] as u64).into();
+            u.b0.next = (r[7] as u64).into();
+            u.rd_sel.next = (r[8] as u64).into();
+            u.rd_limb.next = (r[9] as u64).into();
+        },
+        |u| {
+            vec![
+                u.busy.val() as u128,
+                u.done.val() as u128,
+                u.edge_out.val().to_u64() as u128,
+                u.rd_data.val().to_u64() as u128,
+            ]
+        },
+    );
+    let mut worst = 0;
+    for (c, &s) in cases.iter().zip(&starts) {
+        let l = latency(c);
+        worst = worst.max(l);
+        for k in 1..=l + 2 {
+            let (busy, done) = (got[s + k][0], got[s + k][1]);
+            assert_eq!(busy, (k < l) as u128, "case at row {s}: busy {k} rows after the start ({:?})", c.stats);
+            assert_eq!(done, (k == l) as u128, "case at row {s}: done {k} rows after the start ({:?})", c.stats);
+        }
+        assert_eq!(got[s + l][2], c.edge as u128, "case at row {s}: edge");
+        let words = [c.out_words[0], c.out_words[1], c.out_words[2], c.out_words[3], c.out_q];
+        let read = s + l + 3;
+        for (sel, w) in words.iter().enumerate() {
+            for (limb, d) in limbs(*w).iter().enumerate() {
+                assert_eq!(got[read + sel * LIMBS + limb][3], *d as u128, "case at row {s}: word {sel} limb {limb}");
+            }
+        }
+    }
+    assert!(worst > 100, "the cases reach long searches (worst {worst} cycles)");
+    let skips: u32 = cases.iter().map(|c| c.stats.digits - c.stats.trials).sum();
+    assert!(skips > 0, "some digits pass the cap (no trial)");
+    let verilog = generate_verilog(&harness());
+    verilog_matches_rust_hdl("poly_step", &verilog, &spec(), &rows, &got, 1);
+}
