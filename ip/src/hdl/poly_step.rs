@@ -6,7 +6,10 @@
 //! pass the cap.
 //!
 //! One three-input adder, 161 bits (every word fits 160 bits signed, so sums of them
-//! are exact modulo 2^161), does all the arithmetic, one operation per cycle:
+//! are exact modulo 2^161), does all the arithmetic, one operation per cycle: a
+//! carry-save stage, then bits 0..80 in one carry chain and bits 81..160 in two
+//! beside it (carry in 0 and 1), chosen by the low chain's carry, so no chain is
+//! longer than 81 bits:
 //!
 //! | state | adder | then |
 //! |---|---|---|
@@ -107,6 +110,11 @@ pub struct PolyStep {
     oa: DFF<Bits<2>>,
     ob: DFF<Bits<2>>,
     oc: DFF<Bits<2>>,
+    /// W1, W2, W3 take the adder's sum in the next state (A3, A4, A2), registered
+    /// likewise: the sum reaches each word register through one select.
+    ws1: DFF<Bit>,
+    ws2: DFF<Bit>,
+    ws3: DFF<Bit>,
     c_top: Constant<Bits<5>>,
     /// The top 1, 2, 3 and 4 bits set: the arithmetic right shifts' sign fill.
     c_fill1: Constant<Bits<W>>,
@@ -126,6 +134,14 @@ pub struct PolyStep {
     opb: Signal<Local, Bits<W>>,
     opc: Signal<Local, Bits<W>>,
     p: Signal<Local, Bits<W>>,
+    /// The adder as a carry-save stage and a carry-select sum: bits 0..80 in one
+    /// chain, bits 81..160 twice (carry in 0 and 1) beside it, chosen by its carry.
+    cs_s: Signal<Local, Bits<W>>,
+    cs_c: Signal<Local, Bits<W>>,
+    lo: Signal<Local, Bits<82>>,
+    hi0: Signal<Local, Bits<80>>,
+    hi1: Signal<Local, Bits<80>>,
+    hi: Signal<Local, Bits<80>>,
     /// Each word shifted down (arithmetic) and up by its k.
     dn1: Signal<Local, Bits<W>>,
     dn2: Signal<Local, Bits<W>>,
@@ -187,6 +203,9 @@ impl Default for PolyStep {
             oa: Default::default(),
             ob: Default::default(),
             oc: Default::default(),
+            ws1: Default::default(),
+            ws2: Default::default(),
+            ws3: Default::default(),
             c_top: Constant::new(TOP.into()),
             c_fill1: fill(1),
             c_fill2: fill(2),
@@ -205,6 +224,12 @@ impl Default for PolyStep {
             opb: Default::default(),
             opc: Default::default(),
             p: Default::default(),
+            cs_s: Default::default(),
+            cs_c: Default::default(),
+            lo: Default::default(),
+            hi0: Default::default(),
+            hi1: Default::default(),
+            hi: Default::default(),
             dn1: Default::default(),
             dn2: Default::default(),
             dn3: Default::default(),
@@ -223,7 +248,7 @@ impl Default for PolyStep {
 impl Logic for PolyStep {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, oa, ob, oc);
+        dff_setup!(self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, oa, ob, oc, ws1, ws2, ws3);
 
         // The adder's operands, by the registered selects (0 where unused).
         self.opa.next = 0.into();
@@ -250,7 +275,22 @@ impl Logic for PolyStep {
         } else if self.oc.q.val() == 3 {
             self.opc.next = self.z.q.val() << 1;
         }
-        self.p.next = self.opa.val() + self.opb.val() + self.opc.val();
+        self.cs_s.next = self.opa.val() ^ self.opb.val() ^ self.opc.val();
+        self.cs_c.next = ((self.opa.val() & self.opb.val())
+            | (self.opa.val() & self.opc.val())
+            | (self.opb.val() & self.opc.val()))
+            << 1;
+        self.lo.next = bit_cast::<82, 81>(self.cs_s.val().get_bits::<81>(0))
+            + bit_cast::<82, 81>(self.cs_c.val().get_bits::<81>(0));
+        self.hi0.next = self.cs_s.val().get_bits::<80>(81) + self.cs_c.val().get_bits::<80>(81);
+        // s − ¬c = s + c + 1: written as a difference so that synthesis keeps it a
+        // chain of its own beside hi0 (as hi0 + 1 it would follow hi0's chain).
+        self.hi1.next = self.cs_s.val().get_bits::<80>(81) - (!self.cs_c.val().get_bits::<80>(81));
+        self.hi.next = self.hi0.val();
+        if self.lo.val().get_bit(81) {
+            self.hi.next = self.hi1.val();
+        }
+        self.p.next = (bit_cast::<W, 80>(self.hi.val()) << 81) | bit_cast::<W, 81>(self.lo.val().get_bits::<81>(0));
 
         // The words shifted down a digit (arithmetic, exact) for a fall.
         self.f1.next = 0.into();
@@ -325,13 +365,10 @@ impl Logic for PolyStep {
                 self.fall.next = true;
             }
         } else if self.st.q.val() == self.k_a2.val() {
-            self.w3.d.next = self.p.val();
             self.nst.next = self.k_a3.val();
         } else if self.st.q.val() == self.k_a3.val() {
-            self.w1.d.next = self.p.val();
             self.nst.next = self.k_a4.val();
         } else if self.st.q.val() == self.k_a4.val() {
-            self.w2.d.next = self.p.val();
             self.nst.next = self.k_sh.val();
         } else if self.st.q.val() == self.k_sh.val() {
             if self.rising.q.val() & (self.b.q.val() != self.c_top.val()) {
@@ -368,8 +405,22 @@ impl Logic for PolyStep {
             }
         }
 
-        // The next state, and the adder's operand selects for it.
+        // The Taylor update's sums (A2, A3, A4: no shift or load happens there).
+        if self.ws1.q.val() {
+            self.w1.d.next = self.p.val();
+        }
+        if self.ws2.q.val() {
+            self.w2.d.next = self.p.val();
+        }
+        if self.ws3.q.val() {
+            self.w3.d.next = self.p.val();
+        }
+
+        // The next state, and the adder's operand and write selects for it.
         self.st.d.next = self.nst.val();
+        self.ws1.d.next = self.nst.val() == self.k_a3.val();
+        self.ws2.d.next = self.nst.val() == self.k_a4.val();
+        self.ws3.d.next = self.nst.val() == self.k_a2.val();
         self.oa.d.next = 0.into();
         self.ob.d.next = 0.into();
         self.oc.d.next = 0.into();
