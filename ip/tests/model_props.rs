@@ -612,9 +612,10 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
     let mut widest = 0;
     if n <= FULL_CHECK_STEPS {
         let mut s = plan.search();
-        // The core's galloping search, from the last period's digit (every ninth
-        // step from a digit off by up to 3 either way): the same edges and state.
-        let mut g = plan.search();
+        // The core's galloping search, from its setup's state at base 1 and the
+        // last period's digit (every ninth step from a digit off by up to 3 either
+        // way): the same edges, and the same state after each.
+        let mut g = if n >= 2 { plan.setup_state() } else { plan.search() };
         let (mut prev, mut delta, mut x) = (0, 0, seed | 1);
         for i in 1..=n {
             let e = s.next_edge().unwrap();

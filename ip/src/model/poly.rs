@@ -355,6 +355,36 @@ impl PolyPlan {
         s
     }
 
+    /// The setup's words: `g = [8·c1, 4·c2, 2·c3, c4]`, the Taylor words of
+    /// 16·N at t = 0 on the half-tick scale (g_k = 16·c_k·(½)^k). All the core's
+    /// setup multiplies for (with S = 2^36·T⁴).
+    pub fn setup_words(&self) -> [I256; 4] {
+        let [c1, c2, c3, c4] = self.segment.n_coefficients();
+        [c1 << 3, c2 << 2, c3 << 1, c4]
+    }
+
+    /// The search state the core's unit starts a segment from: step 0 at base 1,
+    /// reached from [`Self::setup_words`] by one trial at h = ½ tick taken whatever
+    /// its verdict (the trial is 16·N(½) = M(1), so Q = ¬(−M(1)) = M(1) − 1, and the
+    /// Taylor update moves the words to t = ½, that is e = 1) and one climb (W_k <<= k:
+    /// scale ½ tick to 1 tick). Only adds and fixed shifts after the products. The
+    /// first edge is found from there: E_1 ≥ 1 always (x(½) ≤ RMAX/2 < 1), and M is
+    /// monotone from e = 1 on, so the search gives the same edges as from e = 0.
+    pub fn setup_state(&self) -> PolySearch {
+        let [g1, g2, g3, g4] = self.setup_words();
+        let trial = g1 + g2 + g3 + g4;
+        let k = |v: i128| I256::from(v);
+        let w1 = g1 + k(2) * g2 + k(3) * g3 + k(4) * g4;
+        let w2 = g2 + k(3) * g3 + k(6) * g4;
+        let w3 = g3 + k(4) * g4;
+        let mut s = self.search();
+        s.i = 0;
+        s.base = 1;
+        s.rem = -trial;
+        s.taylor = [w1 << 1, w2 << 2, w3 << 3, g4 << 4];
+        s
+    }
+
     /// The edges E_1..E_n, by the search.
     pub fn edges(&self) -> Vec<u32> {
         let mut s = self.search();
@@ -555,6 +585,20 @@ mod tests {
             assert!(seg.edge_within(i, e as i64, 4), "step {i} of {seg:?} not within ½ tick");
         }
         edges
+    }
+
+    #[test]
+    fn the_setup_state_is_the_search_at_base_one() {
+        let segs = [
+            PolySegment::cubic(0, 3000 << 16, 1 << 16, 1000).unwrap(),
+            PolySegment::new(1 << 20, 1 << 21, -(1 << 30), 1 << 12, 3),
+            PolySegment::cubic(MAX_V0_RATE / 3, 0, 1 << 24, -(1 << 20)).unwrap(),
+        ];
+        for seg in segs {
+            let plan = PolyPlan::new(seg);
+            let (a, b) = (plan.setup_state(), plan.search_after(0, 1));
+            assert_eq!((a.i, a.base, a.rem, a.taylor), (b.i, b.base, b.rem, b.taylor), "{seg:?}");
+        }
     }
 
     #[test]
