@@ -9,7 +9,8 @@
 //! at the step before it, started from the digit of the period before (and from
 //! digits off by up to 3): the edge, the remainder and the four Taylor words equal
 //! the model's, and the step takes exactly `1 + b0 + 2·digits + trials + 4·passes`
-//! cycles. The block's 161-bit ports are reached through a test harness that loads
+//! cycles. The setup of each segment (its words g in) gives the model's state at
+//! base 1 in 8 cycles. The block's 161-bit ports are reached through a test harness that loads
 //! and reads them 32 bits at a time (the simulators' ports are at most 128 bits).
 
 mod common;
@@ -40,6 +41,7 @@ struct StepHarness {
     base: Signal<In, Bits<32>>,
     cap: Signal<In, Bits<32>>,
     b0: Signal<In, Bits<5>>,
+    setup: Signal<In, Bit>,
     rd_sel: Signal<In, Bits<3>>,
     rd_limb: Signal<In, Bits<3>>,
     busy: Signal<Out, Bit>,
@@ -73,6 +75,7 @@ impl Default for StepHarness {
             base: Default::default(),
             cap: Default::default(),
             b0: Default::default(),
+            setup: Default::default(),
             rd_sel: Default::default(),
             rd_limb: Default::default(),
             busy: Default::default(),
@@ -110,6 +113,7 @@ impl Logic for StepHarness {
         self.step.in_base.next = self.base.val();
         self.step.in_cap.next = self.cap.val();
         self.step.in_b0.next = self.b0.val();
+        self.step.in_setup.next = self.setup.val();
         self.busy.next = self.step.busy.val();
         self.done.next = self.step.done.val();
         self.edge_out.next = self.step.out_edge.val();
@@ -157,6 +161,7 @@ fn harness() -> StepHarness {
     u.base.connect();
     u.cap.connect();
     u.b0.connect();
+    u.setup.connect();
     u.rd_sel.connect();
     u.rd_limb.connect();
     u.connect_all();
@@ -175,6 +180,7 @@ fn spec() -> TbSpec {
             Port::new("base", 32),
             Port::new("cap", 32),
             Port::new("b0", 5),
+            Port::new("setup", 1),
             Port::new("rd_sel", 3),
             Port::new("rd_limb", 3),
         ],
@@ -190,6 +196,7 @@ fn limbs(v: I256) -> [u32; LIMBS] {
 
 /// One step to check: the state before it and the model's answer.
 struct Case {
+    setup: bool,
     words: [I256; 4],
     q: I256,
     base: u32,
@@ -209,6 +216,7 @@ fn case(seg: &PolySegment, i: u32, b0: u32) -> Case {
     let mut after = before;
     let (edge, stats) = after.next_edge_galloping(b0).unwrap();
     Case {
+        setup: false,
         words: before.taylor,
         q: !(before.rem + plan.step),
         base: e_i,
@@ -218,6 +226,24 @@ fn case(seg: &PolySegment, i: u32, b0: u32) -> Case {
         out_words: after.taylor,
         out_q: !after.rem,
         stats,
+    }
+}
+
+/// The setup of `seg`: the words g in, the state at base 1 out.
+fn setup_case(seg: &PolySegment) -> Case {
+    let plan = PolyPlan::new(*seg);
+    let after = plan.setup_state();
+    Case {
+        setup: true,
+        words: plan.setup_words(),
+        q: I256::ZERO,
+        base: 0,
+        cap: 0,
+        b0: 0,
+        edge: 1,
+        out_words: after.taylor,
+        out_q: !after.rem,
+        stats: GallopStats { digits: 1, trials: 1, passes: 1 },
     }
 }
 
@@ -278,6 +304,7 @@ fn cases() -> Vec<Case> {
         }
         steps.sort();
         steps.dedup();
+        v.push(setup_case(seg));
         for (j, &i) in steps.iter().enumerate() {
             let b = start_digit(seg, i) as i64;
             let off = if (k + j) % 3 == 2 { (rng.next() % 7) as i64 - 3 } else { 0 };
@@ -291,24 +318,24 @@ fn cases() -> Vec<Case> {
 /// model's latency and two more, read the five words back (30 rows). Returns the
 /// rows and, per case, the start row.
 fn rows(cases: &[Case]) -> (Vec<Vec<u128>>, Vec<usize>) {
-    // ld, ld_sel, ld_limb, ld_data, start, base, cap, b0, rd_sel, rd_limb
-    let mut rows = vec![vec![0u128; 10]];
+    // ld, ld_sel, ld_limb, ld_data, start, base, cap, b0, setup, rd_sel, rd_limb
+    let mut rows = vec![vec![0u128; 11]];
     let mut starts = Vec::new();
     for c in cases {
         let words = [c.words[0], c.words[1], c.words[2], c.words[3], c.q];
         for (sel, w) in words.iter().enumerate() {
             for (limb, d) in limbs(*w).iter().enumerate() {
-                rows.push(vec![1, sel as u128, limb as u128, *d as u128, 0, 0, 0, 0, 0, 0]);
+                rows.push(vec![1, sel as u128, limb as u128, *d as u128, 0, 0, 0, 0, 0, 0, 0]);
             }
         }
         starts.push(rows.len());
-        rows.push(vec![0, 0, 0, 0, 1, c.base as u128, c.cap as u128, c.b0 as u128, 0, 0]);
+        rows.push(vec![0, 0, 0, 0, 1, c.base as u128, c.cap as u128, c.b0 as u128, c.setup as u128, 0, 0]);
         for _ in 0..latency(c) + 2 {
-            rows.push(vec![0; 10]);
+            rows.push(vec![0; 11]);
         }
         for sel in 0..5u128 {
             for limb in 0..LIMBS as u128 {
-                rows.push(vec![0, 0, 0, 0, 0, 0, 0, 0, sel, limb]);
+                rows.push(vec![0, 0, 0, 0, 0, 0, 0, 0, 0, sel, limb]);
             }
         }
     }
@@ -337,8 +364,9 @@ fn poly_step_equals_the_model_three_ways() {
             u.base.next = (r[5] as u64).into();
             u.cap.next = (r[6] as u64).into();
             u.b0.next = (r[7] as u64).into();
-            u.rd_sel.next = (r[8] as u64).into();
-            u.rd_limb.next = (r[9] as u64).into();
+            u.setup.next = r[8] == 1;
+            u.rd_sel.next = (r[9] as u64).into();
+            u.rd_limb.next = (r[10] as u64).into();
         },
         |u| {
             vec![

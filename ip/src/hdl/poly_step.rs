@@ -38,6 +38,14 @@
 //! 46 on average over the tests' steps (many near the last one's period), 238 at
 //! most there (a slow step started four digits too high).
 //!
+//! **Setup.** `start` with `in_setup` takes `in_w1`..`in_w4` as the setup's words
+//! g = [8·c1, 4·c2, 2·c3, c4] on the half-tick scale
+//! ([`crate::model::poly::PolyPlan::setup_state`]; `in_q`, `in_base`, `in_cap`,
+//! `in_b0` are not read) and makes one trial at h = ½ tick that passes whatever its
+//! sign from Q = ¬0, then one climb: `done` after 8 cycles with `out_edge` = 1 and
+//! the state at base 1 (Q = M(1) − 1 and the Taylor words there), where the search
+//! for the first edge starts.
+//!
 //! Every decision is taken from flip-flops (the trial's sign, e + 2^b ≤ cap, b = 0,
 //! rising) and the adder's operand selects are registered from the next state, so
 //! the paths are: operand select → adder → word register, and flags → next state.
@@ -77,6 +85,8 @@ pub struct PolyStep {
     pub in_base: Signal<In, Bits<32>>,
     pub in_cap: Signal<In, Bits<32>>,
     pub in_b0: Signal<In, Bits<5>>,
+    /// With `start`: the setup instead of a step (see the module docs).
+    pub in_setup: Signal<In, Bit>,
     pub busy: Signal<Out, Bit>,
     pub done: Signal<Out, Bit>,
     pub out_edge: Signal<Out, Bits<32>>,
@@ -105,6 +115,9 @@ pub struct PolyStep {
     b0: DFF<Bits<5>>,
     rising: DFF<Bit>,
     fin: DFF<Bit>,
+    /// A setup is running: its one trial passes whatever its sign, and it ends after
+    /// the climb that follows.
+    forced: DFF<Bit>,
     /// The adder's operand selects, registered from the next state (so no state
     /// decode lies in front of the adder): a 0 W1 X Z, b 0 W2 W4 2·W4, c 0 W3 Q 2·Z.
     oa: DFF<Bits<2>>,
@@ -116,6 +129,7 @@ pub struct PolyStep {
     ws2: DFF<Bit>,
     ws3: DFF<Bit>,
     c_top: Constant<Bits<5>>,
+    c_ones: Constant<Bits<W>>,
     /// The top 1, 2, 3 and 4 bits set: the arithmetic right shifts' sign fill.
     c_fill1: Constant<Bits<W>>,
     c_fill2: Constant<Bits<W>>,
@@ -174,6 +188,7 @@ impl Default for PolyStep {
             in_base: Default::default(),
             in_cap: Default::default(),
             in_b0: Default::default(),
+            in_setup: Default::default(),
             busy: Default::default(),
             done: Default::default(),
             out_edge: Default::default(),
@@ -200,6 +215,7 @@ impl Default for PolyStep {
             b0: Default::default(),
             rising: Default::default(),
             fin: Default::default(),
+            forced: Default::default(),
             oa: Default::default(),
             ob: Default::default(),
             oc: Default::default(),
@@ -207,6 +223,7 @@ impl Default for PolyStep {
             ws2: Default::default(),
             ws3: Default::default(),
             c_top: Constant::new(TOP.into()),
+            c_ones: Constant::new(Bits::<W>::from((num_bigint::BigUint::from(1u32) << W) - 1u32)),
             c_fill1: fill(1),
             c_fill2: fill(2),
             c_fill3: fill(3),
@@ -248,7 +265,7 @@ impl Default for PolyStep {
 impl Logic for PolyStep {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, oa, ob, oc, ws1, ws2, ws3);
+        dff_setup!(self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, forced, oa, ob, oc, ws1, ws2, ws3);
 
         // The adder's operands, by the registered selects (0 where unused).
         self.opa.next = 0.into();
@@ -332,7 +349,13 @@ impl Logic for PolyStep {
                 self.b.d.next = 0.into();
                 self.h.d.next = 1.into();
                 self.rising.d.next = true;
-                if self.in_b0.val() == 0 {
+                self.forced.d.next = self.in_setup.val();
+                if self.in_setup.val() {
+                    // R = 0 and e = 0: the trial makes Q = M(1) − 1 and e = 1.
+                    self.q.d.next = self.c_ones.val();
+                    self.e.d.next = 0.into();
+                    self.nst.next = self.k_try.val();
+                } else if self.in_b0.val() == 0 {
                     self.nst.next = self.k_try.val();
                 } else {
                     self.nst.next = self.k_up.val();
@@ -348,8 +371,8 @@ impl Logic for PolyStep {
             self.fit.d.next = (self.e.q.val() + self.h.q.val()) <= self.cap.q.val();
             self.nst.next = self.k_dec1.val();
         } else if self.st.q.val() == self.k_dec1.val() {
-            if self.fit.q.val() {
-                self.pass.d.next = self.p.val().get_bit(160);
+            if self.fit.q.val() | self.forced.q.val() {
+                self.pass.d.next = self.p.val().get_bit(160) | self.forced.q.val();
                 self.g.d.next = self.p.val();
                 self.nst.next = self.k_dec2.val();
             } else {
@@ -371,7 +394,12 @@ impl Logic for PolyStep {
         } else if self.st.q.val() == self.k_a4.val() {
             self.nst.next = self.k_sh.val();
         } else if self.st.q.val() == self.k_sh.val() {
-            if self.rising.q.val() & (self.b.q.val() != self.c_top.val()) {
+            if self.forced.q.val() {
+                // The setup's end: the words to the tick scale, at base 1.
+                self.climb.next = true;
+                self.nst.next = self.k_idle.val();
+                self.fin.d.next = true;
+            } else if self.rising.q.val() & (self.b.q.val() != self.c_top.val()) {
                 self.climb.next = true;
                 self.nst.next = self.k_try.val();
             } else {
