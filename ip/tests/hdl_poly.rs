@@ -344,7 +344,7 @@ fn rows(cases: &[Case]) -> (Vec<Vec<u128>>, Vec<usize>) {
 
 /// Rows from the start row to `done`: the block's documented latency.
 fn latency(c: &Case) -> usize {
-    (1 + c.b0 + 2 * c.stats.digits + c.stats.trials + 4 * c.stats.passes) as usize
+    c.stats.unit_cycles(c.b0) as usize
 }
 
 #[test]
@@ -423,7 +423,7 @@ fn search_cycles_per_step_on_planned_moves() {
             for _ in 1..p.n_steps() {
                 let b0 = gallop_start(delta);
                 let (e, st) = g.next_edge_galloping(b0).unwrap();
-                let c = 1 + b0 + 2 * st.digits + st.trials + 4 * st.passes;
+                let c = st.unit_cycles(b0);
                 cycles += c as u64;
                 steps += 1;
                 worst = worst.max(c);

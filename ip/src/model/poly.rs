@@ -74,14 +74,21 @@ pub fn gallop_start(delta: u32) -> u32 {
 }
 
 /// What one galloping search did: digits visited (each a trial, or none when it
-/// would pass the cap), trials made, trials passed. The core's unit takes
-/// `1 + b_start + 2·digits + trials + 4·passes` cycles for it
-/// ([`crate::hdl::poly_step::PolyStep`]).
+/// would pass the cap), trials made, trials passed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct GallopStats {
     pub digits: u32,
     pub trials: u32,
     pub passes: u32,
+}
+
+impl GallopStats {
+    /// The cycles the core's unit ([`crate::hdl::poly_step::PolyStep`]) takes for this
+    /// search started from digit `b_start`, from its start to `done`:
+    /// `1 + b_start + 2·digits + trials + 4·passes`.
+    pub fn unit_cycles(&self, b_start: u32) -> u32 {
+        1 + b_start + 2 * self.digits + self.trials + 4 * self.passes
+    }
 }
 
 /// One polynomial segment of one axis, in register units.
@@ -371,17 +378,14 @@ impl PolyPlan {
     /// first edge is found from there: E_1 ≥ 1 always (x(½) ≤ RMAX/2 < 1), and M is
     /// monotone from e = 1 on, so the search gives the same edges as from e = 0.
     pub fn setup_state(&self) -> PolySearch {
-        let [g1, g2, g3, g4] = self.setup_words();
-        let trial = g1 + g2 + g3 + g4;
-        let k = |v: i128| I256::from(v);
-        let w1 = g1 + k(2) * g2 + k(3) * g3 + k(4) * g4;
-        let w2 = g2 + k(3) * g3 + k(6) * g4;
-        let w3 = g3 + k(4) * g4;
+        let mut w = self.setup_words();
+        let trial = trial_of(&w);
+        taylor_shift(&mut w);
         let mut s = self.search();
         s.i = 0;
         s.base = 1;
         s.rem = -trial;
-        s.taylor = [w1 << 1, w2 << 2, w3 << 3, g4 << 4];
+        s.taylor = scaled(w, 1, true);
         s
     }
 
@@ -410,6 +414,36 @@ pub struct PolySearch {
     pub widest_bits: u32,
 }
 
+/// A trial: the four Taylor words' sum, M(e + h) − M(e) at scale h.
+fn trial_of(w: &[I256; 4]) -> I256 {
+    w[0] + w[1] + w[2] + w[3]
+}
+
+/// The Taylor words moved on by one h (at the same scale): `W1 += 2W2 + 3W3 + 4W4`,
+/// `W2 += 3W3 + 6W4`, `W3 += 4W4`.
+fn taylor_shift(w: &mut [I256; 4]) {
+    let [w1, w2, w3, w4] = *w;
+    w[0] = w1 + (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
+    w[1] = w2 + w3 + (w3 << 1) + (w4 << 2) + (w4 << 1);
+    w[2] = w3 + (w4 << 2);
+}
+
+/// The words `d` digits up (`W_k << k·d`) or down (`W_k >> k·d`, exact where the
+/// search uses it: W_k has the factor 2^(k·b) there).
+fn scaled(w: [I256; 4], d: u32, up: bool) -> [I256; 4] {
+    std::array::from_fn(|k| if up { w[k] << ((k as u32 + 1) * d) } else { w[k] >> ((k as u32 + 1) * d) })
+}
+
+/// What a step of the search starts from (see [`PolySearch::begin`]).
+enum Next {
+    /// Every step is done.
+    Done,
+    /// The last step: E_n = T, no search.
+    Last,
+    /// Search with this target remainder R = i·S − M(base).
+    Search(I256),
+}
+
 /// Bits of a signed value, sign included (two's complement width).
 pub fn signed_bits(v: I256) -> u32 {
     let mag = if v < 0 { !v } else { v };
@@ -421,64 +455,78 @@ impl PolySearch {
         self.widest_bits = self.widest_bits.max(signed_bits(v));
     }
 
-    /// The next edge E_{i+1} (ticks after the segment start), or None after step n.
-    pub fn next_edge(&mut self) -> Option<u32> {
+    /// Counts the next step in and says what it needs: nothing after step n, no
+    /// search for step n (E_n = T), else the search's target remainder.
+    fn begin(&mut self) -> Next {
         let seg = self.plan.segment;
-        let n = seg.n_steps();
-        if self.i >= n {
-            return None;
+        if self.i >= seg.n_steps() {
+            return Next::Done;
         }
         self.i += 1;
-        if self.i == n {
+        if self.i == seg.n_steps() {
             self.base = seg.t_ticks;
-            return Some(seg.t_ticks);
+            return Next::Last;
         }
         // Target i·S: R = i·S − M(base).
-        let mut r = self.rem + self.plan.step;
+        let r = self.rem + self.plan.step;
         self.note(r);
-        let cap = seg.t_ticks - 1;
-        let mut e = self.base;
-        let b_top = POLY_TOP_DIGIT;
-        let [m1, m2, m3, m4] = self.taylor;
-        let mut w1 = m1 << b_top;
-        let mut w2 = m2 << (2 * b_top);
-        let mut w3 = m3 << (3 * b_top);
-        let mut w4 = m4 << (4 * b_top);
-        for v in [w1, w2, w3, w4] {
+        Next::Search(r)
+    }
+
+    /// One digit at h = 2^b: None when e + h would pass the cap (no trial), else
+    /// whether the trial passed (then R, e and the words have moved on by h).
+    fn digit(&mut self, w: &mut [I256; 4], r: &mut I256, e: &mut u32, b: u32) -> Option<bool> {
+        if *e as u64 + (1u64 << b) > self.plan.segment.t_ticks as u64 - 1 {
+            return None;
+        }
+        let trial = trial_of(w);
+        self.note(trial);
+        if trial > *r {
+            return Some(false);
+        }
+        *r -= trial;
+        *e += 1 << b;
+        taylor_shift(w);
+        for v in [*r, w[0], w[1], w[2]] {
             self.note(v);
         }
-        for b in (0..=b_top).rev() {
-            if e as u64 + (1u64 << b) <= cap as u64 {
-                let trial = w1 + w2 + w3 + w4;
-                self.note(trial);
-                if trial <= r {
-                    r -= trial;
-                    e += 1 << b;
-                    w1 += (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
-                    w2 += w3 + (w3 << 1) + (w4 << 2) + (w4 << 1);
-                    w3 += w4 << 2;
-                    for v in [r, w1, w2, w3] {
-                        self.note(v);
-                    }
-                }
-            }
-            if b > 0 {
-                debug_assert!(w1 % 2 == 0 && w2 % 4 == 0 && w3 % 8 == 0 && w4 % 16 == 0);
-                w1 >>= 1;
-                w2 >>= 2;
-                w3 >>= 3;
-                w4 >>= 4;
-            }
-        }
-        self.taylor = [w1, w2, w3, w4];
+        Some(true)
+    }
+
+    /// Keeps the state at the edge found, and checks the widths.
+    fn end(&mut self, w: [I256; 4], r: I256, e: u32) -> u32 {
+        self.taylor = w;
         self.rem = r;
         self.base = e;
         assert!(
             self.widest_bits <= POLY_WORD_BITS,
-            "poly search word of {} bits exceeds {POLY_WORD_BITS}: {seg:?}",
-            self.widest_bits
+            "poly search word of {} bits exceeds {POLY_WORD_BITS}: {:?}",
+            self.widest_bits,
+            self.plan.segment
         );
-        Some(e)
+        e
+    }
+
+    /// The next edge E_{i+1} (ticks after the segment start), or None after step n.
+    pub fn next_edge(&mut self) -> Option<u32> {
+        let mut r = match self.begin() {
+            Next::Done => return None,
+            Next::Last => return Some(self.base),
+            Next::Search(r) => r,
+        };
+        let mut e = self.base;
+        let mut w = scaled(self.taylor, POLY_TOP_DIGIT, true);
+        for v in w {
+            self.note(v);
+        }
+        for b in (0..=POLY_TOP_DIGIT).rev() {
+            self.digit(&mut w, &mut r, &mut e, b);
+            if b > 0 {
+                debug_assert!(w[0] % 2 == 0 && w[1] % 4 == 0 && w[2] % 8 == 0 && w[3] % 16 == 0);
+                w = scaled(w, 1, false);
+            }
+        }
+        Some(self.end(w, r, e))
     }
 
     /// The next edge by a galloping search, as the core's polynomial unit does it:
@@ -492,53 +540,27 @@ impl PolySearch {
     /// it (remainder and Taylor words at the edge) depends on the edge alone, so it
     /// equals [`Self::next_edge`]'s too. Returns the edge and what the search did.
     pub fn next_edge_galloping(&mut self, b_start: u32) -> Option<(u32, GallopStats)> {
-        let seg = self.plan.segment;
-        let n = seg.n_steps();
-        if self.i >= n {
-            return None;
-        }
-        self.i += 1;
-        if self.i == n {
-            self.base = seg.t_ticks;
-            return Some((seg.t_ticks, GallopStats::default()));
-        }
+        let mut r = match self.begin() {
+            Next::Done => return None,
+            Next::Last => return Some((self.base, GallopStats::default())),
+            Next::Search(r) => r,
+        };
         assert!(b_start <= POLY_TOP_DIGIT, "b_start {b_start} above the top digit");
-        let mut r = self.rem + self.plan.step;
-        self.note(r);
-        let cap = seg.t_ticks as u64 - 1;
         let mut e = self.base;
         let mut b = b_start;
-        let [m1, m2, m3, m4] = self.taylor;
-        let (mut w1, mut w2, mut w3, mut w4) = (m1 << b, m2 << (2 * b), m3 << (3 * b), m4 << (4 * b));
+        let mut w = scaled(self.taylor, b, true);
         let mut rising = true;
         let mut stats = GallopStats::default();
         loop {
-            let mut accepted = false;
             stats.digits += 1;
-            if e as u64 + (1u64 << b) <= cap {
-                stats.trials += 1;
-                let trial = w1 + w2 + w3 + w4;
-                self.note(trial);
-                if trial <= r {
-                    accepted = true;
-                    stats.passes += 1;
-                    r -= trial;
-                    e += 1 << b;
-                    w1 += (w2 << 1) + w3 + (w3 << 1) + (w4 << 2);
-                    w2 += w3 + (w3 << 1) + (w4 << 2) + (w4 << 1);
-                    w3 += w4 << 2;
-                    for v in [r, w1, w2, w3] {
-                        self.note(v);
-                    }
-                }
-            }
-            if rising && accepted && b < POLY_TOP_DIGIT {
+            let verdict = self.digit(&mut w, &mut r, &mut e, b);
+            stats.trials += verdict.is_some() as u32;
+            let passed = verdict == Some(true);
+            stats.passes += passed as u32;
+            if rising && passed && b < POLY_TOP_DIGIT {
                 b += 1;
-                w1 <<= 1;
-                w2 <<= 2;
-                w3 <<= 3;
-                w4 <<= 4;
-                for v in [w1, w2, w3, w4] {
+                w = scaled(w, 1, true);
+                for v in w {
                     self.note(v);
                 }
                 continue;
@@ -548,20 +570,9 @@ impl PolySearch {
                 break;
             }
             b -= 1;
-            w1 >>= 1;
-            w2 >>= 2;
-            w3 >>= 3;
-            w4 >>= 4;
+            w = scaled(w, 1, false);
         }
-        self.taylor = [w1, w2, w3, w4];
-        self.rem = r;
-        self.base = e;
-        assert!(
-            self.widest_bits <= POLY_WORD_BITS,
-            "poly search word of {} bits exceeds {POLY_WORD_BITS}: {seg:?}",
-            self.widest_bits
-        );
-        Some((e, stats))
+        Some((self.end(w, r, e), stats))
     }
 }
 
