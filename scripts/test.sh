@@ -61,7 +61,10 @@ fi
 # benches run once each in test mode so that they cannot rot.
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
-cargo test --workspace --all-targets --locked 2>&1 | tee "$log"
+# No incremental cache: a clean clone builds once, and the cache would roughly
+# double the disk the build takes (a CI run once ran out of it).
+CARGO_INCREMENTAL=0 cargo test --workspace --all-targets --locked 2>&1 | tee "$log"
+du -sh target 2>/dev/null | awk '{ print "scripts/test.sh: target/ holds " $1 }' || true
 
 # One closing line over every test binary (cargo prints one per binary, and the
 # last of them may be an empty target's "0 passed").
