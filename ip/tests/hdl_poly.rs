@@ -12,14 +12,22 @@
 //! cycles. The setup of each segment (its words g in) gives the model's state at
 //! base 1 in 8 cycles. The block's 161-bit ports are reached through a test harness that loads
 //! and reads them 32 bits at a time (the simulators' ports are at most 128 bits).
+//!
+//! PolySetup: the same segments, the corners of the range where each product comes
+//! within a few bits of its width, and backwards copies: the words g and the step
+//! scale S equal the model's, with the block's documented latency.
 
 mod common;
 
 use common::*;
 use ethnum::{I256, U256};
 use rust_hdl::prelude::*;
+use tdm_stepper::hdl::poly_setup::{PolySetup, POLY_SETUP_LATENCY};
 use tdm_stepper::hdl::poly_step::{PolyStep, POLY_REG_BITS};
-use tdm_stepper::model::poly::{gallop_start, GallopStats, PolyPlan, PolySegment, POLY_MAX_T_TICKS, POLY_TOP_DIGIT};
+use tdm_stepper::hdl::poly_unit::{PolyUnit, UNIT_LAST_CYCLES, UNIT_LOAD_CYCLES, UNIT_SETUP_CYCLES, UNIT_STORE_CYCLES};
+use tdm_stepper::model::poly::{
+    gallop_start, GallopStats, PolyPlan, PolySegment, POLY_COEFF_BITS, POLY_MAX_T_TICKS, POLY_TOP_DIGIT,
+};
 use tdm_stepper::model::Limits;
 use tdm_stepper::verify::{Port, TbSpec};
 
@@ -28,8 +36,9 @@ const W: usize = POLY_REG_BITS;
 const LIMBS: usize = 6;
 
 /// PolyStep behind 32-bit load and read ports: `ld` writes `ld_data` into limb
-/// `ld_limb` of input word `ld_sel` (0..3: w1..w4, 4: q); `rd_data` is limb `rd_limb`
-/// of output word `rd_sel` (same numbering).
+/// `ld_limb` of the harness's word `ld_sel` (0..3: w1..w4, 4: q); `shift` moves word
+/// `shift_sel` into the block's state chain; `rd_data` is limb `rd_limb` of the
+/// block's output word `rd_sel` (same numbering).
 #[derive(LogicBlock)]
 struct StepHarness {
     clock: Signal<In, Clock>,
@@ -37,6 +46,8 @@ struct StepHarness {
     ld_sel: Signal<In, Bits<3>>,
     ld_limb: Signal<In, Bits<3>>,
     ld_data: Signal<In, Bits<32>>,
+    shift: Signal<In, Bit>,
+    shift_sel: Signal<In, Bits<3>>,
     start: Signal<In, Bit>,
     base: Signal<In, Bits<32>>,
     cap: Signal<In, Bits<32>>,
@@ -59,6 +70,7 @@ struct StepHarness {
     rsh: Signal<Local, Bits<8>>,
     keep: Signal<Local, Bits<W>>,
     put: Signal<Local, Bits<W>>,
+    word_in: Signal<Local, Bits<W>>,
     word: Signal<Local, Bits<W>>,
     shifted: Signal<Local, Bits<W>>,
 }
@@ -71,6 +83,8 @@ impl Default for StepHarness {
             ld_sel: Default::default(),
             ld_limb: Default::default(),
             ld_data: Default::default(),
+            shift: Default::default(),
+            shift_sel: Default::default(),
             start: Default::default(),
             base: Default::default(),
             cap: Default::default(),
@@ -93,6 +107,7 @@ impl Default for StepHarness {
             rsh: Default::default(),
             keep: Default::default(),
             put: Default::default(),
+            word_in: Default::default(),
             word: Default::default(),
             shifted: Default::default(),
         }
@@ -105,11 +120,18 @@ impl Logic for StepHarness {
         dff_setup!(self, clock, r1, r2, r3, r4, rq);
         self.step.clock.next = self.clock.val();
         self.step.start.next = self.start.val();
-        self.step.in_w1.next = self.r1.q.val();
-        self.step.in_w2.next = self.r2.q.val();
-        self.step.in_w3.next = self.r3.q.val();
-        self.step.in_w4.next = self.r4.q.val();
-        self.step.in_q.next = self.rq.q.val();
+        self.word_in.next = self.rq.q.val();
+        if self.shift_sel.val() == 0 {
+            self.word_in.next = self.r1.q.val();
+        } else if self.shift_sel.val() == 1 {
+            self.word_in.next = self.r2.q.val();
+        } else if self.shift_sel.val() == 2 {
+            self.word_in.next = self.r3.q.val();
+        } else if self.shift_sel.val() == 3 {
+            self.word_in.next = self.r4.q.val();
+        }
+        self.step.shift.next = self.shift.val();
+        self.step.shift_in.next = self.word_in.val();
         self.step.in_base.next = self.base.val();
         self.step.in_cap.next = self.cap.val();
         self.step.in_b0.next = self.b0.val();
@@ -157,6 +179,8 @@ fn harness() -> StepHarness {
     u.ld_sel.connect();
     u.ld_limb.connect();
     u.ld_data.connect();
+    u.shift.connect();
+    u.shift_sel.connect();
     u.start.connect();
     u.base.connect();
     u.cap.connect();
@@ -176,6 +200,8 @@ fn spec() -> TbSpec {
             Port::new("ld_sel", 3),
             Port::new("ld_limb", 3),
             Port::new("ld_data", 32),
+            Port::new("shift", 1),
+            Port::new("shift_sel", 3),
             Port::new("start", 1),
             Port::new("base", 32),
             Port::new("cap", 32),
@@ -257,7 +283,8 @@ fn start_digit(seg: &PolySegment, i: u32) -> u32 {
     }
 }
 
-fn cases() -> Vec<Case> {
+/// The segments the tests run: the corners of the range and random quartics.
+fn segments() -> Vec<PolySegment> {
     let limits = Limits::default();
     let rmax = limits.max_rate();
     let big_t = POLY_MAX_T_TICKS;
@@ -293,6 +320,13 @@ fn cases() -> Vec<Case> {
             }
         }
     }
+    segs
+}
+
+fn cases() -> Vec<Case> {
+    let limits = Limits::default();
+    let segs = segments();
+    let mut rng = Rng(0x5eed_0f_ca5e5);
     let mut v = Vec::new();
     for (k, seg) in segs.iter().enumerate() {
         assert_eq!(seg.validate(&limits), Ok(()), "{seg:?}");
@@ -314,28 +348,34 @@ fn cases() -> Vec<Case> {
     v
 }
 
-/// Rows of the harness: per case, load the five words (30 rows), start, wait the
-/// model's latency and two more, read the five words back (30 rows). Returns the
-/// rows and, per case, the start row.
-fn rows(cases: &[Case]) -> (Vec<Vec<u128>>, Vec<usize>) {
-    // ld, ld_sel, ld_limb, ld_data, start, base, cap, b0, setup, rd_sel, rd_limb
-    let mut rows = vec![vec![0u128; 11]];
+/// Rows of the harness: per case, load the five words into the harness (30 rows),
+/// shift them into the block (5 rows, reading limb k of `out_w1` as each shift
+/// moves the chain: the words held before come out in the order W1, W2, W3, W4, Q),
+/// start, wait the model's latency and two more, read the five words back (30
+/// rows). Returns the rows and, per case, the first shift row and the start row.
+fn rows(cases: &[Case]) -> (Vec<Vec<u128>>, Vec<(usize, usize)>) {
+    // ld, ld_sel, ld_limb, ld_data, shift, shift_sel, start, base, cap, b0, setup, rd_sel, rd_limb
+    let mut rows = vec![vec![0u128; 13]];
     let mut starts = Vec::new();
     for c in cases {
         let words = [c.words[0], c.words[1], c.words[2], c.words[3], c.q];
         for (sel, w) in words.iter().enumerate() {
             for (limb, d) in limbs(*w).iter().enumerate() {
-                rows.push(vec![1, sel as u128, limb as u128, *d as u128, 0, 0, 0, 0, 0, 0, 0]);
+                rows.push(vec![1, sel as u128, limb as u128, *d as u128, 0, 0, 0, 0, 0, 0, 0, 0, 0]);
             }
         }
-        starts.push(rows.len());
-        rows.push(vec![0, 0, 0, 0, 1, c.base as u128, c.cap as u128, c.b0 as u128, c.setup as u128, 0, 0]);
+        let shifts = rows.len();
+        for sel in 0..5u128 {
+            rows.push(vec![0, 0, 0, 0, 1, sel, 0, 0, 0, 0, 0, 0, sel % LIMBS as u128]);
+        }
+        starts.push((shifts, rows.len()));
+        rows.push(vec![0, 0, 0, 0, 0, 0, 1, c.base as u128, c.cap as u128, c.b0 as u128, c.setup as u128, 0, 0]);
         for _ in 0..latency(c) + 2 {
-            rows.push(vec![0; 11]);
+            rows.push(vec![0; 13]);
         }
         for sel in 0..5u128 {
             for limb in 0..LIMBS as u128 {
-                rows.push(vec![0, 0, 0, 0, 0, 0, 0, 0, 0, sel, limb]);
+                rows.push(vec![0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, sel, limb]);
             }
         }
     }
@@ -360,13 +400,15 @@ fn poly_step_equals_the_model_three_ways() {
             u.ld_sel.next = (r[1] as u64).into();
             u.ld_limb.next = (r[2] as u64).into();
             u.ld_data.next = (r[3] as u64).into();
-            u.start.next = r[4] == 1;
-            u.base.next = (r[5] as u64).into();
-            u.cap.next = (r[6] as u64).into();
-            u.b0.next = (r[7] as u64).into();
-            u.setup.next = r[8] == 1;
-            u.rd_sel.next = (r[9] as u64).into();
-            u.rd_limb.next = (r[10] as u64).into();
+            u.shift.next = r[4] == 1;
+            u.shift_sel.next = (r[5] as u64).into();
+            u.start.next = r[6] == 1;
+            u.base.next = (r[7] as u64).into();
+            u.cap.next = (r[8] as u64).into();
+            u.b0.next = (r[9] as u64).into();
+            u.setup.next = r[10] == 1;
+            u.rd_sel.next = (r[11] as u64).into();
+            u.rd_limb.next = (r[12] as u64).into();
         },
         |u| {
             vec![
@@ -378,7 +420,12 @@ fn poly_step_equals_the_model_three_ways() {
         },
     );
     let mut worst = 0;
-    for (c, &s) in cases.iter().zip(&starts) {
+    let mut held = [I256::ZERO; 5];
+    for (c, &(shifts, s)) in cases.iter().zip(&starts) {
+        for k in 0..5 {
+            let d = limbs(held[k])[k % LIMBS];
+            assert_eq!(got[shifts + k][3], d as u128, "case at row {s}: word {k} out of the chain");
+        }
         let l = latency(c);
         worst = worst.max(l);
         for k in 1..=l + 2 {
@@ -388,6 +435,7 @@ fn poly_step_equals_the_model_three_ways() {
         }
         assert_eq!(got[s + l][2], c.edge as u128, "case at row {s}: edge");
         let words = [c.out_words[0], c.out_words[1], c.out_words[2], c.out_words[3], c.out_q];
+        held = words;
         let read = s + l + 3;
         for (sel, w) in words.iter().enumerate() {
             for (limb, d) in limbs(*w).iter().enumerate() {
@@ -435,4 +483,378 @@ fn search_cycles_per_step_on_planned_moves() {
         eprintln!("v_max {v} at {f} Hz: {steps} searched steps, mean {mean:.1} cycles, worst {worst}");
         assert!(steps > 19_900 && (60.0..75.0).contains(&mean), "mean {mean} cycles over {steps} steps");
     }
+}
+
+/// PolySetup behind a 32-bit read port: `rd_data` is limb `rd_limb` of output
+/// `rd_sel` (0..3: g1..g4, 4: S).
+#[derive(LogicBlock, Default)]
+struct SetupHarness {
+    clock: Signal<In, Clock>,
+    start: Signal<In, Bit>,
+    v0: Signal<In, Bits<32>>,
+    v1: Signal<In, Bits<32>>,
+    a: Signal<In, Bits<64>>,
+    t: Signal<In, Bits<32>>,
+    n: Signal<In, Bits<32>>,
+    rd_sel: Signal<In, Bits<3>>,
+    rd_limb: Signal<In, Bits<3>>,
+    busy: Signal<Out, Bit>,
+    done: Signal<Out, Bit>,
+    rd_data: Signal<Out, Bits<32>>,
+    setup: PolySetup,
+    rsh: Signal<Local, Bits<8>>,
+    word: Signal<Local, Bits<W>>,
+    shifted: Signal<Local, Bits<W>>,
+}
+
+impl Logic for SetupHarness {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.setup.clock.next = self.clock.val();
+        self.setup.start.next = self.start.val();
+        self.setup.in_v0.next = self.v0.val();
+        self.setup.in_v1.next = self.v1.val();
+        self.setup.in_a.next = self.a.val();
+        self.setup.in_t.next = self.t.val();
+        self.setup.in_n.next = self.n.val();
+        self.busy.next = self.setup.busy.val();
+        self.done.next = self.setup.done.val();
+        self.word.next = self.setup.out_s.val();
+        if self.rd_sel.val() == 0 {
+            self.word.next = self.setup.out_g1.val();
+        } else if self.rd_sel.val() == 1 {
+            self.word.next = self.setup.out_g2.val();
+        } else if self.rd_sel.val() == 2 {
+            self.word.next = self.setup.out_g3.val();
+        } else if self.rd_sel.val() == 3 {
+            self.word.next = self.setup.out_g4.val();
+        }
+        self.rsh.next = bit_cast::<8, 3>(self.rd_limb.val()) << 5;
+        self.shifted.next = self.word.val() >> self.rsh.val();
+        self.rd_data.next = self.shifted.val().get_bits::<32>(0);
+    }
+}
+
+fn setup_harness() -> SetupHarness {
+    let mut u = SetupHarness::default();
+    u.clock.connect();
+    u.start.connect();
+    u.v0.connect();
+    u.v1.connect();
+    u.a.connect();
+    u.t.connect();
+    u.n.connect();
+    u.rd_sel.connect();
+    u.rd_limb.connect();
+    u.connect_all();
+    u
+}
+
+fn setup_spec() -> TbSpec {
+    TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("start", 1),
+            Port::new("v0", 32),
+            Port::new("v1", 32),
+            Port::new("a", 64),
+            Port::new("t", 32),
+            Port::new("n", 32),
+            Port::new("rd_sel", 3),
+            Port::new("rd_limb", 3),
+        ],
+        outputs: vec![Port::new("busy", 1), Port::new("done", 1), Port::new("rd_data", 32)],
+    }
+}
+
+/// The corners of the range for the setup's widths: every speed control point at 0 or
+/// RMAX, T = 2^24 and 2^24 − 1 (A pulled in where rounding leaves one out), where
+/// each of c1..c4 comes within a few bits of its width.
+fn corner_segments() -> Vec<PolySegment> {
+    let l = Limits::default();
+    let rmax = l.max_rate() as i128;
+    let mut v = Vec::new();
+    for t in [POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1] {
+        for bits in 0u32..16 {
+            let b: Vec<i128> = (0..4).map(|k| if bits >> k & 1 == 1 { rmax } else { 0 }).collect();
+            let tt = t as i128;
+            let n = ((b.iter().sum::<i128>() * tt + (1 << 33)) >> 34) as i32;
+            let mut seg = PolySegment::new(b[0] as u32, b[3] as u32, (3 * (b[1] - b[0]) * tt / 2) as i64, t, n);
+            for _ in 0..64 {
+                if seg.validate(&l).is_ok() {
+                    break;
+                }
+                seg.a_q32 -= seg.a_q32.signum() * (1 << 30);
+            }
+            if seg.validate(&l).is_ok() && seg.n_steps() > 0 {
+                v.push(seg);
+            }
+        }
+    }
+    v
+}
+
+/// PolySetup: for every segment of the step test, the corners and a backwards copy
+/// of each, the words g and S equal the model's (`PolyPlan::setup_words`, `step`)
+/// exactly `POLY_SETUP_LATENCY` cycles after the start, three ways; a start offered
+/// while busy (with other inputs) changes nothing.
+#[test]
+fn poly_setup_equals_the_model_three_ways() {
+    let mut segs = segments();
+    segs.extend(corner_segments());
+    let backwards: Vec<PolySegment> = segs.iter().map(|s| PolySegment { steps: -s.steps, ..*s }).step_by(3).collect();
+    segs.extend(backwards);
+    let widest: Vec<u32> = (0..4)
+        .map(|k| segs.iter().map(|s| tdm_stepper::model::poly::signed_bits(s.n_coefficients()[k])).max().unwrap())
+        .collect();
+    for k in 0..4 {
+        assert!(widest[k] + 4 > POLY_COEFF_BITS[k], "the cases reach c{}'s width: {widest:?}", k + 1);
+    }
+    // start, v0, v1, a, t, n, rd_sel, rd_limb
+    let mut rows = vec![vec![0u128; 8]];
+    let mut starts = Vec::new();
+    for (k, seg) in segs.iter().enumerate() {
+        starts.push(rows.len());
+        let n = seg.n_steps() as u128;
+        rows.push(vec![1, seg.v0_rate as u128, seg.v1_rate as u128, seg.a_q32 as u64 as u128, seg.t_ticks as u128, n, 0, 0]);
+        for j in 0..POLY_SETUP_LATENCY + 1 {
+            // Every third segment: another start in the middle, with other inputs.
+            let again = k % 3 == 1 && j == 40;
+            rows.push(vec![again as u128, 7, 9, 11, 13, 15, 0, 0]);
+        }
+        for sel in 0..5u128 {
+            for limb in 0..LIMBS as u128 {
+                rows.push(vec![0, 0, 0, 0, 0, 0, sel, limb]);
+            }
+        }
+    }
+    let got = tdm_stepper::verify::run_rust_hdl(
+        &mut setup_harness(),
+        &rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.start.next = r[0] == 1;
+            u.v0.next = (r[1] as u64).into();
+            u.v1.next = (r[2] as u64).into();
+            u.a.next = (r[3] as u64).into();
+            u.t.next = (r[4] as u64).into();
+            u.n.next = (r[5] as u64).into();
+            u.rd_sel.next = (r[6] as u64).into();
+            u.rd_limb.next = (r[7] as u64).into();
+        },
+        |u| vec![u.busy.val() as u128, u.done.val() as u128, u.rd_data.val().to_u64() as u128],
+    );
+    let l = POLY_SETUP_LATENCY;
+    for (seg, &s) in segs.iter().zip(&starts) {
+        for k in 1..=l + 1 {
+            assert_eq!(got[s + k][0], (k < l) as u128, "{seg:?}: busy {k} rows after the start");
+            assert_eq!(got[s + k][1], (k == l) as u128, "{seg:?}: done {k} rows after the start");
+        }
+        let plan = PolyPlan::new(*seg);
+        let g = plan.setup_words();
+        let words = [g[0], g[1], g[2], g[3], plan.step];
+        let read = s + l + 2;
+        for (sel, w) in words.iter().enumerate() {
+            for (limb, d) in limbs(*w).iter().enumerate() {
+                assert_eq!(got[read + sel * LIMBS + limb][2], *d as u128, "{seg:?}: word {sel} limb {limb}");
+            }
+        }
+    }
+    let verilog = generate_verilog(&setup_harness());
+    verilog_matches_rust_hdl("poly_setup", &verilog, &setup_spec(), &rows, &got, 1);
+}
+
+fn unit() -> PolyUnit {
+    let mut u = PolyUnit::new(UNIT_AXES);
+    u.clock.connect();
+    u.setup.connect();
+    u.step.connect();
+    u.axis.connect();
+    u.slot.connect();
+    u.in_v0.connect();
+    u.in_v1.connect();
+    u.in_a.connect();
+    u.in_t.connect();
+    u.in_n.connect();
+    u.connect_all();
+    u
+}
+
+const UNIT_AXES: usize = 3;
+
+fn unit_spec() -> TbSpec {
+    TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("setup", 1),
+            Port::new("step", 1),
+            Port::new("axis", 4),
+            Port::new("slot", 1),
+            Port::new("in_v0", 32),
+            Port::new("in_v1", 32),
+            Port::new("in_a", 64),
+            Port::new("in_t", 32),
+            Port::new("in_n", 32),
+        ],
+        outputs: vec![Port::new("busy", 1), Port::new("done", 1), Port::new("period", 32), Port::new("last", 1)],
+    }
+}
+
+/// Short segments for the unit: every kind of the step test's, scaled to a few
+/// dozen steps, and one of a single step.
+fn short_segments() -> Vec<PolySegment> {
+    let limits = Limits::default();
+    let rmax = limits.max_rate();
+    let big_t = POLY_MAX_T_TICKS;
+    let mut segs: Vec<PolySegment> = vec![
+        // From rest with zero acceleration (the cube root) over 2^24 ticks.
+        PolySegment::cubic(0, 3 * 30 << 8, big_t, 30).unwrap(),
+        // Near-uniform.
+        PolySegment::cubic(1 << 28, (1 << 28) + 3, 640, 40).unwrap(),
+        // At RMAX (periods of 2 to 3 ticks).
+        PolySegment::cubic(rmax, rmax, 96, ((rmax as u64 * 96) >> 32) as i32).unwrap(),
+        // Periods near 2^23 ticks.
+        PolySegment::cubic(1 << 9, 1 << 9, big_t, 2).unwrap(),
+        // Decelerating to rest, backwards.
+        PolySegment::cubic(1 << 30, 0, 1 << 8, -32).unwrap(),
+        // One step.
+        PolySegment::cubic(1 << 20, 1 << 20, 1 << 12, 1).unwrap(),
+    ];
+    let mut rng = Rng(0x0417_5e9);
+    while segs.len() < 2 * UNIT_AXES + 3 {
+        let t = 64 + (rng.next() % 4096) as u32;
+        let v0 = (rng.next() % (rmax as u64 / 8)) as u32;
+        let v1 = (rng.next() % (rmax as u64 / 8)) as u32;
+        let n = ((v0 as u64 + v1 as u64) * t as u64 >> 33).max(2) as i32;
+        if let Some(c) = PolySegment::cubic(v0, v1, t, n) {
+            let span = (v0 as i64 + v1 as i64) * t as i64 / 16;
+            let q = PolySegment::new(v0, v1, c.a_q32 + (rng.next() as i64 % span.max(1)), t, n);
+            if q.validate(&limits).is_ok() && q.degree() == 4 && n <= 48 {
+                segs.push(q);
+            }
+        }
+    }
+    for s in &segs {
+        assert_eq!(s.validate(&limits), Ok(()), "{s:?}");
+    }
+    segs
+}
+
+/// PolyUnit with three axes: two slots per axis set up (one segment each, the
+/// second set of segments replacing the first in the slots as they finish), steps
+/// requested round robin over the slots with steps left: every period equals the
+/// model's (`setup_state`, then `next_edge_galloping` from the last period's digit,
+/// E_n = T), `last` on step n, `done` and `busy` to the documented cycle, three ways.
+#[test]
+fn poly_unit_gives_the_models_periods_three_ways() {
+    struct Slot {
+        seg: PolySegment,
+        search: tdm_stepper::model::poly::PolySearch,
+        i: u32,
+        prev: u32,
+        delta: u32,
+    }
+    let segs = short_segments();
+    let mut pending: Vec<PolySegment> = segs.clone();
+    // setup, step, axis, slot, v0, v1, a, t, n
+    let mut rows = vec![vec![0u128; 9]];
+    // Per request: (row, expected latency, expected period or None for a setup, last, busy rows after done)
+    let mut reqs: Vec<(usize, usize, Option<u32>, bool, usize)> = Vec::new();
+    let mut slots: Vec<Option<Slot>> = (0..2 * UNIT_AXES).map(|_| None).collect();
+    let idle = |rows: &mut Vec<Vec<u128>>, n: usize| {
+        for _ in 0..n {
+            rows.push(vec![0; 9]);
+        }
+    };
+    let mut turn = 0;
+    loop {
+        // Fill an empty slot, else step the next slot with steps left.
+        let sa = turn % slots.len();
+        turn += 1;
+        let (axis, slot) = ((sa / 2) as u128, (sa % 2) as u128);
+        match &mut slots[sa] {
+            None => {
+                let Some(seg) = pending.pop() else {
+                    if slots.iter().all(|s| s.is_none()) {
+                        break;
+                    }
+                    continue;
+                };
+                let row = rows.len();
+                rows.push(vec![
+                    1,
+                    0,
+                    axis,
+                    slot,
+                    seg.v0_rate as u128,
+                    seg.v1_rate as u128,
+                    seg.a_q32 as u64 as u128,
+                    seg.t_ticks as u128,
+                    seg.n_steps() as u128,
+                ]);
+                let l = UNIT_SETUP_CYCLES;
+                assert_eq!(l, 251, "the documented setup latency");
+                idle(&mut rows, l + UNIT_STORE_CYCLES);
+                reqs.push((row, l, None, false, UNIT_STORE_CYCLES));
+                slots[sa] = Some(Slot { seg, search: PolyPlan::new(seg).setup_state(), i: 0, prev: 0, delta: 0 });
+            }
+            Some(s) => {
+                let row = rows.len();
+                rows.push(vec![0, 1, axis, slot, 0, 0, 0, 0, 0]);
+                s.i += 1;
+                let n = s.seg.n_steps();
+                if s.i == n {
+                    idle(&mut rows, UNIT_LAST_CYCLES + 1);
+                    reqs.push((row, UNIT_LAST_CYCLES, Some(s.seg.t_ticks - s.prev), true, 0));
+                    slots[sa] = None;
+                } else {
+                    let b0 = gallop_start(s.delta);
+                    let (e, st) = s.search.next_edge_galloping(b0).unwrap();
+                    assert_eq!(e, s.seg.edge_by_definition(s.i), "the model's search");
+                    let l = UNIT_LOAD_CYCLES + st.unit_cycles(b0) as usize + 1;
+                    // A request offered while busy is ignored.
+                    rows.push(vec![0, 1, (axis + 1) % UNIT_AXES as u128, slot, 0, 0, 0, 0, 0]);
+                    idle(&mut rows, l - 1 + UNIT_STORE_CYCLES);
+                    reqs.push((row, l, Some(e - s.prev), false, UNIT_STORE_CYCLES));
+                    s.delta = e - s.prev;
+                    s.prev = e;
+                }
+            }
+        }
+    }
+    let got = tdm_stepper::verify::run_rust_hdl(
+        &mut unit(),
+        &rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.setup.next = r[0] == 1;
+            u.step.next = r[1] == 1;
+            u.axis.next = (r[2] as u64).into();
+            u.slot.next = (r[3] as u64).into();
+            u.in_v0.next = (r[4] as u64).into();
+            u.in_v1.next = (r[5] as u64).into();
+            u.in_a.next = (r[6] as u64).into();
+            u.in_t.next = (r[7] as u64).into();
+            u.in_n.next = (r[8] as u64).into();
+        },
+        |u| vec![u.busy.val() as u128, u.done.val() as u128, u.period.val().to_u64() as u128, u.last.val() as u128],
+    );
+    let (mut steps, mut lasts) = (0, 0);
+    for &(row, l, period, last, store) in &reqs {
+        for k in 1..=l + store {
+            assert_eq!(got[row + k][1], (k == l) as u128, "request at row {row}: done {k} rows after it");
+            assert_eq!(got[row + k][0], (k < l + store) as u128, "request at row {row}: busy {k} rows after it");
+        }
+        assert_eq!(got[row + l + store][0], 0, "request at row {row}: idle after its store");
+        if let Some(p) = period {
+            assert_eq!(got[row + l][2], p as u128, "request at row {row}: period");
+            assert_eq!(got[row + l][3], last as u128, "request at row {row}: last");
+            steps += 1;
+            lasts += last as usize;
+        }
+    }
+    assert_eq!(lasts, segs.len(), "every segment ran to its last step");
+    assert!(steps > 150, "{steps} steps");
+    let verilog = generate_verilog(&unit());
+    verilog_matches_rust_hdl("poly_unit", &verilog, &unit_spec(), &rows, &got, 1);
 }

@@ -661,6 +661,9 @@ fn check_poly(seg: &PolySegment, limits: &Limits, seed: u64) -> Result<u32, Test
         }
     }
     prop_assert!(widest <= POLY_WORD_BITS, "search word of {widest} bits");
+    for (k, (c, bits)) in seg.n_coefficients().into_iter().zip(POLY_COEFF_BITS).enumerate() {
+        prop_assert!(signed_bits(c) <= bits, "c{} = {} wider than {} bits, {:?}", k + 1, c, bits, seg);
+    }
     Ok(widest)
 }
 

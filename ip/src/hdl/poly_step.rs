@@ -24,11 +24,16 @@
 //! 2^k there), b −= 1, TRY. Q holds ¬R = −R − 1 (R = i·S − M(e), the step's target
 //! less M at the current edge), so a trial passes when X + W4 + Q < 0 and Q takes the
 //! sum: no subtraction anywhere. The slots: a ∈ {W1, X, Z}, b ∈ {W2, W4, 2·W4},
-//! c ∈ {W3, Q, 2·Z}, 0 where unused; every word register takes the load, its two
+//! c ∈ {W3, Q, 2·Z}, 0 where unused; every word register takes the chain, its two
 //! shifts and the adder.
 //!
-//! Ports: pulse `start` while idle with the words `in_w1`..`in_w4` (m_1..m_4 at the
-//! base, scale 1, sign-extended to 161 bits), `in_q` (¬R for the step: ¬(rem + S)),
+//! Ports: the state goes in and out through a chain, one word per cycle: `shift`
+//! (while idle) moves `shift_in` → Q → W4 → W3 → W2 → W1, so five shifts load
+//! W1..W4 and Q in that order while the words held before come out of `out_w1` in the
+//! same order (a per-axis state memory swaps one axis's state for another's in five
+//! cycles, with no load multiplexer beyond the one each register had). The words are
+//! m_1..m_4 at the base, scale 1, sign-extended to 161 bits, and Q = ¬R for the step
+//! (¬(rem + S)). Then pulse `start` while idle (not with `shift`) with
 //! `in_base` (the last edge, E_i), `in_cap` (T − 1) and `in_b0` (the first digit,
 //! [`crate::model::poly::gallop_start`] of the last period). `done` pulses one cycle
 //! when the step ends, with `out_edge` (E_{i+1}) and `out_q`, `out_w1`..`out_w4` (the
@@ -38,10 +43,11 @@
 //! 46 on average over the tests' steps (many near the last one's period), 238 at
 //! most there (a slow step started four digits too high).
 //!
-//! **Setup.** `start` with `in_setup` takes `in_w1`..`in_w4` as the setup's words
+//! **Setup.** `start` with `in_setup` takes W1..W4 as the setup's words
 //! g = [8·c1, 4·c2, 2·c3, c4] on the half-tick scale
-//! ([`crate::model::poly::PolyPlan::setup_state`]; `in_q`, `in_base`, `in_cap`,
-//! `in_b0` are not read) and makes one trial at h = ½ tick that passes whatever its
+//! ([`crate::model::poly::PolyPlan::setup_state`], from
+//! [`super::poly_setup::PolySetup`]; Q, `in_base`, `in_cap`, `in_b0` are not read)
+//! and makes one trial at h = ½ tick that passes whatever its
 //! sign from Q = ¬0, then one climb: `done` after 8 cycles with `out_edge` = 1 and
 //! the state at base 1 (Q = M(1) − 1 and the Taylor words there), where the search
 //! for the first edge starts.
@@ -77,11 +83,10 @@ const ST_SH: u64 = 8;
 pub struct PolyStep {
     pub clock: Signal<In, Clock>,
     pub start: Signal<In, Bit>,
-    pub in_w1: Signal<In, Bits<W>>,
-    pub in_w2: Signal<In, Bits<W>>,
-    pub in_w3: Signal<In, Bits<W>>,
-    pub in_w4: Signal<In, Bits<W>>,
-    pub in_q: Signal<In, Bits<W>>,
+    /// The state chain (see the module docs): `shift_in` → Q → W4 → W3 → W2 → W1 →
+    /// `out_w1`, one word per `shift` while idle.
+    pub shift: Signal<In, Bit>,
+    pub shift_in: Signal<In, Bits<W>>,
     pub in_base: Signal<In, Bits<32>>,
     pub in_cap: Signal<In, Bits<32>>,
     pub in_b0: Signal<In, Bits<5>>,
@@ -180,11 +185,8 @@ impl Default for PolyStep {
         PolyStep {
             clock: Default::default(),
             start: Default::default(),
-            in_w1: Default::default(),
-            in_w2: Default::default(),
-            in_w3: Default::default(),
-            in_w4: Default::default(),
-            in_q: Default::default(),
+            shift: Default::default(),
+            shift_in: Default::default(),
             in_base: Default::default(),
             in_cap: Default::default(),
             in_b0: Default::default(),
@@ -337,12 +339,14 @@ impl Logic for PolyStep {
         self.nst.next = self.st.q.val();
 
         if self.st.q.val() == self.k_idle.val() {
+            if self.shift.val() {
+                self.w1.d.next = self.w2.q.val();
+                self.w2.d.next = self.w3.q.val();
+                self.w3.d.next = self.w4.q.val();
+                self.w4.d.next = self.q.q.val();
+                self.q.d.next = self.shift_in.val();
+            }
             if self.start.val() {
-                self.w1.d.next = self.in_w1.val();
-                self.w2.d.next = self.in_w2.val();
-                self.w3.d.next = self.in_w3.val();
-                self.w4.d.next = self.in_w4.val();
-                self.q.d.next = self.in_q.val();
                 self.e.d.next = self.in_base.val();
                 self.cap.d.next = self.in_cap.val();
                 self.b0.d.next = self.in_b0.val();

@@ -60,6 +60,13 @@ pub const POLY_TOP_DIGIT: u32 = POLY_T_LOG2;
 /// every trial): |value| < 2^(POLY_WORD_BITS − 1) over the documented range. The
 /// property tests check the largest word seen against it.
 pub const POLY_WORD_BITS: u32 = 160;
+/// Signed widths (sign included) of the coefficients c_1..c_4 of N
+/// ([`PolySegment::n_coefficients`]) over the documented range, the setup's products:
+/// c1 = v0·T⁴ < 2^127; |c2| = |A'|·T² < 2^104 and |c3| = |C'|·T < 2^81 and
+/// |c4| = |Q'| < 2^57, since validation's control points bound |A'| ≤ 1.5·RMAX·T,
+/// |C'| ≤ 4·RMAX·T and |Q'| ≤ 4·RMAX·T with RMAX < 2^31 and T ≤ 2^24 (docs/model.md,
+/// "The core's setup"). The property tests check every segment they run against them.
+pub const POLY_COEFF_BITS: [u32; 4] = [128, 105, 82, 58];
 /// Every edge of a polynomial segment is within this many ticks of exact time.
 pub const POLY_EDGE_ERROR_BOUND_TICKS: f64 = 0.5;
 
@@ -684,6 +691,7 @@ mod tests {
         let l = limits();
         let rmax = l.max_rate() as i128;
         let mut widest = 0;
+        let mut coeff = [0u32; 4];
         for t in [POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1, 1 << 12] {
             for bits in 0u32..16 {
                 let b: Vec<i128> = (0..4).map(|k| if bits >> k & 1 == 1 { rmax } else { 0 }).collect();
@@ -701,6 +709,9 @@ mod tests {
                     continue;
                 }
                 let plan = PolyPlan::new(seg);
+                for (k, c) in seg.n_coefficients().into_iter().enumerate() {
+                    coeff[k] = coeff[k].max(signed_bits(c));
+                }
                 let n = seg.n_steps();
                 for start in [0, n / 2, n.saturating_sub(40)] {
                     let base = if start == 0 { 0 } else { seg.edge_by_definition(start) };
@@ -716,6 +727,12 @@ mod tests {
         }
         eprintln!("widest poly search word: {widest} bits");
         assert!(widest <= POLY_WORD_BITS && widest + 8 > POLY_WORD_BITS, "widest {widest}");
+        // The setup's products: within their widths, and the bounds not loose by
+        // more than the control points' slack (a few bits).
+        eprintln!("widest setup coefficients: {coeff:?} bits");
+        for k in 0..4 {
+            assert!(coeff[k] <= POLY_COEFF_BITS[k] && coeff[k] + 4 > POLY_COEFF_BITS[k], "c{}: {coeff:?}", k + 1);
+        }
     }
 
     #[test]
