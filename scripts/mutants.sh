@@ -102,7 +102,7 @@ mutants=(
   "69#ip/src/hdl/poly_check.rs#s/self.fast_rate.q.val\(\) \| self.big1.q.val\(\) \| self.big2.val\(\)/self.fast_rate.q.val() | self.big1.q.val()/#hdl_push_check#poly::verdicts_equal_the_model#the polynomial check misses a second control point above the hull"
   "70#ip/src/hdl/poly_check.rs#s/\(self.pv1.val\(\) << 1\) \+ self.pv1.val\(\)/(self.pv1.val() << 1)/#hdl_push_check#poly::verdicts_equal_the_model#β2 takes 2·v1·T for 3·v1·T"
   "71#ip/src/hdl/poly_setup.rs#s/self.k_c.d.next = \(self.n32.val\(\) << 2\)/self.k_c.d.next = (self.n32.val() << 1)/#hdl_poly#poly_setup_equals#C' takes 2n·2^32 for 4n·2^32"
-  "72#ip/src/hdl/poly_setup.rs#s/self.op_b.next = bit_cast::<ACC, X>\(self.x.q.val\(\)\) \| self.fill_acc.val\(\);/self.op_b.next = bit_cast::<ACC, X>(self.x.q.val());/#hdl_poly#poly_setup_equals#a negative multiplicand not sign-extended"
+  "72#ip/src/hdl/poly_setup.rs#s/self.xs.next = bit_cast::<ACC, X>\(self.x.q.val\(\)\) \| self.fill_acc.val\(\);/self.xs.next = bit_cast::<ACC, X>(self.x.q.val());/#hdl_poly#poly_setup_equals#a negative multiplicand not sign-extended"
   "73#ip/src/hdl/poly_unit.rs#s/self.srch.in_base.next = 1.into\(\);/self.srch.in_base.next = 0.into();/#hdl_poly#poly_unit_gives#the first step searched from tick 0 instead of the setup's base 1"
   "74#ip/src/hdl/poly_unit.rs#s/self.srch.out_w1.val\(\) - self.s_wide.val\(\);/self.srch.out_w1.val();/#hdl_poly#poly_unit_gives#the stored remainder misses the next step's S"
   "75#ip/src/hdl/poly_unit.rs#s/if self.d.val\(\).get_bit\(2\) \{\n(\s*)self.dig.next = 2.into\(\);/if self.d.val().get_bit(2) {\n\1self.dig.next = 1.into();/#hdl_poly#poly_unit_gives#the next start digit one low after periods of 4 to 7 ticks (same edges, more cycles)"

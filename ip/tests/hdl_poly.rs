@@ -793,7 +793,7 @@ fn poly_unit_gives_the_models_periods_three_ways() {
                     seg.n_steps() as u128,
                 ]);
                 let l = UNIT_SETUP_CYCLES;
-                assert_eq!(l, 251, "the documented setup latency");
+                assert_eq!(l, 273, "the documented setup latency");
                 idle(&mut rows, l + UNIT_STORE_CYCLES);
                 reqs.push((row, l, None, false, UNIT_STORE_CYCLES));
                 slots[sa] = Some(Slot { seg, search: PolyPlan::new(seg).setup_state(), i: 0, prev: 0, delta: 0 });

@@ -8,7 +8,11 @@
 //!
 //! One shift-and-add multiplier, one multiplier bit per cycle, most significant first
 //! (Horner: `acc = 2·acc + bit·x`, exact for a signed x and an unsigned multiplier),
-//! runs a fixed program of eleven operations on one 130-bit adder:
+//! runs a fixed program of eleven operations. The accumulator is kept in carry-save
+//! form (a sum and a carry word, 130 bits each: one level of logic a cycle, no carry
+//! chain), and each operation ends with two cycles of carry-propagate addition, the
+//! low 65 bits and then the high 65 with the low half's carry registered, so no
+//! carry chain is longer than 65 bits:
 //!
 //! | op | multiplier | x | acc after | kept |
 //! |---|---|---|---|---|
@@ -24,8 +28,10 @@
 //! | 9 | T | 2·v0 + v1 | (2·v0 + v1)·T | |
 //! | 10 | x + acc | A' − 3n·2^32 | Q' | c4 |
 //!
-//! A multiply by T takes 25 cycles (T ≤ 2^24 has 25 bits), by v0 32, an add one; the
-//! sums of the inputs (3·v0 + v1, 2·v0 + v1, 4n·2^32 − 2A', A' − 3n·2^32) are
+//! A multiply by T takes 25 cycles (T ≤ 2^24 has 25 bits) and by v0 32, an add
+//! (the operands into the sum and carry words) one, each then two for the
+//! carry-propagate addition; the sums of the inputs (3·v0 + v1, 2·v0 + v1,
+//! 4n·2^32 − 2A', A' − 3n·2^32) are
 //! registered at the start. Widths: x holds 98 bits signed (T⁴ ≤ 2^96 is the widest
 //! multiplicand), the accumulator 130 (v0·T⁴ < 2^127, and every partial sum of a
 //! product is below the multiplicand times 2^32), the kept values their
@@ -77,8 +83,10 @@ const V_BITS: u64 = 32;
 const _: () = assert!(T_BITS == 25 && V_BITS == 32);
 
 /// Cycles from the `start` edge to `done`: one to register the inputs' sums, eight
-/// multiplies by T, one by v0, two adds, and one for `done`.
-pub const POLY_SETUP_LATENCY: usize = 1 + 8 * T_BITS as usize + V_BITS as usize + 2 + 1;
+/// multiplies by T, one by v0 and two adds (each with its two cycles of
+/// carry-propagate addition), and one for `done`: 258.
+pub const POLY_SETUP_LATENCY: usize = 1 + 8 * (T_BITS as usize + 2) + (V_BITS as usize + 2) + 2 * (1 + 2) + 1;
+const _: () = assert!(POLY_SETUP_LATENCY == 258);
 
 #[derive(LogicBlock)]
 pub struct PolySetup {
@@ -103,7 +111,16 @@ pub struct PolySetup {
     cnt: DFF<Bits<6>>,
     /// The first cycle of a multiply: the accumulator reads as 0.
     first: DFF<Bit>,
-    acc: DFF<Bits<ACC>>,
+    /// 0: the operation's cycles (carry-save); 1, 2: the low and high halves of the
+    /// carry-propagate addition.
+    ph: DFF<Bits<2>>,
+    /// The accumulator in carry-save form, and the last result (`res`, its low half
+    /// first, with the low half's carry `rc`; `cin`: add 1 at the low end, x − acc).
+    acc_s: DFF<Bits<ACC>>,
+    acc_c: DFF<Bits<ACC>>,
+    res: DFF<Bits<ACC>>,
+    rc: DFF<Bits<1>>,
+    cin: DFF<Bits<1>>,
     x: DFF<Bits<X>>,
     /// The multiplier, most significant bit first (T aligned to the top).
     y: DFF<Bits<32>>,
@@ -130,10 +147,13 @@ pub struct PolySetup {
     a_x: Signal<Local, Bits<X>>,
     in_a_x: Signal<Local, Bits<X>>,
     n32: Signal<Local, Bits<X>>,
-    /// The adder's operands and sum.
+    /// The carry-save step's inputs (2·sum, 2·carry, bit·x) and the halves' sums.
+    xs: Signal<Local, Bits<ACC>>,
     op_a: Signal<Local, Bits<ACC>>,
     op_b: Signal<Local, Bits<ACC>>,
-    cin: Signal<Local, Bits<ACC>>,
+    op_x: Signal<Local, Bits<ACC>>,
+    lo: Signal<Local, Bits<66>>,
+    hi: Signal<Local, Bits<65>>,
     sum: Signal<Local, Bits<ACC>>,
     /// The operation after this one and its multiplicand.
     nxt: Signal<Local, Bits<4>>,
@@ -166,7 +186,12 @@ impl Default for PolySetup {
             pc: Default::default(),
             cnt: Default::default(),
             first: Default::default(),
-            acc: Default::default(),
+            ph: Default::default(),
+            acc_s: Default::default(),
+            acc_c: Default::default(),
+            res: Default::default(),
+            rc: Default::default(),
+            cin: Default::default(),
             x: Default::default(),
             y: Default::default(),
             t: Default::default(),
@@ -190,9 +215,12 @@ impl Default for PolySetup {
             a_x: Default::default(),
             in_a_x: Default::default(),
             n32: Default::default(),
+            xs: Default::default(),
             op_a: Default::default(),
             op_b: Default::default(),
-            cin: Default::default(),
+            op_x: Default::default(),
+            lo: Default::default(),
+            hi: Default::default(),
             sum: Default::default(),
             nxt: Default::default(),
             nx: Default::default(),
@@ -204,7 +232,10 @@ impl Default for PolySetup {
 impl Logic for PolySetup {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, run, pc, cnt, first, acc, x, y, t, v0, a, u3, u2, k_c, k_q, c1, c2, c3, c4, t4, fin);
+        dff_setup!(
+            self, clock, run, pc, cnt, first, ph, acc_s, acc_c, res, rc, cin, x, y, t, v0, a, u3, u2, k_c, k_q, c1, c2,
+            c3, c4, t4, fin
+        );
 
         // A' sign-extended to the multiplicand's width (from the register and the port).
         self.a_x.next = bit_cast::<X, 64>(self.a.q.val());
@@ -217,28 +248,30 @@ impl Logic for PolySetup {
         }
         self.n32.next = bit_cast::<X, 32>(self.in_n.val()) << 32;
 
-        // The adder: a multiply step 2·acc + bit·x (0 + bit·x first), x − acc (op 7,
-        // as x + ¬acc + 1) or x + acc (op 10).
-        self.op_b.next = bit_cast::<ACC, X>(self.x.q.val());
+        // The carry-save step: 2·acc + bit·x with acc = sum + carry (0 + bit·x first).
+        self.xs.next = bit_cast::<ACC, X>(self.x.q.val());
         if self.x.q.val().get_bit(97) {
-            self.op_b.next = bit_cast::<ACC, X>(self.x.q.val()) | self.fill_acc.val();
+            self.xs.next = bit_cast::<ACC, X>(self.x.q.val()) | self.fill_acc.val();
         }
-        self.cin.next = 0.into();
-        if self.pc.q.val() == 7 {
-            self.op_a.next = !self.acc.q.val();
-            self.cin.next = 1.into();
-        } else if self.pc.q.val() == 10 {
-            self.op_a.next = self.acc.q.val();
-        } else {
-            self.op_a.next = self.acc.q.val() << 1;
-            if self.first.q.val() {
-                self.op_a.next = 0.into();
-            }
-            if !self.y.q.val().get_bit(31) {
-                self.op_b.next = 0.into();
-            }
+        self.op_a.next = self.acc_s.q.val() << 1;
+        self.op_b.next = self.acc_c.q.val() << 1;
+        if self.first.q.val() {
+            self.op_a.next = 0.into();
+            self.op_b.next = 0.into();
         }
-        self.sum.next = self.op_a.val() + self.op_b.val() + self.cin.val();
+        self.op_x.next = 0.into();
+        if self.y.q.val().get_bit(31) {
+            self.op_x.next = self.xs.val();
+        }
+        // The carry-propagate addition of sum and carry: the low 65 bits (with the
+        // carry in of x − acc), then the high 65 with the low half's carry.
+        self.lo.next = bit_cast::<66, 65>(self.acc_s.q.val().get_bits::<65>(0))
+            + bit_cast::<66, 65>(self.acc_c.q.val().get_bits::<65>(0))
+            + bit_cast::<66, 1>(self.cin.q.val());
+        self.hi.next = self.acc_s.q.val().get_bits::<65>(65)
+            + self.acc_c.q.val().get_bits::<65>(65)
+            + bit_cast::<65, 1>(self.rc.q.val());
+        self.sum.next = (bit_cast::<ACC, 65>(self.hi.val()) << 65) | bit_cast::<ACC, 65>(self.res.q.val().get_bits::<65>(0));
         self.sum_x.next = self.sum.val().get_bits::<X>(0);
 
         // The next operation's multiplicand.
@@ -268,44 +301,69 @@ impl Logic for PolySetup {
             // Operation 0: T·T.
             self.run.d.next = 2.into();
             self.pc.d.next = 0.into();
+            self.ph.d.next = 0.into();
             self.cnt.d.next = 25.into();
             self.first.d.next = true;
+            self.cin.d.next = 0.into();
             self.x.d.next = bit_cast::<X, 32>(self.t.q.val());
             self.y.d.next = self.t.q.val() << 7;
-        } else {
-            self.acc.d.next = self.sum.val();
+        } else if self.ph.q.val() == 0 {
+            // The operation's cycles: a multiply step, or an add's operands into the
+            // sum and carry words (x + res, or x + ¬res + 1 for x − res).
+            if self.pc.q.val() == 7 {
+                self.acc_s.d.next = self.xs.val();
+                self.acc_c.d.next = !self.res.q.val();
+                self.cin.d.next = 1.into();
+            } else if self.pc.q.val() == 10 {
+                self.acc_s.d.next = self.xs.val();
+                self.acc_c.d.next = self.res.q.val();
+            } else {
+                self.acc_s.d.next = self.op_a.val() ^ self.op_b.val() ^ self.op_x.val();
+                self.acc_c.d.next = ((self.op_a.val() & self.op_b.val())
+                    | (self.op_a.val() & self.op_x.val())
+                    | (self.op_b.val() & self.op_x.val()))
+                    << 1;
+            }
             self.first.d.next = false;
             self.y.d.next = self.y.q.val() << 1;
             self.cnt.d.next = self.cnt.q.val() - 1;
             if self.cnt.q.val() == 1 {
-                // The operation's end: keep its result, start the next.
-                if self.pc.q.val() == 2 {
-                    self.t4.d.next = self.sum.val().get_bits::<T4>(0);
-                } else if self.pc.q.val() == 3 {
-                    self.c1.d.next = self.sum.val().get_bits::<C1>(0);
-                } else if self.pc.q.val() == 5 {
-                    self.c2.d.next = self.sum.val().get_bits::<C2>(0);
-                } else if self.pc.q.val() == 8 {
-                    self.c3.d.next = self.sum.val().get_bits::<C3>(0);
-                } else if self.pc.q.val() == 10 {
-                    self.c4.d.next = self.sum.val().get_bits::<C4>(0);
-                }
-                self.pc.d.next = self.nxt.val();
-                self.x.d.next = self.nx.val();
-                self.first.d.next = true;
-                self.y.d.next = self.t.q.val() << 7;
-                self.cnt.d.next = 25.into();
-                if self.nxt.val() == 3 {
-                    self.y.d.next = self.v0.q.val();
-                    self.cnt.d.next = 32.into();
-                } else if (self.nxt.val() == 7) | (self.nxt.val() == 10) {
-                    self.first.d.next = false;
-                    self.cnt.d.next = 1.into();
-                }
-                if self.pc.q.val() == 10 {
-                    self.run.d.next = 0.into();
-                    self.fin.d.next = true;
-                }
+                self.ph.d.next = 1.into();
+            }
+        } else if self.ph.q.val() == 1 {
+            self.res.d.next = bit_cast::<ACC, 65>(self.lo.val().get_bits::<65>(0));
+            self.rc.d.next = self.lo.val().get_bits::<1>(65);
+            self.cin.d.next = 0.into();
+            self.ph.d.next = 2.into();
+        } else {
+            // The operation's end: its result, kept where the table says; the next.
+            self.res.d.next = self.sum.val();
+            if self.pc.q.val() == 2 {
+                self.t4.d.next = self.sum.val().get_bits::<T4>(0);
+            } else if self.pc.q.val() == 3 {
+                self.c1.d.next = self.sum.val().get_bits::<C1>(0);
+            } else if self.pc.q.val() == 5 {
+                self.c2.d.next = self.sum.val().get_bits::<C2>(0);
+            } else if self.pc.q.val() == 8 {
+                self.c3.d.next = self.sum.val().get_bits::<C3>(0);
+            } else if self.pc.q.val() == 10 {
+                self.c4.d.next = self.sum.val().get_bits::<C4>(0);
+            }
+            self.ph.d.next = 0.into();
+            self.pc.d.next = self.nxt.val();
+            self.x.d.next = self.nx.val();
+            self.first.d.next = true;
+            self.y.d.next = self.t.q.val() << 7;
+            self.cnt.d.next = 25.into();
+            if self.nxt.val() == 3 {
+                self.y.d.next = self.v0.q.val();
+                self.cnt.d.next = 32.into();
+            } else if (self.nxt.val() == 7) | (self.nxt.val() == 10) {
+                self.cnt.d.next = 1.into();
+            }
+            if self.pc.q.val() == 10 {
+                self.run.d.next = 0.into();
+                self.fin.d.next = true;
             }
         }
         // The inputs' sums, registered on the start's edge (from the ports) and kept.

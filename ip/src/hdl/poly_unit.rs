@@ -16,7 +16,7 @@
 //! Ports: while idle (`busy` low), pulse
 //! * `setup` with `axis`, `slot`, `in_v0`, `in_v1`, `in_a`, `in_t`, `in_n` (a valid
 //!   segment's fields, n = |θ| ≥ 1; read on that edge only): [`UNIT_SETUP_CYCLES`]
-//!   (251) cycles later `done` pulses (with `period` 0): the slot's
+//!   (273) cycles later `done` pulses (with `period` 0): the slot's
 //!   state is at base 1 ([`crate::model::poly::PolyPlan::setup_state`]);
 //! * `step` with `axis`, `slot` (a set-up slot with steps left): `done` pulses with
 //!   `period` (E_{i+1} − E_i ticks) and `last` (it was step n), after
