@@ -21,17 +21,17 @@ trap 'rm -rf "$work"' EXIT
 cp "$src" "$work/dut.v"
 if [ "$block" = step ]; then
 cat > "$work/wrap.v" <<'V'
-module wrap(input clk, input din, input ld, input start, input setup, output dout);
-  reg [804:0] sr; reg [31:0] base, cap; reg [4:0] b0;
+module wrap(input clk, input din, input ld, input start, input setup, input shift, output dout);
+  reg [160:0] sr; reg [31:0] base, cap; reg [4:0] b0;
   wire busy, done; wire [31:0] edge_o; wire [160:0] oq, o1, o2, o3, o4;
-  always @(posedge clk) if (ld) begin sr <= {sr[803:0], din}; base <= {base[30:0], sr[804]};
+  always @(posedge clk) if (ld) begin sr <= {sr[159:0], din}; base <= {base[30:0], sr[160]};
     cap <= {cap[30:0], base[31]}; b0 <= {b0[3:0], cap[31]}; end
   reg [160:0] acc;
   always @(posedge clk) acc <= {acc[159:0], acc[160]} ^ oq ^ o1 ^ o2 ^ o3 ^ o4 ^ {edge_o, busy, done};
   assign dout = ^acc;
-  top$step s(.clock(clk), .start(start), .in_w1(sr[160:0]), .in_w2(sr[321:161]), .in_w3(sr[482:322]),
-    .in_w4(sr[643:483]), .in_q(sr[804:644]), .in_base(base), .in_cap(cap), .in_b0(b0), .in_setup(setup),
-    .busy(busy), .done(done), .out_edge(edge_o), .out_q(oq), .out_w1(o1), .out_w2(o2), .out_w3(o3), .out_w4(o4));
+  top$step s(.clock(clk), .start(start), .shift(shift), .shift_in(sr), .in_base(base), .in_cap(cap),
+    .in_b0(b0), .in_setup(setup), .busy(busy), .done(done), .out_edge(edge_o), .out_q(oq), .out_w1(o1),
+    .out_w2(o2), .out_w3(o3), .out_w4(o4));
 endmodule
 V
 elif [ "$block" = unit ]; then

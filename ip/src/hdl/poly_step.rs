@@ -6,18 +6,25 @@
 //! pass the cap.
 //!
 //! One three-input adder, 161 bits (every word fits 160 bits signed, so sums of them
-//! are exact modulo 2^161), does all the arithmetic, one operation per cycle: a
-//! carry-save stage, then bits 0..80 in one carry chain and bits 81..160 in two
-//! beside it (carry in 0 and 1), chosen by the low chain's carry, so no chain is
-//! longer than 81 bits:
+//! are exact modulo 2^161), does all the arithmetic, one operation issued per cycle,
+//! in two halves a cycle apart: an operation issued in cycle c adds bits 0..80 of its
+//! operands in c (a carry-save stage and one 81-bit chain) and writes them to its
+//! destination's low half; in c + 1 it adds bits 81..160 (the operands' high halves as
+//! they are then, the low half's carry and carry-save bit registered) into the high
+//! half. An operation issued in c + 1 reads a low half the one before wrote in c and a
+//! high half it writes in c + 1, so dependent operations still issue every cycle, and
+//! no carry chain is longer than 81 bits with nothing after it but the registers. A
+//! sum's sign (bit 160) is known at the end of its second cycle:
 //!
-//! | state | adder | then |
+//! | state | adder (issued) | then |
 //! |---|---|---|
 //! | UP | — | W_k <<= k, b += 1 (b0 times) |
 //! | TRY | X = W1 + W2 + W3 | e + 2^b ≤ cap registered |
-//! | DEC1 | G = X + W4 + Q | past the cap: no trial, fall; else G and its sign registered |
-//! | DEC2 | Z = W3 + 2·W4 | G < 0 (trial ≤ R): Q = G, e += 2^b; else fall |
-//! | A2, A3, A4 | W3 = Z + 2·W4; W1 = X + W2 + 2Z; W2 = W2 + Z + 2Z | |
+//! | DEC1 | G = X + W4 + Q | past the cap: no trial, fall |
+//! | DEC2 | Z = W3 + 2·W4 | G's sign registered |
+//! | A2 | W3 = Z + 2·W4 (written only if G < 0) | G < 0 (trial ≤ R): Q = G, e += 2^b; else fall |
+//! | A3, A4 | W1 = X + W2 + 2Z; W2 = W2 + Z + 2Z | |
+//! | WT | — | (W2's high half) |
 //! | SH | — | rising: W_k <<= k, b += 1; else fall |
 //!
 //! where "fall" is: b = 0 ends the step, else W_k >>= k (exact: W_k is a multiple of
@@ -38,23 +45,25 @@
 //! [`crate::model::poly::gallop_start`] of the last period). `done` pulses one cycle
 //! when the step ends, with `out_edge` (E_{i+1}) and `out_q`, `out_w1`..`out_w4` (the
 //! state at E_{i+1}) held until the next start. `busy` from the start's edge to
-//! `done`. Latency: `1 + b0 + 2·digits + trials + 4·passes` cycles
+//! `done`. Latency: `1 + b0 + 2·digits + 2·trials + 4·passes` cycles
 //! ([`crate::model::poly::GallopStats`]: digits visited, trials made, trials passed):
-//! 46 on average over the tests' steps (many near the last one's period), 238 at
-//! most there (a slow step started four digits too high).
+//! 77 to 84 on average over every step of planned jerk-limited moves, 273 at most
+//! there (`hdl_poly` holds the mean between 70 and 90; docs/architecture.md).
 //!
 //! **Setup.** `start` with `in_setup` takes W1..W4 as the setup's words
 //! g = [8·c1, 4·c2, 2·c3, c4] on the half-tick scale
 //! ([`crate::model::poly::PolyPlan::setup_state`], from
 //! [`super::poly_setup::PolySetup`]; Q, `in_base`, `in_cap`, `in_b0` are not read)
 //! and makes one trial at h = ½ tick that passes whatever its
-//! sign from Q = ¬0, then one climb: `done` after 8 cycles with `out_edge` = 1 and
+//! sign from Q = ¬0, then one climb: `done` after 9 cycles with `out_edge` = 1 and
 //! the state at base 1 (Q = M(1) − 1 and the Taylor words there), where the search
 //! for the first edge starts.
 //!
 //! Every decision is taken from flip-flops (the trial's sign, e + 2^b ≤ cap, b = 0,
-//! rising) and the adder's operand selects are registered from the next state, so
-//! the paths are: operand select → adder → word register, and flags → next state.
+//! rising) and the adder's operand and write selects are registered from the next
+//! state (the high half's a cycle later), so the paths are: operand select →
+//! carry-save stage → 81-bit chain → word register, and flags → next state. A word
+//! shifts (a climb or a fall) only when no operation in flight reads or writes it.
 
 use rust_hdl::prelude::*;
 
@@ -78,6 +87,7 @@ const ST_A2: u64 = 5;
 const ST_A3: u64 = 6;
 const ST_A4: u64 = 7;
 const ST_SH: u64 = 8;
+const ST_WT: u64 = 9;
 
 #[derive(LogicBlock)]
 pub struct PolyStep {
@@ -123,16 +133,27 @@ pub struct PolyStep {
     /// A setup is running: its one trial passes whatever its sign, and it ends after
     /// the climb that follows.
     forced: DFF<Bit>,
-    /// The adder's operand selects, registered from the next state (so no state
-    /// decode lies in front of the adder): a 0 W1 X Z, b 0 W2 W4 2·W4, c 0 W3 Q 2·Z.
+    /// The adder's operand selects for the low half, registered from the next state
+    /// (so no state decode lies in front of the adder): a 0 W1 X Z, b 0 W2 W4 2·W4,
+    /// c 0 W3 Q 2·Z; and the same a cycle later for the high half.
     oa: DFF<Bits<2>>,
     ob: DFF<Bits<2>>,
     oc: DFF<Bits<2>>,
-    /// W1, W2, W3 take the adder's sum in the next state (A3, A4, A2), registered
-    /// likewise: the sum reaches each word register through one select.
+    oa2: DFF<Bits<2>>,
+    ob2: DFF<Bits<2>>,
+    oc2: DFF<Bits<2>>,
+    /// The low half's carry into bit 81, and the carry-save stage's bit 81 (from
+    /// the operands' bit 80), for the high half.
+    cy: DFF<Bits<1>>,
+    bnd: DFF<Bits<1>>,
+    /// W1, W2, W3 take the adder's low half in the next state (A3, A4, A2: W3 only if
+    /// the trial passed) and its high half in the state after; registered likewise.
     ws1: DFF<Bit>,
     ws2: DFF<Bit>,
     ws3: DFF<Bit>,
+    wh1: DFF<Bit>,
+    wh2: DFF<Bit>,
+    wh3: DFF<Bit>,
     c_top: Constant<Bits<5>>,
     c_ones: Constant<Bits<W>>,
     /// The top 1, 2, 3 and 4 bits set: the arithmetic right shifts' sign fill.
@@ -149,18 +170,30 @@ pub struct PolyStep {
     k_a3: Constant<Bits<4>>,
     k_a4: Constant<Bits<4>>,
     k_sh: Constant<Bits<4>>,
+    k_wt: Constant<Bits<4>>,
+    c_lo: Constant<Bits<W>>,
+    /// The operands, by the low half's selects (bits 0..80 used) and the high half's
+    /// (bits 81..160 used).
     opa: Signal<Local, Bits<W>>,
     opb: Signal<Local, Bits<W>>,
     opc: Signal<Local, Bits<W>>,
-    p: Signal<Local, Bits<W>>,
-    /// The adder as a carry-save stage and a carry-select sum: bits 0..80 in one
-    /// chain, bits 81..160 twice (carry in 0 and 1) beside it, chosen by its carry.
-    cs_s: Signal<Local, Bits<W>>,
-    cs_c: Signal<Local, Bits<W>>,
+    opa2: Signal<Local, Bits<W>>,
+    opb2: Signal<Local, Bits<W>>,
+    opc2: Signal<Local, Bits<W>>,
+    /// The low half's carry-save stage (sum and carry vectors, bits 0..81 used) and
+    /// sum; the high half's (the majority vector unshifted, bits 81..160 used), its
+    /// two operands and sum.
+    ls: Signal<Local, Bits<W>>,
+    lm: Signal<Local, Bits<W>>,
     lo: Signal<Local, Bits<82>>,
-    hi0: Signal<Local, Bits<80>>,
-    hi1: Signal<Local, Bits<80>>,
+    hs: Signal<Local, Bits<W>>,
+    hm: Signal<Local, Bits<W>>,
+    hsx: Signal<Local, Bits<80>>,
+    hmx: Signal<Local, Bits<80>>,
     hi: Signal<Local, Bits<80>>,
+    /// {the high half's sum, the low half's sum}: each half of it is written only
+    /// where its operation writes.
+    p: Signal<Local, Bits<W>>,
     /// Each word shifted down (arithmetic) and up by its k.
     dn1: Signal<Local, Bits<W>>,
     dn2: Signal<Local, Bits<W>>,
@@ -221,9 +254,17 @@ impl Default for PolyStep {
             oa: Default::default(),
             ob: Default::default(),
             oc: Default::default(),
+            oa2: Default::default(),
+            ob2: Default::default(),
+            oc2: Default::default(),
+            cy: Default::default(),
+            bnd: Default::default(),
             ws1: Default::default(),
             ws2: Default::default(),
             ws3: Default::default(),
+            wh1: Default::default(),
+            wh2: Default::default(),
+            wh3: Default::default(),
             c_top: Constant::new(TOP.into()),
             c_ones: Constant::new(Bits::<W>::from((num_bigint::BigUint::from(1u32) << W) - 1u32)),
             c_fill1: fill(1),
@@ -239,16 +280,23 @@ impl Default for PolyStep {
             k_a3: Constant::new(ST_A3.into()),
             k_a4: Constant::new(ST_A4.into()),
             k_sh: Constant::new(ST_SH.into()),
+            k_wt: Constant::new(ST_WT.into()),
+            c_lo: Constant::new(Bits::<W>::from((num_bigint::BigUint::from(1u32) << 81) - 1u32)),
             opa: Default::default(),
             opb: Default::default(),
             opc: Default::default(),
-            p: Default::default(),
-            cs_s: Default::default(),
-            cs_c: Default::default(),
+            opa2: Default::default(),
+            opb2: Default::default(),
+            opc2: Default::default(),
+            ls: Default::default(),
+            lm: Default::default(),
             lo: Default::default(),
-            hi0: Default::default(),
-            hi1: Default::default(),
+            hs: Default::default(),
+            hm: Default::default(),
+            hsx: Default::default(),
+            hmx: Default::default(),
             hi: Default::default(),
+            p: Default::default(),
             dn1: Default::default(),
             dn2: Default::default(),
             dn3: Default::default(),
@@ -267,9 +315,13 @@ impl Default for PolyStep {
 impl Logic for PolyStep {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, forced, oa, ob, oc, ws1, ws2, ws3);
+        dff_setup!(
+            self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, forced, oa, ob, oc, oa2,
+            ob2, oc2, cy, bnd, ws1, ws2, ws3, wh1, wh2, wh3
+        );
 
-        // The adder's operands, by the registered selects (0 where unused).
+        // The operands of the operation issued now (low half) and of the one issued
+        // a cycle ago (high half), by the registered selects (0 where unused).
         self.opa.next = 0.into();
         if self.oa.q.val() == 1 {
             self.opa.next = self.w1.q.val();
@@ -294,21 +346,49 @@ impl Logic for PolyStep {
         } else if self.oc.q.val() == 3 {
             self.opc.next = self.z.q.val() << 1;
         }
-        self.cs_s.next = self.opa.val() ^ self.opb.val() ^ self.opc.val();
-        self.cs_c.next = ((self.opa.val() & self.opb.val())
+        self.opa2.next = 0.into();
+        if self.oa2.q.val() == 1 {
+            self.opa2.next = self.w1.q.val();
+        } else if self.oa2.q.val() == 2 {
+            self.opa2.next = self.x.q.val();
+        } else if self.oa2.q.val() == 3 {
+            self.opa2.next = self.z.q.val();
+        }
+        self.opb2.next = 0.into();
+        if self.ob2.q.val() == 1 {
+            self.opb2.next = self.w2.q.val();
+        } else if self.ob2.q.val() == 2 {
+            self.opb2.next = self.w4.q.val();
+        } else if self.ob2.q.val() == 3 {
+            self.opb2.next = self.w4.q.val() << 1;
+        }
+        self.opc2.next = 0.into();
+        if self.oc2.q.val() == 1 {
+            self.opc2.next = self.w3.q.val();
+        } else if self.oc2.q.val() == 2 {
+            self.opc2.next = self.q.q.val();
+        } else if self.oc2.q.val() == 3 {
+            self.opc2.next = self.z.q.val() << 1;
+        }
+        // Low half: carry-save, then bits 0..80 in one chain; its carry (bit 81) and
+        // the carry-save stage's bit 81 are registered for the high half.
+        self.ls.next = self.opa.val() ^ self.opb.val() ^ self.opc.val();
+        self.lm.next = ((self.opa.val() & self.opb.val())
             | (self.opa.val() & self.opc.val())
             | (self.opb.val() & self.opc.val()))
             << 1;
-        self.lo.next = bit_cast::<82, 81>(self.cs_s.val().get_bits::<81>(0))
-            + bit_cast::<82, 81>(self.cs_c.val().get_bits::<81>(0));
-        self.hi0.next = self.cs_s.val().get_bits::<80>(81) + self.cs_c.val().get_bits::<80>(81);
-        // s − ¬c = s + c + 1: written as a difference so that synthesis keeps it a
-        // chain of its own beside hi0 (as hi0 + 1 it would follow hi0's chain).
-        self.hi1.next = self.cs_s.val().get_bits::<80>(81) - (!self.cs_c.val().get_bits::<80>(81));
-        self.hi.next = self.hi0.val();
-        if self.lo.val().get_bit(81) {
-            self.hi.next = self.hi1.val();
-        }
+        self.lo.next = bit_cast::<82, 81>(self.ls.val().get_bits::<81>(0))
+            + bit_cast::<82, 81>(self.lm.val().get_bits::<81>(0));
+        self.cy.d.next = self.lo.val().get_bits::<1>(81);
+        self.bnd.d.next = self.lm.val().get_bits::<1>(81);
+        // High half: bits 81..160, with those two.
+        self.hs.next = self.opa2.val() ^ self.opb2.val() ^ self.opc2.val();
+        self.hm.next = (self.opa2.val() & self.opb2.val())
+            | (self.opa2.val() & self.opc2.val())
+            | (self.opb2.val() & self.opc2.val());
+        self.hsx.next = self.hs.val().get_bits::<80>(81);
+        self.hmx.next = (self.hm.val().get_bits::<80>(81) << 1) | bit_cast::<80, 1>(self.bnd.q.val());
+        self.hi.next = self.hsx.val() + self.hmx.val() + bit_cast::<80, 1>(self.cy.q.val());
         self.p.next = (bit_cast::<W, 80>(self.hi.val()) << 81) | bit_cast::<W, 81>(self.lo.val().get_bits::<81>(0));
 
         // The words shifted down a digit (arithmetic, exact) for a fall.
@@ -371,31 +451,36 @@ impl Logic for PolyStep {
                 self.nst.next = self.k_try.val();
             }
         } else if self.st.q.val() == self.k_try.val() {
-            self.x.d.next = self.p.val();
+            self.x.d.next = (self.x.q.val() & !self.c_lo.val()) | (self.p.val() & self.c_lo.val());
             self.fit.d.next = (self.e.q.val() + self.h.q.val()) <= self.cap.q.val();
             self.nst.next = self.k_dec1.val();
         } else if self.st.q.val() == self.k_dec1.val() {
+            self.x.d.next = (self.x.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
+            self.g.d.next = (self.g.q.val() & !self.c_lo.val()) | (self.p.val() & self.c_lo.val());
             if self.fit.q.val() | self.forced.q.val() {
-                self.pass.d.next = self.p.val().get_bit(160) | self.forced.q.val();
-                self.g.d.next = self.p.val();
                 self.nst.next = self.k_dec2.val();
             } else {
                 self.fall.next = true;
             }
         } else if self.st.q.val() == self.k_dec2.val() {
-            self.z.d.next = self.p.val();
+            self.g.d.next = (self.g.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
+            self.pass.d.next = self.p.val().get_bit(160) | self.forced.q.val();
+            self.z.d.next = (self.z.q.val() & !self.c_lo.val()) | (self.p.val() & self.c_lo.val());
+            self.nst.next = self.k_a2.val();
+        } else if self.st.q.val() == self.k_a2.val() {
+            self.z.d.next = (self.z.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
             if self.pass.q.val() {
                 self.q.d.next = self.g.q.val();
                 self.e.d.next = self.e.q.val() + self.h.q.val();
-                self.nst.next = self.k_a2.val();
+                self.nst.next = self.k_a3.val();
             } else {
                 self.fall.next = true;
             }
-        } else if self.st.q.val() == self.k_a2.val() {
-            self.nst.next = self.k_a3.val();
         } else if self.st.q.val() == self.k_a3.val() {
             self.nst.next = self.k_a4.val();
         } else if self.st.q.val() == self.k_a4.val() {
+            self.nst.next = self.k_wt.val();
+        } else if self.st.q.val() == self.k_wt.val() {
             self.nst.next = self.k_sh.val();
         } else if self.st.q.val() == self.k_sh.val() {
             if self.forced.q.val() {
@@ -437,22 +522,39 @@ impl Logic for PolyStep {
             }
         }
 
-        // The Taylor update's sums (A2, A3, A4: no shift or load happens there).
+        // The Taylor update's sums, each half where its operation writes it (no
+        // shift or load happens to these words then); W3's only if the trial passed.
         if self.ws1.q.val() {
-            self.w1.d.next = self.p.val();
+            self.w1.d.next = (self.w1.q.val() & !self.c_lo.val()) | (self.p.val() & self.c_lo.val());
+        }
+        if self.wh1.q.val() {
+            self.w1.d.next = (self.w1.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
         }
         if self.ws2.q.val() {
-            self.w2.d.next = self.p.val();
+            self.w2.d.next = (self.w2.q.val() & !self.c_lo.val()) | (self.p.val() & self.c_lo.val());
         }
-        if self.ws3.q.val() {
-            self.w3.d.next = self.p.val();
+        if self.wh2.q.val() {
+            self.w2.d.next = (self.w2.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
+        }
+        if self.ws3.q.val() & self.pass.q.val() {
+            self.w3.d.next = (self.w3.q.val() & !self.c_lo.val()) | (self.p.val() & self.c_lo.val());
+        }
+        if self.wh3.q.val() {
+            self.w3.d.next = (self.w3.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
         }
 
-        // The next state, and the adder's operand and write selects for it.
+        // The next state, and the adder's operand and write selects for it; the high
+        // half's a cycle later.
         self.st.d.next = self.nst.val();
+        self.ws3.d.next = self.nst.val() == self.k_a2.val();
         self.ws1.d.next = self.nst.val() == self.k_a3.val();
         self.ws2.d.next = self.nst.val() == self.k_a4.val();
-        self.ws3.d.next = self.nst.val() == self.k_a2.val();
+        self.wh3.d.next = self.nst.val() == self.k_a3.val();
+        self.wh1.d.next = self.nst.val() == self.k_a4.val();
+        self.wh2.d.next = self.nst.val() == self.k_wt.val();
+        self.oa2.d.next = self.oa.q.val();
+        self.ob2.d.next = self.ob.q.val();
+        self.oc2.d.next = self.oc.q.val();
         self.oa.d.next = 0.into();
         self.ob.d.next = 0.into();
         self.oc.d.next = 0.into();

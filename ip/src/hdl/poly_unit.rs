@@ -16,7 +16,7 @@
 //! Ports: while idle (`busy` low), pulse
 //! * `setup` with `axis`, `slot`, `in_v0`, `in_v1`, `in_a`, `in_t`, `in_n` (a valid
 //!   segment's fields, n = |θ| ≥ 1; read on that edge only): [`UNIT_SETUP_CYCLES`]
-//!   (273) cycles later `done` pulses (with `period` 0): the slot's
+//!   (274) cycles later `done` pulses (with `period` 0): the slot's
 //!   state is at base 1 ([`crate::model::poly::PolyPlan::setup_state`]);
 //! * `step` with `axis`, `slot` (a set-up slot with steps left): `done` pulses with
 //!   `period` (E_{i+1} − E_i ticks) and `last` (it was step n), after
@@ -45,8 +45,8 @@ const _: () = assert!(SW == 25 + 25 + 25 + 5 + 97 && W == 161);
 pub const POLY_UNIT_MAX_AXES: usize = 16;
 
 /// Cycles from `setup`'s edge to `done`, beyond [`POLY_SETUP_LATENCY`]: the words g
-/// into the chain (5), the start (1), the search's setup (8) and `done` (1).
-pub const UNIT_SETUP_EXTRA: usize = 5 + 1 + 8 + 1;
+/// into the chain (5), the start (1), the search's setup (9) and `done` (1).
+pub const UNIT_SETUP_EXTRA: usize = 5 + 1 + 9 + 1;
 /// Cycles from `setup`'s edge to `done`.
 pub const UNIT_SETUP_CYCLES: usize = POLY_SETUP_LATENCY + UNIT_SETUP_EXTRA;
 /// Cycles from `step`'s edge to the search's start: the five words in.

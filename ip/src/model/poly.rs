@@ -92,9 +92,9 @@ pub struct GallopStats {
 impl GallopStats {
     /// The cycles the core's unit ([`crate::hdl::poly_step::PolyStep`]) takes for this
     /// search started from digit `b_start`, from its start to `done`:
-    /// `1 + b_start + 2·digits + trials + 4·passes`.
+    /// `1 + b_start + 2·digits + 2·trials + 4·passes`.
     pub fn unit_cycles(&self, b_start: u32) -> u32 {
-        1 + b_start + 2 * self.digits + self.trials + 4 * self.passes
+        1 + b_start + 2 * self.digits + 2 * self.trials + 4 * self.passes
     }
 }
 
