@@ -48,7 +48,7 @@
 //! `done`. The block has no DSP and runs beside the edge search: a segment's setup
 //! can proceed while the search serves other axes.
 
-use super::poly_step::POLY_REG_BITS;
+use super::poly_step::{ones_at, POLY_REG_BITS};
 use crate::model::poly::{POLY_COEFF_BITS, POLY_T_LOG2};
 use rust_hdl::prelude::*;
 
@@ -163,10 +163,6 @@ pub struct PolySetup {
 
 impl Default for PolySetup {
     fn default() -> Self {
-        let top = |width: usize, k: usize| {
-            let ones = (num_bigint::BigUint::from(1u32) << k) - 1u32;
-            ones << (width - k)
-        };
         PolySetup {
             clock: Default::default(),
             start: Default::default(),
@@ -207,11 +203,11 @@ impl Default for PolySetup {
             c4: Default::default(),
             t4: Default::default(),
             fin: Default::default(),
-            fill_x64: Constant::new(Bits::<X>::from(top(X, X - 64))),
-            fill_acc: Constant::new(Bits::<ACC>::from(top(ACC, ACC - X))),
-            fill_c2: Constant::new(Bits::<W>::from(top(W, W - C2))),
-            fill_c3: Constant::new(Bits::<W>::from(top(W, W - C3))),
-            fill_c4: Constant::new(Bits::<W>::from(top(W, W - C4))),
+            fill_x64: ones_at(X - 64, 64),
+            fill_acc: ones_at(ACC - X, X),
+            fill_c2: ones_at(W - C2, C2),
+            fill_c3: ones_at(W - C3, C3),
+            fill_c4: ones_at(W - C4, C4),
             a_x: Default::default(),
             in_a_x: Default::default(),
             n32: Default::default(),

@@ -75,6 +75,14 @@ const W: usize = POLY_REG_BITS;
 // a Rust constant's name into the Verilog).
 const _: () = assert!(W == 161 && crate::model::poly::POLY_WORD_BITS as usize + 1 == W);
 
+/// `k` ones from bit `at` up, as an `N`-bit constant: the sign fills, masks and
+/// all-ones words of the polynomial unit's blocks.
+pub(crate) fn ones_at<const N: usize>(k: usize, at: usize) -> Constant<Bits<N>> {
+    assert!(k + at <= N);
+    let ones = (num_bigint::BigUint::from(1u32) << k) - 1u32;
+    Constant::new(Bits::<N>::from(ones << at))
+}
+
 /// The search's highest digit.
 const TOP: u64 = crate::model::poly::POLY_TOP_DIGIT as u64;
 
@@ -211,10 +219,7 @@ pub struct PolyStep {
 
 impl Default for PolyStep {
     fn default() -> Self {
-        let fill = |k: usize| {
-            let ones = (num_bigint::BigUint::from(1u32) << k) - 1u32;
-            Constant::new(Bits::<W>::from(ones << (W - k)))
-        };
+        let fill = |k: usize| ones_at::<W>(k, W - k);
         PolyStep {
             clock: Default::default(),
             start: Default::default(),
@@ -266,7 +271,7 @@ impl Default for PolyStep {
             wh2: Default::default(),
             wh3: Default::default(),
             c_top: Constant::new(TOP.into()),
-            c_ones: Constant::new(Bits::<W>::from((num_bigint::BigUint::from(1u32) << W) - 1u32)),
+            c_ones: ones_at(W, 0),
             c_fill1: fill(1),
             c_fill2: fill(2),
             c_fill3: fill(3),
@@ -281,7 +286,7 @@ impl Default for PolyStep {
             k_a4: Constant::new(ST_A4.into()),
             k_sh: Constant::new(ST_SH.into()),
             k_wt: Constant::new(ST_WT.into()),
-            c_lo: Constant::new(Bits::<W>::from((num_bigint::BigUint::from(1u32) << 81) - 1u32)),
+            c_lo: ones_at(81, 0),
             opa: Default::default(),
             opb: Default::default(),
             opc: Default::default(),

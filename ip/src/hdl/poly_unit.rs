@@ -33,7 +33,7 @@
 
 use super::block_ram::BlockRam;
 use super::poly_setup::{PolySetup, POLY_SETUP_LATENCY};
-use super::poly_step::{PolyStep, POLY_REG_BITS};
+use super::poly_step::{ones_at, PolyStep, POLY_REG_BITS};
 use rust_hdl::prelude::*;
 
 const W: usize = POLY_REG_BITS;
@@ -118,6 +118,10 @@ pub struct PolyUnit {
     d: Signal<Local, Bits<25>>,
     dig: Signal<Local, Bits<5>>,
     s_wide: Signal<Local, Bits<W>>,
+    /// The scalar word's fields that a step and a setup write differently.
+    w_prev: Signal<Local, Bits<25>>,
+    w_left: Signal<Local, Bits<25>>,
+    w_dig: Signal<Local, Bits<5>>,
     g_word: Signal<Local, Bits<W>>,
 }
 
@@ -157,7 +161,7 @@ impl PolyUnit {
             fin: Default::default(),
             per: Default::default(),
             lst: Default::default(),
-            c_ones: Constant::new(Bits::<W>::from((num_bigint::BigUint::from(1u32) << W) - 1u32)),
+            c_ones: ones_at(W, 0),
             k_idle: Constant::new(ST_IDLE.into()),
             k_setup: Constant::new(ST_SETUP.into()),
             k_gin: Constant::new(ST_GIN.into()),
@@ -173,6 +177,9 @@ impl PolyUnit {
             d: Default::default(),
             dig: Default::default(),
             s_wide: Default::default(),
+            w_prev: Default::default(),
+            w_left: Default::default(),
+            w_dig: Default::default(),
             g_word: Default::default(),
         }
     }
@@ -311,16 +318,21 @@ impl Logic for PolyUnit {
         self.words.raddr.next = self.wa.q.val() + bit_cast::<8, 3>(self.cnt.q.val()) + 1;
         self.scalars.we.next = false;
         self.scalars.waddr.next = self.sa.q.val();
-        self.scalars.wdata.next = bit_cast::<SW, 25>(self.srch.out_edge.val().get_bits::<25>(0))
-            | (bit_cast::<SW, 25>(self.cap.q.val()) << 25)
-            | (bit_cast::<SW, 25>(self.left.q.val() - 1) << 50)
-            | (bit_cast::<SW, 5>(self.dig.val()) << 75)
-            | (bit_cast::<SW, 97>(self.t4.q.val()) << 80);
+        // The scalar word written back: after a step its edge, one step fewer and
+        // the digit of its period; after a setup base 0, n steps and digit 0.
+        self.w_prev.next = self.srch.out_edge.val().get_bits::<25>(0);
+        self.w_left.next = self.left.q.val() - 1;
+        self.w_dig.next = self.dig.val();
         if self.is_setup.q.val() {
-            self.scalars.wdata.next = (bit_cast::<SW, 25>(self.cap.q.val()) << 25)
-                | (bit_cast::<SW, 25>(self.left.q.val()) << 50)
-                | (bit_cast::<SW, 97>(self.t4.q.val()) << 80);
+            self.w_prev.next = 0.into();
+            self.w_left.next = self.left.q.val();
+            self.w_dig.next = 0.into();
         }
+        self.scalars.wdata.next = bit_cast::<SW, 25>(self.w_prev.val())
+            | (bit_cast::<SW, 25>(self.cap.q.val()) << 25)
+            | (bit_cast::<SW, 25>(self.w_left.val()) << 50)
+            | (bit_cast::<SW, 5>(self.w_dig.val()) << 75)
+            | (bit_cast::<SW, 97>(self.t4.q.val()) << 80);
         self.scalars.raddr.next = self.sa.q.val();
 
         self.fin.d.next = false;
