@@ -26,7 +26,7 @@ use tdm_stepper::hdl::poly_setup::{PolySetup, POLY_SETUP_LATENCY};
 use tdm_stepper::hdl::poly_step::{PolyStep, POLY_REG_BITS};
 use tdm_stepper::hdl::poly_unit::{PolyUnit, UNIT_LAST_CYCLES, UNIT_LOAD_CYCLES, UNIT_SETUP_CYCLES, UNIT_STORE_CYCLES};
 use tdm_stepper::model::poly::{
-    gallop_start, GallopStats, PolyPlan, PolySegment, POLY_COEFF_BITS, POLY_MAX_T_TICKS, POLY_TOP_DIGIT,
+    corner_segments, gallop_start, GallopStats, PolyPlan, PolySegment, POLY_COEFF_BITS, POLY_MAX_T_TICKS, POLY_TOP_DIGIT,
 };
 use tdm_stepper::model::Limits;
 use tdm_stepper::verify::{Port, TbSpec};
@@ -567,33 +567,6 @@ fn setup_spec() -> TbSpec {
     }
 }
 
-/// The corners of the range for the setup's widths: every speed control point at 0 or
-/// RMAX, T = 2^24 and 2^24 − 1 (A pulled in where rounding leaves one out), where
-/// each of c1..c4 comes within a few bits of its width.
-fn corner_segments() -> Vec<PolySegment> {
-    let l = Limits::default();
-    let rmax = l.max_rate() as i128;
-    let mut v = Vec::new();
-    for t in [POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1] {
-        for bits in 0u32..16 {
-            let b: Vec<i128> = (0..4).map(|k| if bits >> k & 1 == 1 { rmax } else { 0 }).collect();
-            let tt = t as i128;
-            let n = ((b.iter().sum::<i128>() * tt + (1 << 33)) >> 34) as i32;
-            let mut seg = PolySegment::new(b[0] as u32, b[3] as u32, (3 * (b[1] - b[0]) * tt / 2) as i64, t, n);
-            for _ in 0..64 {
-                if seg.validate(&l).is_ok() {
-                    break;
-                }
-                seg.a_q32 -= seg.a_q32.signum() * (1 << 30);
-            }
-            if seg.validate(&l).is_ok() && seg.n_steps() > 0 {
-                v.push(seg);
-            }
-        }
-    }
-    v
-}
-
 /// PolySetup: for every segment of the step test, the corners and a backwards copy
 /// of each, the words g and S equal the model's (`PolyPlan::setup_words`, `step`)
 /// exactly `POLY_SETUP_LATENCY` cycles after the start, three ways; a start offered
@@ -601,7 +574,7 @@ fn corner_segments() -> Vec<PolySegment> {
 #[test]
 fn poly_setup_equals_the_model_three_ways() {
     let mut segs = segments();
-    segs.extend(corner_segments());
+    segs.extend(corner_segments(&Limits::default(), &[POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1]));
     let backwards: Vec<PolySegment> = segs.iter().map(|s| PolySegment { steps: -s.steps, ..*s }).step_by(3).collect();
     segs.extend(backwards);
     let widest: Vec<u32> = (0..4)

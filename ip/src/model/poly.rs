@@ -583,6 +583,35 @@ impl PolySearch {
     }
 }
 
+/// The corners of the documented range, for the width checks (here and in the
+/// hardware's tests): for each T in `ts`, every speed control point at 0 or RMAX
+/// (16 segments; n and A rounded, A pulled in by 2^30 at a time where the rounding
+/// leaves a control point out), the valid ones with at least one step. There the
+/// search's words and the setup's products come within a few bits of their widths.
+pub fn corner_segments(limits: &Limits, ts: &[u32]) -> Vec<PolySegment> {
+    let rmax = limits.max_rate() as i128;
+    let mut v = Vec::new();
+    for &t in ts {
+        for bits in 0u32..16 {
+            let b: Vec<i128> = (0..4).map(|k| if bits >> k & 1 == 1 { rmax } else { 0 }).collect();
+            let tt = t as i128;
+            let n = ((b.iter().sum::<i128>() * tt + (1 << 33)) >> 34) as i32;
+            let a = (3 * (b[1] - b[0]) * tt / 2) as i64;
+            let mut seg = PolySegment::new(b[0] as u32, b[3] as u32, a, t, n);
+            for _ in 0..64 {
+                if seg.validate(limits).is_ok() {
+                    break;
+                }
+                seg.a_q32 -= seg.a_q32.signum() * (1 << 30);
+            }
+            if seg.validate(limits).is_ok() && seg.n_steps() > 0 {
+                v.push(seg);
+            }
+        }
+    }
+    v
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -689,40 +718,23 @@ mod tests {
     #[test]
     fn the_search_words_fit_at_the_corners() {
         let l = limits();
-        let rmax = l.max_rate() as i128;
         let mut widest = 0;
         let mut coeff = [0u32; 4];
-        for t in [POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1, 1 << 12] {
-            for bits in 0u32..16 {
-                let b: Vec<i128> = (0..4).map(|k| if bits >> k & 1 == 1 { rmax } else { 0 }).collect();
-                let tt = t as i128;
-                let n = ((b.iter().sum::<i128>() * tt + (1 << 33)) >> 34) as i32;
-                let a = (3 * (b[1] - b[0]) * tt / 2) as i64;
-                let mut seg = PolySegment::new(b[0] as u32, b[3] as u32, a, t, n);
-                // Rounding n and A may push a control point out: pull A in until valid.
-                let mut tries = 0;
-                while seg.validate(&l).is_err() && tries < 64 {
-                    seg.a_q32 -= seg.a_q32.signum() * (1 << 30);
-                    tries += 1;
-                }
-                if seg.validate(&l).is_err() || seg.n_steps() == 0 {
-                    continue;
-                }
-                let plan = PolyPlan::new(seg);
-                for (k, c) in seg.n_coefficients().into_iter().enumerate() {
-                    coeff[k] = coeff[k].max(signed_bits(c));
-                }
-                let n = seg.n_steps();
-                for start in [0, n / 2, n.saturating_sub(40)] {
-                    let base = if start == 0 { 0 } else { seg.edge_by_definition(start) };
-                    let mut s = plan.search_after(start, base);
-                    for _ in 0..40 {
-                        if s.next_edge().is_none() {
-                            break;
-                        }
+        for seg in corner_segments(&l, &[POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1, 1 << 12]) {
+            let plan = PolyPlan::new(seg);
+            for (k, c) in seg.n_coefficients().into_iter().enumerate() {
+                coeff[k] = coeff[k].max(signed_bits(c));
+            }
+            let n = seg.n_steps();
+            for start in [0, n / 2, n.saturating_sub(40)] {
+                let base = if start == 0 { 0 } else { seg.edge_by_definition(start) };
+                let mut s = plan.search_after(start, base);
+                for _ in 0..40 {
+                    if s.next_edge().is_none() {
+                        break;
                     }
-                    widest = widest.max(s.widest_bits);
                 }
+                widest = widest.max(s.widest_bits);
             }
         }
         eprintln!("widest poly search word: {widest} bits");
