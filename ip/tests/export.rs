@@ -2,7 +2,8 @@
 //! committed docs/registers.md and docs/tdm_stepper_regs.h (they must equal what the
 //! register table generates), the C header under gcc -Wall -Werror, the module's
 //! ports against the documented list, Verilator -Wall lint for K = 1, 2, 8 and 16
-//! (and the baseline), and clear errors for bad arguments.
+//! (with the machine I/O at K = 1, 2, 3 and 16, and the baseline), and clear errors
+//! for bad arguments.
 
 mod common;
 
@@ -99,6 +100,7 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         (2, "baseline", "none"),
         (1, "tdm", "all"),
         (3, "tdm", "all"),
+        (16, "tdm", "all"),
         (2, "tdm", "limits,watchdog"),
         (1, "tdm", "estop,probe"),
     ];

@@ -2,10 +2,12 @@
 //! scheduled round robin by a Gray-coded FSM (the paper's Fig. 7; docs/architecture.md).
 //!
 //! Per axis: a segment queue (`QDEPTH` × 96 bits, every axis's in one [`SegQueue`]), a
-//! context ([`AxisContext`], its wide fields in the shared [`ContextRam`]), and a
-//! period FIFO with its step generator (every axis's, with the pulse stage and the
-//! synchronised start, in one [`AxisBank`]). Shared: one [`MulSeq`], one
-//! [`Divider`] and one [`OffsetRoot`] (`R` bits per cycle each), and the scheduler.
+//! context (its flags in the [`AxisView`], its wide fields in the shared
+//! [`ContextRam`]), and a period FIFO with its step generator (every axis's, with the
+//! pulse stage and the synchronised start, in one [`AxisBank`]). Shared: the setup's
+//! multipliers and divider ([`SetupPath`]) and one [`OffsetRoot`] (`R` bits per cycle
+//! each), and the scheduler: this block holds the state register, the transitions and
+//! the working copy of axis m's context; the blocks around it decode the state.
 //!
 //! **Scheduler.** In `PICK` it looks at axis m: if m has an active segment and room
 //! in its period FIFO, it computes m's next period; else if m's segment is done and the
@@ -18,8 +20,8 @@
 //! and the FIFO's `full` may be a cycle old, which at worst skips an axis for a turn
 //! or lets its FIFO reach DEPTH + 1 entries ([`super::step_gen::StepAxis`]). The setup and the
 //! per-step work are exactly the reference model's (docs/model.md), which the tests
-//! hold it to period by period. The FSM lives here rather than in its own block
-//! because rust-hdl cannot pass arrays of wide ports between blocks.
+//! hold it to period by period. The working copy lives here rather than in its own
+//! block because rust-hdl cannot pass arrays of wide ports between blocks.
 //!
 //! **Commands.** `cmd_valid` with `cmd_axis`, `cmd_v0` (Q0.32 rate), `cmd_t` (ticks)
 //! and `cmd_steps` (signed) pushes a segment into that axis's queue when
@@ -70,12 +72,14 @@
 //! flushes), done (`sel_done`: their last period ended) and underruns begun
 //! (`sel_underruns`).
 
-use super::bit_insert::{BitInsert, BitPick};
-use super::context::AxisContext;
+use super::axis_view::AxisView;
+use super::sched_states::state;
+pub use super::sched_states::{gray, STATES, STATE_BITS};
+use super::setup_path::SetupPath;
 use super::context_ram::{ContextRam, ContextWord, CTX_ADDR_BITS, CTX_MAX_AXES};
-use super::divider::{div_latency, Divider, DIV_NUM_BITS};
-use super::mul_seq::{mul_seq_latency, MulSeq, MUL_A_BITS};
-use super::mul_wide::{MulReg, MUL_REG_LATENCY};
+use super::divider::{div_latency, DIV_NUM_BITS};
+use super::mul_seq::mul_seq_latency;
+use super::mul_wide::MUL_REG_LATENCY;
 use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::seg_queue::SegQueue;
@@ -117,31 +121,8 @@ pub const fn t_stop_form(r: usize) -> usize {
     7 + 2 * div_latency(r) + t_setup(r, true)
 }
 
-// The fallback test reads the quotient's bits 103..64 by literal widths (rust-hdl
-// writes a Rust constant's name into the Verilog).
-const _: () = assert!(DIV_NUM_BITS == 104);
-
 const _: () = assert!(CTX_MAX_AXES == super::seg_queue::MAX_QUEUE_AXES);
 
-/// Width of the FSM state register.
-pub const STATE_BITS: usize = 5;
-
-/// The scheduler's states, in the order of their Gray codes (state k has code
-/// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 30] = [
-    "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "P_START", "P_WAIT", "U_ADD", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
-    "S_DRAIN", "C_V0", "C_V0_WAIT", "C_SQ1", "C_SQ2", "C_N", "C_N_WAIT", "C_T1", "C_T2", "C_T",
-];
-
-/// Gray code of state number `k`.
-pub const fn gray(k: usize) -> u64 {
-    (k ^ (k >> 1)) as u64
-}
-
-fn state(name: &str) -> Constant<Bits<STATE_BITS>> {
-    let k = STATES.iter().position(|s| *s == name).expect("state name");
-    Constant::new(gray(k).into())
-}
 
 #[derive(LogicBlock)]
 pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
@@ -202,21 +183,14 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// Every axis's segment queue ([`SegQueue`]: one RAM, two counters per axis). Its
     /// registered read holds axis m's head from PICK into S_CHECK.
     queues: SegQueue<K, QDEPTH>,
-    /// Bit i of the queues' `nonempty`, for axis i's flags.
-    q_pick: [BitPick<K>; K],
     /// The axes' back ends: pulse stage, period FIFOs, step generators, start, buses.
     bank: AxisBank<K, DEPTH>,
-    /// Axis i has work not yet turned into entries (the bank's `pending`).
-    pend_bus: [BitInsert<K>; K],
-    /// Bit i of the bank's `full`, for axis i's flags.
-    full_pick: [BitPick<K>; K],
-    /// Per-axis context flags; public so that simulations can inspect them.
-    pub ctx: [AxisContext; K],
+    /// Every axis's context flags and PICK's registered view of axis m ([`AxisView`]).
+    pub view: AxisView<K>,
     /// The wide context fields of every axis, two words each (see [`Self::context`]).
     ctx_ram: ContextRam,
-    mulw: MulReg<32, 32, 64>,
-    mul: MulSeq<R>,
-    div: Divider<R>,
+    /// The setup's datapath: the multipliers, the divider and their temporaries.
+    setup: SetupPath<R>,
     root: OffsetRoot<R>,
 
     st: DFF<Bits<STATE_BITS>>,
@@ -232,19 +206,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// one cycle ahead so that no flag multiplexer sits in front of the RAM's read.
     ra: DFF<Bits<CTX_ADDR_BITS>>,
     cmd_err: DFF<Bit>,
-    /// Per-axis stops: requested and not yet flushed by PICK; PICK's view of axis m's
-    /// (registered a cycle ahead like its other flags); the axis flushed in the last
-    /// cycle, whose FIFO stays held for the pulse stage's last entry.
+    /// Per-axis stops: requested and not yet flushed by PICK; the axis flushed in the
+    /// last cycle, whose FIFO stays held for the pulse stage's last entry.
     stop_pend: DFF<Bits<K>>,
-    pf_stop: DFF<Bit>,
     fl_v: DFF<Bit>,
     fl_a: DFF<Bits<8>>,
     stop_all: Signal<Local, Bits<K>>,
-    /// `stop_all` shifted down by axis m + 1 (bit 0 is its stop: a shift, not a
-    /// BitPick, whose bus would be built and read in this block).
-    stop_sh: Signal<Local, Bits<K>>,
-    nx_stop: Signal<Local, Bit>,
-    pk_stop: Signal<Local, Bit>,
     /// PICK flushes axis m in this cycle.
     axis_flush: Signal<Local, Bit>,
     m_bit: Signal<Local, Bits<K>>,
@@ -263,15 +230,15 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     ramp: StopRamp<K>,
     /// A pending controlled stop on an axis that is not running becomes its hard stop.
     cs_hard: Signal<Local, Bits<K>>,
-    cs_sh: Signal<Local, Bits<K>>,
-    nx_cs: Signal<Local, Bit>,
-    pf_cs: DFF<Bit>,
-    cd_sh: Signal<Local, Bits<K>>,
-    nx_cd: Signal<Local, Bit>,
-    pf_cd: DFF<Bit>,
+    /// Axis m's stop requests in PICK: AxisView's registers, or at K = 1 the requests
+    /// themselves (latency 0, so that a stop handled in PICK is not seen again in the
+    /// next cycle's PICK; AxisView cannot give them without a loop, see there).
+    cs_pend: Signal<Local, Bits<K>>,
+    cd_pend: Signal<Local, Bits<K>>,
+    pk_stop: Signal<Local, Bit>,
+    pk_cs: Signal<Local, Bit>,
     pk_cd: Signal<Local, Bit>,
     axis_drop: Signal<Local, Bit>,
-    pk_cs: Signal<Local, Bit>,
     /// PICK cuts axis m (its queue and next slot dropped, its current segment ended).
     axis_cut: Signal<Local, Bit>,
     /// The scheduler takes axis m's controlled-stop request in this cycle.
@@ -282,11 +249,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     s_dl1: DFF<Bits<LAST_BITS>>,
     s_rest: DFF<Bit>,
     s_crev: DFF<Bit>,
-    /// v0² and 2^8·DECEL, the ramp's distance quotient's operands, and n = that + 1.
-    cs_num: Signal<Local, Bits<DIV_NUM_BITS>>,
-    cs_n: Signal<Local, Bits<32>>,
-    cs_den: Signal<Local, Bits<64>>,
-    c_two32: Constant<Bits<DIV_NUM_BITS>>,
     pe_delta: Signal<Local, Bits<32>>,
     // Working copy of axis m's context.
     w_kind: DFF<Bits<2>>,
@@ -303,23 +265,6 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     w_ur: DFF<Bits<32>>,
     w_uqs: DFF<Bits<32>>,
     w_urs: DFF<Bits<32>>,
-    // Setup temporaries.
-    /// The queue head's v0 and signed step count, loaded in S_CHECK straight from the
-    /// segment RAM's registered read (the head's T goes into `op_b`): no multiplexer
-    /// follows the RAM's clock-to-out. S_ISSUE_VT moves T and the count into w_t and w_n.
-    s_v0: DFF<Bits<32>>,
-    s_steps: DFF<Bits<32>>,
-    // |values| < 2^61 (docs/model.md, "Widths"), so 64 bits two's complement.
-    /// D·2^32 from S_VT, its magnitude from S_TR on; `s_neg` is D < 0 (decelerating).
-    s_d: DFF<Bits<64>>,
-    s_neg: DFF<Bit>,
-    /// v_end·T·2^32 from S_VT (read in S_TR, as the multiplier starts), T² from S_TR on.
-    s_vt2: DFF<Bits<64>>,
-    /// S_TR's two tests, registered a state earlier so that S_TR decides from flip-flops:
-    /// the step count is 0 (from |steps| in S_ISSUE_TR) and D = 0, i.e. v0·T = n·2^32
-    /// (from the product in S_VT, an equality, no subtraction).
-    s_nz: DFF<Bit>,
-    s_dz: DFF<Bit>,
     /// Axis m's current slot, loaded in PICK from the registered flags (`pk_slot`): the
     /// context RAM's write address takes it from here, not through the K:1 slot
     /// multiplexer. Writes happen in S_COMMIT_STEP and S_COMMIT_SETUP, on the axis and
@@ -332,44 +277,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// or U_STEP, pushed in S_COMMIT_STEP (m unchanged), or a promoted dwell's T
     /// (loaded into w_e in S_PROMOTE with E_prev = 0), pushed in S_PUSH_DWELL.
     pe_valid: DFF<Bit>,
-    /// The pipelined multiplier's operands.
-    op_a: DFF<Bits<32>>,
-    op_b: DFF<Bits<32>>,
     /// The entry's step and last flags, and E before the step (Δ = w_e − s_eprev).
     pe_step: DFF<Bit>,
     pe_last: DFF<Bit>,
     s_eprev: DFF<Bits<32>>,
     pe_entry: Signal<Local, Bits<ENTRY_BITS>>,
 
-    // Axis m + 1's flags, through the K:1 multiplexers (indexed by `next_m`).
-    nx_kind: Signal<Local, Bits<2>>,
-    nx_queued: Signal<Local, Bit>,
-    nx_full: Signal<Local, Bit>,
-    nx_next_valid: Signal<Local, Bit>,
-    nx_next_dwell: Signal<Local, Bit>,
-    all_sat: Signal<Local, Bit>,
-    /// PICK's inputs, registered a cycle ahead: every cycle they load axis m + 1's
-    /// flags (and whether every axis is satisfied), and every state that enters PICK
-    /// moves m to m + 1, so in PICK they hold axis m's flags from one cycle earlier. Only
-    /// the scheduler changes an axis's kind, next slot and slot, and in the cycle
-    /// before a PICK it acts on a different axis (K ≥ 2), so those are exact; the
-    /// queue count and the FIFO's `full` can be one cycle old (see the module docs).
-    /// K = 1 reads the flags directly (no multiplexer, and axis m + 1 is axis m).
-    pf_kind: DFF<Bits<2>>,
-    pf_queued: DFF<Bit>,
-    pf_full: DFF<Bit>,
-    pf_next_valid: DFF<Bit>,
-    pf_next_dwell: DFF<Bit>,
-    pf_slot: DFF<Bit>,
-    pf_sat: DFF<Bit>,
-    // What PICK decides from: the registers above, or (K = 1) the flags directly.
-    pk_kind: Signal<Local, Bits<2>>,
-    pk_queued: Signal<Local, Bit>,
-    pk_full: Signal<Local, Bit>,
-    pk_next_valid: Signal<Local, Bit>,
-    pk_next_dwell: Signal<Local, Bit>,
-    pk_slot: Signal<Local, Bit>,
-    pk_sat: Signal<Local, Bit>,
     /// Axis m's next slot holds a dwell, loaded in PICK for S_PROMOTE.
     w_nd: DFF<Bit>,
     promote_now: Signal<Local, Bit>,
@@ -382,22 +295,12 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     // will be after this clock edge.
     addr_promote: Signal<Local, Bits<CTX_ADDR_BITS>>,
     addr_next: Signal<Local, Bits<CTX_ADDR_BITS>>,
+    /// Axis m + 1's slot: the view's slot bus shifted down by m + 1, bit 0.
+    slot_sh: Signal<Local, Bits<K>>,
     slot_nm: Signal<Local, Bit>,
     other_slot: Signal<Local, Bit>,
-    // Decoded queue head.
-    h_v0: Signal<Local, Bits<32>>,
-    h_t: Signal<Local, Bits<32>>,
-    h_steps: Signal<Local, Bits<32>>,
+    // |steps| of the head.
     h_n: Signal<Local, Bits<32>>,
-    // Datapath.
-    dq: Signal<Local, Bits<64>>,
-    vend: Signal<Local, Bits<64>>,
-    n64: Signal<Local, Bits<64>>,
-    narrow: Signal<Local, Bits<64>>,
-    t_num: Signal<Local, Bits<DIV_NUM_BITS>>,
-    p_test: Signal<Local, Bits<65>>,
-    p_wide: DFF<Bit>,
-    p_ready: DFF<Bit>,
     last: DFF<Bit>,
     a_step: Signal<Local, Bits<100>>,
     /// E from the root's τ' in one addition: ⌊(τ' + 8)/16⌋ accelerating, and
@@ -478,6 +381,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     /// with `stop_axes` ignored, which costs nothing (the machine I/O's top uses this).
     pub fn with_axis_stops(mut self) -> Self {
         self.c_stops = Constant::new(((1u64 << K) - 1).into());
+        self.view = self.view.with_axis_stops();
         self
     }
 
@@ -486,6 +390,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     pub fn with_controlled_stop(mut self) -> Self {
         self.c_cs = Constant::new(((1u64 << K) - 1).into());
         self.c_cs_on = Constant::new(true);
+        self.setup = self.setup.with_controlled_stop();
+        self.view = self.view.with_controlled_stop();
         self.with_axis_stops()
     }
 
@@ -536,16 +442,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             sel_busy: Default::default(),
             fsm_state: Default::default(),
             queues: SegQueue::new(),
-            q_pick: std::array::from_fn(BitPick::new),
             bank: Default::default(),
-            pend_bus: std::array::from_fn(BitInsert::new),
-            full_pick: std::array::from_fn(BitPick::new),
-            ctx: std::array::from_fn(|_| Default::default()),
+            view: Default::default(),
             ctx_ram: Default::default(),
-            mulw: Default::default(),
-            mul: Default::default(),
-            div: Default::default(),
             root: Default::default(),
+            setup: Default::default(),
             st: Default::default(),
             m: Default::default(),
             nm: Default::default(),
@@ -554,13 +455,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             ra: Default::default(),
             cmd_err: Default::default(),
             stop_pend: Default::default(),
-            pf_stop: Default::default(),
             fl_v: Default::default(),
             fl_a: Default::default(),
-            stop_sh: Default::default(),
             stop_all: Default::default(),
-            nx_stop: Default::default(),
-            pk_stop: Default::default(),
             axis_flush: Default::default(),
             m_bit: Default::default(),
             fl_bit: Default::default(),
@@ -570,25 +467,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             c_cs_on: Constant::new(false),
             ramp: Default::default(),
             cs_hard: Default::default(),
-            cs_sh: Default::default(),
-            nx_cs: Default::default(),
-            pf_cs: Default::default(),
-            cd_sh: Default::default(),
-            nx_cd: Default::default(),
-            pf_cd: Default::default(),
+            cs_pend: Default::default(),
+            cd_pend: Default::default(),
+            pk_stop: Default::default(),
+            pk_cs: Default::default(),
             pk_cd: Default::default(),
             axis_drop: Default::default(),
-            pk_cs: Default::default(),
             axis_cut: Default::default(),
             cs_clear: Default::default(),
             cs_act: Default::default(),
             s_dl1: Default::default(),
             s_rest: Default::default(),
             s_crev: Default::default(),
-            cs_num: Default::default(),
-            cs_n: Default::default(),
-            cs_den: Default::default(),
-            c_two32: Constant::new(Bits::<DIV_NUM_BITS>::from(1u64 << 32)),
             pe_delta: Default::default(),
             w_kind: Default::default(),
             w_dwell: Default::default(),
@@ -604,41 +494,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             w_ur: Default::default(),
             w_uqs: Default::default(),
             w_urs: Default::default(),
-            s_v0: Default::default(),
-            s_steps: Default::default(),
-            s_d: Default::default(),
-            s_neg: Default::default(),
-            s_vt2: Default::default(),
-            s_nz: Default::default(),
-            s_dz: Default::default(),
             w_slot: Default::default(),
             pe_valid: Default::default(),
-            op_a: Default::default(),
-            op_b: Default::default(),
             pe_step: Default::default(),
             pe_last: Default::default(),
             s_eprev: Default::default(),
             pe_entry: Default::default(),
-            nx_kind: Default::default(),
-            nx_queued: Default::default(),
-            nx_full: Default::default(),
-            nx_next_valid: Default::default(),
-            nx_next_dwell: Default::default(),
-            all_sat: Default::default(),
-            pf_kind: Default::default(),
-            pf_queued: Default::default(),
-            pf_full: Default::default(),
-            pf_next_valid: Default::default(),
-            pf_next_dwell: Default::default(),
-            pf_slot: Default::default(),
-            pf_sat: Default::default(),
-            pk_kind: Default::default(),
-            pk_queued: Default::default(),
-            pk_full: Default::default(),
-            pk_next_valid: Default::default(),
-            pk_next_dwell: Default::default(),
-            pk_slot: Default::default(),
-            pk_sat: Default::default(),
             w_nd: Default::default(),
             promote_now: Default::default(),
             nwe_now: Default::default(),
@@ -646,20 +507,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             next_m: Default::default(),
             addr_promote: Default::default(),
             addr_next: Default::default(),
+            slot_sh: Default::default(),
             slot_nm: Default::default(),
             other_slot: Default::default(),
-            h_v0: Default::default(),
-            h_t: Default::default(),
-            h_steps: Default::default(),
             h_n: Default::default(),
-            dq: Default::default(),
-            vend: Default::default(),
-            n64: Default::default(),
-            narrow: Default::default(),
-            t_num: Default::default(),
-            p_test: Default::default(),
-            p_wide: Default::default(),
-            p_ready: Default::default(),
             last: Default::default(),
             a_step: Default::default(),
             e_dec: Default::default(),
@@ -725,7 +576,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     /// Axis `axis`'s current segment as the simulation holds it: its kind (0 idle,
     /// 1 uniform, 2 accelerate, 3 decelerate) and context word.
     pub fn context(&self, axis: usize) -> (u8, ContextWord) {
-        let c = &self.ctx[axis];
+        let c = &self.view.ctx[axis];
         let addr = 2 * axis + c.slot.val() as usize;
         (c.kind.val().to_u64() as u8, self.ctx_ram.word(addr))
     }
@@ -738,20 +589,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
     fn update(&mut self) {
         dff_setup!(
             self, clock, st, m, nm, ra, cmd_err, w_kind, w_dwell, w_rev, w_n, w_i, w_t, w_e, w_p, w_b, w_a, w_uq, w_ur,
-            w_uqs, w_urs, u_q1, u_r1, u_r2, s_v0, s_steps, s_d, s_neg, s_vt2, s_nz, s_dz, w_slot, pe_valid, pf_kind, pf_queued, pf_full, pf_next_valid, pf_next_dwell, pf_slot, pf_sat, w_nd, pe_step, pe_last, s_eprev, op_a, op_b, fail_tog,
-            p_wide, p_ready, last, stop_pend, pf_stop, fl_v, fl_a, pf_cs, pf_cd, cs_act, s_dl1, s_rest, s_crev
+            w_uqs, w_urs, u_q1, u_r1, u_r2, w_slot, pe_valid, w_nd, pe_step, pe_last, s_eprev, fail_tog,
+            last, stop_pend, fl_v, fl_a, cs_act, s_dl1, s_rest, s_crev
         );
-        self.mulw.clock.next = self.clock.val();
-        // The pipelined multiplier's operands come from registers, loaded one state
-        // ahead of each product's issue: no state decode or operand select sits in
-        // front of the multiplier.
-        self.mulw.a.next = self.op_a.q.val();
-        self.mulw.b.next = self.op_b.q.val();
-        self.mul.clock.next = self.clock.val();
-        self.div.clock.next = self.clock.val();
         self.root.clock.next = self.clock.val();
-        self.mul.start.next = false;
-        self.div.start.next = false;
+        self.setup.mul_start.next = false;
+        self.setup.div_start.next = false;
         self.root.start.next = false;
         self.root.p.next = self.w_p.q.val();
         self.pe_valid.d.next = false;
@@ -777,79 +620,47 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else {
             self.nn.next = self.nm.q.val() + 1;
         }
-        self.nx_kind.next = 0.into();
-        self.nx_queued.next = false;
-        self.nx_full.next = true;
-        self.nx_next_valid.next = false;
-        self.nx_next_dwell.next = false;
-        self.slot_nm.next = false;
         // A controlled stop pending on an axis that is not moving (idle, its move not yet
         // released, or in a dwell) stops it as the hard stop does: it is at rest, so
         // there is no motion to ramp down. The hard stop's request latches it.
         self.cs_hard.next = self.ramp.pend.val() & !self.bank.moving.val() & self.c_cs.val();
         self.stop_all.next = (self.stop_pend.q.val() | self.stop_axes.val() | self.cs_hard.val()) & self.c_stops.val();
         // A request on an axis already ramping down cuts nothing: it drops the queue.
-        self.cs_sh.next = (self.ramp.pend.val() & !self.ramp.stopping.val() & self.c_cs.val()) >> self.next_m.val();
-        self.nx_cs.next = (self.cs_sh.val() & self.c_one_k.val()).any();
-        self.pf_cs.d.next = self.nx_cs.val();
-        self.cd_sh.next = (self.ramp.pend.val() & self.ramp.stopping.val() & self.c_cs.val()) >> self.next_m.val();
-        self.nx_cd.next = (self.cd_sh.val() & self.c_one_k.val()).any();
-        self.pf_cd.d.next = self.nx_cd.val();
-        self.stop_sh.next = self.stop_all.val() >> self.next_m.val();
-        // (Bit 0 by a mask: at K = 1 the Verilog is a scalar, which takes no select.)
-        self.nx_stop.next = (self.stop_sh.val() & self.c_one_k.val()).any();
-        for i in 0..K {
-            if self.next_m.val().index() == i {
-                self.nx_kind.next = self.ctx[i].kind.val();
-                self.nx_queued.next = self.q_pick[i].value.val();
-                self.nx_full.next = self.full_pick[i].value.val();
-                self.nx_next_valid.next = self.ctx[i].next_valid.val();
-                self.nx_next_dwell.next = self.ctx[i].next_dwell.val();
-                self.slot_nm.next = self.ctx[i].slot.val();
-            }
-        }
-        // Every axis satisfied: a full FIFO, or nothing to compute.
-        self.all_sat.next = self.bank.all_sat.val();
-        self.pf_kind.d.next = self.nx_kind.val();
-        self.pf_queued.d.next = self.nx_queued.val();
-        self.pf_full.d.next = self.nx_full.val();
-        self.pf_next_valid.d.next = self.nx_next_valid.val();
-        self.pf_next_dwell.d.next = self.nx_next_dwell.val();
-        self.pf_slot.d.next = self.slot_nm.val();
-        self.pf_sat.d.next = self.all_sat.val();
-        self.pf_stop.d.next = self.nx_stop.val();
+        self.cs_pend.next = self.ramp.pend.val() & !self.ramp.stopping.val() & self.c_cs.val();
+        self.cd_pend.next = self.ramp.pend.val() & self.ramp.stopping.val() & self.c_cs.val();
+        self.view.cs_pend.next = self.cs_pend.val();
+        self.view.cd_pend.next = self.cd_pend.val();
+        self.view.stop_all.next = self.stop_all.val();
         if self.c_single.val() {
-            self.pk_stop.next = self.nx_stop.val();
-            self.pk_cs.next = self.nx_cs.val();
-            self.pk_cd.next = self.nx_cd.val();
-            self.pk_kind.next = self.nx_kind.val();
-            self.pk_queued.next = self.nx_queued.val();
-            self.pk_full.next = self.nx_full.val();
-            self.pk_next_valid.next = self.nx_next_valid.val();
-            self.pk_next_dwell.next = self.nx_next_dwell.val();
-            self.pk_slot.next = self.slot_nm.val();
-            self.pk_sat.next = self.all_sat.val();
+            self.pk_stop.next = self.stop_all.val().any();
+            self.pk_cs.next = self.cs_pend.val().any();
+            self.pk_cd.next = self.cd_pend.val().any();
         } else {
-            self.pk_kind.next = self.pf_kind.q.val();
-            self.pk_queued.next = self.pf_queued.q.val();
-            self.pk_full.next = self.pf_full.q.val();
-            self.pk_next_valid.next = self.pf_next_valid.q.val();
-            self.pk_next_dwell.next = self.pf_next_dwell.q.val();
-            self.pk_slot.next = self.pf_slot.q.val();
-            self.pk_sat.next = self.pf_sat.q.val();
-            self.pk_stop.next = self.pf_stop.q.val();
-            self.pk_cs.next = self.pf_cs.q.val();
-            self.pk_cd.next = self.pf_cd.q.val();
+            self.pk_stop.next = self.view.pk_stop.val();
+            self.pk_cs.next = self.view.pk_cs.val();
+            self.pk_cd.next = self.view.pk_cd.val();
         }
+        // PICK's inputs: axis m + 1's flags, registered (AxisView).
+        self.view.clock.next = self.clock.val();
+        self.view.reset.next = self.reset.val();
+        self.view.abort.next = self.abort.val();
+        self.view.m.next = self.m.q.val();
+        self.view.next_m.next = self.nm.q.val();
+        self.view.nonempty.next = self.queues.nonempty.val();
+        self.view.full.next = self.bank.full.val();
+        // Every axis satisfied: a full FIFO, or nothing to compute.
+        self.view.all_sat.next = self.bank.all_sat.val();
         // Axis m's context word is read at `ra`, set one cycle ahead: in PICK axis m's
         // next slot for S_PROMOTE (a dwell's FIFO entry needs its T), and on every move
         // to axis m + 1 its current slot. Writes: a step's commit into the current slot,
         // a setup's commit into the next one.
         // (The other slot as a one-bit signal of its own: `~` inside a wider expression
         // inverts the zero-extended bits in the Verilog.)
-        self.other_slot.next = !self.pk_slot.val();
+        self.other_slot.next = !self.view.pk_slot.val();
         self.addr_promote.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.m.q.val()) << 1)
             | bit_cast::<CTX_ADDR_BITS, 1>(self.other_slot.val().into());
+        self.slot_sh.next = self.view.slots.val() >> self.next_m.val();
+        self.slot_nm.next = (self.slot_sh.val() & self.c_one_k.val()).any();
         self.addr_next.next = (bit_cast::<CTX_ADDR_BITS, 8>(self.next_m.val()) << 1)
             | bit_cast::<CTX_ADDR_BITS, 1>(
                 (self.slot_nm.val() ^ (self.c_single.val() & (self.st.q.val() == self.k_promote.val()))).into(),
@@ -860,10 +671,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.ra.d.next = self.ra.q.val();
 
         // ---- datapath -------------------------------------------------------
-        // Axis m's queue head: read at the edge that ends PICK, so valid in S_CHECK.
-        self.h_v0.next = self.queues.head.val().get_bits::<32>(0);
-        self.h_t.next = self.queues.head.val().get_bits::<32>(32);
-        self.h_steps.next = self.queues.head.val().get_bits::<32>(64);
         // |steps| of the head, from the signed count and its sign loaded into w_n and
         // w_rev in S_ISSUE_VT (read in S_ISSUE_TR).
         if self.w_rev.q.val() {
@@ -871,22 +678,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else {
             self.h_n.next = self.w_n.q.val();
         }
-        self.n64.next = bit_cast::<64, 32>(self.w_n.q.val());
-        self.t_num.next = bit_cast::<DIV_NUM_BITS, 32>(self.w_t.q.val());
-        // The registered 32×32 product (v0·T, T·RMAX, T²), one cycle after its operands.
-        self.narrow.next = self.mulw.p.val();
-        // D·2^32 = n·2^32 − v0·T and v_end·T·2^32 = 2n·2^32 − v0·T (two's complement).
-        self.dq.next = (self.n64.val() << 32) - self.narrow.val();
-        self.vend.next = (self.n64.val() << 33) - self.narrow.val();
-        // From the registered values in S_TR: v_end·T·2^32 + T, and |D·2^32| − T (D < 0).
-        // P' + 2T' ≥ 2^64 (the fallback test) without a 128-bit adder: the quotient's high
-        // half, or the carry out of its low half plus 2T'. Registered, with `p_ready` one
-        // cycle after the quotient is valid in S_P: S_P decides on them, so the 65-bit add
-        // is not in front of the next state, the divider's operands and P's enable.
-        self.p_test.next = bit_cast::<65, 64>(self.div.quotient.val().get_bits::<64>(0))
-            + (bit_cast::<65, 32>(self.w_t.q.val()) << 5);
-        self.p_wide.d.next = (self.div.quotient.val().get_bits::<40>(64) != 0) | self.p_test.val().get_bit(64);
-        self.p_ready.d.next = self.div.valid.val() & (self.st.q.val() == self.k_p.val());
         // C + B' accelerating (kind 2), C − B' decelerating.
         if self.w_kind.q.val() == 2 {
             self.a_step.next = self.w_a.q.val() + self.w_b.q.val();
@@ -937,52 +728,21 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.u_r2.d.next = self.ur_s.val() + self.ur_c.val();
         // The root reads c and p only at its start (P_START).
         self.root.c.next = self.a_step.val();
-        // The sequential multiplier and the divider read their operands only when
-        // started, so the operands are chosen here for every state (no zero default):
-        // n·B' in S_B, v_end·T² (decelerating) or v0·T² in S_TR.
-        if self.st.q.val() == self.k_b.val() {
-            self.mul.a.next = self.div.quotient.val().get_bits::<MUL_A_BITS>(0);
-            self.mul.b.next = self.w_n.q.val();
-        } else if self.s_neg.q.val() {
-            // P from the end speed, v_end·T² = (v_end·T·2^32)·T / 2^32.
-            self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.s_vt2.q.val());
-            self.mul.b.next = self.w_t.q.val();
-        } else {
-            self.mul.a.next = bit_cast::<MUL_A_BITS, 64>(self.narrow.val());
-            self.mul.b.next = self.s_v0.q.val();
-        }
-        // P' = round(v·T²·2^4 / (2|D·2^32|)) in S_X; B' = round(T²·2^40 / |D·2^32|) =
-        // (T²·2^41 + |D|) / (2|D|) in S_P (T² in s_vt2 by then); else the uniform
-        // quotient 2T / 2n.
-        // The stop ramp's v0 = ⌊2^32/(Δ + 1)⌋ (C_V0) and n − 1 = ⌊v0²/(2^8·DECEL)⌋ (C_N, v0²
-        // from the pipelined multiplier).
-        self.cs_den.next = bit_cast::<64, 32>(self.decel.val()) << 8;
-        self.cs_num.next = bit_cast::<DIV_NUM_BITS, 64>(self.narrow.val());
-        self.cs_n.next = self.div.quotient.val().get_bits::<32>(0) + 1;
-        if (self.st.q.val() == self.k_cv0.val()) & self.c_cs_on.val() {
-            self.div.numerator.next = self.c_two32.val();
-            self.div.denominator.next = bit_cast::<64, LAST_BITS>(self.s_dl1.q.val());
-        } else if (self.st.q.val() == self.k_cn.val()) & self.c_cs_on.val() {
-            self.div.numerator.next = self.cs_num.val();
-            self.div.denominator.next = self.cs_den.val();
-        } else if self.st.q.val() == self.k_x.val() {
-            self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, MUL_A_BITS>(self.mul.product.val()) << 4)
-                + bit_cast::<DIV_NUM_BITS, 64>(self.s_d.q.val());
-            self.div.denominator.next = self.s_d.q.val() << 1;
-        } else if (self.st.q.val() == self.k_p.val()) & !self.p_wide.q.val() {
-            self.div.numerator.next = (bit_cast::<DIV_NUM_BITS, 64>(self.s_vt2.q.val()) << 41)
-                + bit_cast::<DIV_NUM_BITS, 64>(self.s_d.q.val());
-            self.div.denominator.next = self.s_d.q.val() << 1;
-        } else {
-            self.div.numerator.next = self.t_num.val() << 1;
-            self.div.denominator.next = bit_cast::<64, 32>(self.two_n.val());
-        }
+        // The setup's datapath decodes the state (SetupPath).
+        self.setup.clock.next = self.clock.val();
+        self.setup.st.next = self.st.q.val();
+        self.setup.head.next = self.queues.head.val();
+        self.setup.w_n.next = self.w_n.q.val();
+        self.setup.w_t.next = self.w_t.q.val();
+        self.setup.decel.next = self.decel.val();
+        self.setup.dl1.next = self.s_dl1.q.val();
+        self.setup.crev.next = self.s_crev.q.val();
 
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
-            self.w_kind.d.next = self.pk_kind.val();
-            self.w_nd.d.next = self.pk_next_dwell.val();
-            self.w_slot.d.next = self.pk_slot.val();
+            self.w_kind.d.next = self.view.pk_kind.val();
+            self.w_nd.d.next = self.view.pk_next_dwell.val();
+            self.w_slot.d.next = self.view.pk_slot.val();
             self.w_rev.d.next = self.ctx_ram.r_rev.val();
             self.w_n.d.next = self.ctx_ram.r_n.val();
             self.w_i.d.next = self.ctx_ram.r_i.val();
@@ -1011,32 +771,32 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 // far; if it had more to compute, the ramp is formed from its last period.
                 self.axis_cut.next = true;
                 self.cs_clear.next = true;
-                if (self.pk_kind.val() != 0) | self.pk_next_valid.val() | self.pk_queued.val() {
+                if (self.view.pk_kind.val() != 0) | self.view.pk_next_valid.val() | self.view.pk_queued.val() {
                     self.cs_act.d.next = true;
                     self.st.d.next = self.k_cv0.val();
                 } else {
                     self.advance.next = true;
                 }
-            } else if self.pk_cd.val() & self.pk_queued.val() & self.c_cs_on.val() {
+            } else if self.pk_cd.val() & self.view.pk_queued.val() & self.c_cs_on.val() {
                 // A stop request on axis m while it ramps down: what was pushed behind
                 // the ramp is dropped (counted as taken); the ramp runs on.
                 self.axis_drop.next = true;
                 self.cs_clear.next = true;
                 self.advance.next = true;
-            } else if (self.pk_kind.val() != 0) & !self.pk_full.val() {
+            } else if (self.view.pk_kind.val() != 0) & !self.view.pk_full.val() {
                 // Axis m's next period.
-                if self.pk_kind.val() == 1 {
+                if self.view.pk_kind.val() == 1 {
                     self.st.d.next = self.k_uadd.val();
                 } else {
                     self.st.d.next = self.k_pstart.val();
                 }
-            } else if (self.pk_kind.val() == 0) & self.pk_next_valid.val() & !self.pk_full.val() {
+            } else if (self.view.pk_kind.val() == 0) & self.view.pk_next_valid.val() & !self.view.pk_full.val() {
                 // Its current segment is done and the next one is set up.
                 self.ra.d.next = self.addr_promote.val();
                 self.st.d.next = self.k_promote.val();
-            } else if !self.pk_next_valid.val()
-                & self.pk_queued.val()
-                & ((self.pk_kind.val() == 0) | self.pk_sat.val())
+            } else if !self.view.pk_next_valid.val()
+                & self.view.pk_queued.val()
+                & ((self.view.pk_kind.val() == 0) | self.view.pk_sat.val())
             {
                 // Set up its next segment: at once if it is idle, else ahead of time while
                 // every axis has a full FIFO (or nothing to do), so the setup takes only
@@ -1046,53 +806,36 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.advance.next = true;
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // The queue head goes into registers that take nothing else (v0 and the
-            // signed step count), and v0·T's operands into the multiplier's (T stays in
-            // op_b): nothing but op_a's two-way select follows the RAM's clock-to-out.
-            self.s_v0.d.next = self.h_v0.val();
-            self.s_steps.d.next = self.h_steps.val();
-            self.op_a.d.next = self.h_v0.val();
-            self.op_b.d.next = self.h_t.val();
+            // The queue head into the setup's temporaries (SetupPath).
             self.st.d.next = self.k_issue_vt.val();
         } else if self.st.q.val() == self.k_issue_vt.val() {
             // v0·T goes into the multiplier; T²'s operands are T and T (op_b holds).
             // T, the signed step count and its sign into the working copy.
-            self.op_a.d.next = self.op_b.q.val();
             self.w_dwell.d.next = false;
-            self.w_t.d.next = self.op_b.q.val();
-            self.w_n.d.next = self.s_steps.q.val();
-            self.w_rev.d.next = self.s_steps.q.val().get_bit(31);
+            self.w_t.d.next = self.setup.t.val();
+            self.w_n.d.next = self.setup.steps.val();
+            self.w_rev.d.next = self.setup.steps.val().get_bit(31);
             self.st.d.next = self.k_issue_tr.val();
         } else if self.st.q.val() == self.k_issue_tr.val() {
             // T² goes in; w_n takes |steps| (0 exactly when the signed count is 0).
             self.w_n.d.next = self.h_n.val();
-            self.s_nz.d.next = self.w_n.q.val() == 0;
             self.st.d.next = self.k_vt.val();
         } else if self.st.q.val() == self.k_vt.val() {
-            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it).
-            self.s_d.d.next = self.dq.val();
-            self.s_neg.d.next = self.dq.val().get_bit(63);
-            self.s_dz.d.next = (self.narrow.val().get_bits::<32>(0) == 0)
-                & (self.narrow.val().get_bits::<32>(32) == self.w_n.q.val());
-            self.s_vt2.d.next = self.vend.val();
+            // v0·T arrived (MulReg, two cycles after S_ISSUE_VT issued it): D and its tests.
             self.st.d.next = self.k_tr.val();
         } else if self.st.q.val() == self.k_tr.val() {
             // T² arrived. The segment is valid and effective (the push check in the bus
             // clock dropped bad ones and ran a deceleration that rounds past rest with
             // v0 − 1), so the setup only chooses its path.
-            if self.s_neg.q.val() {
-                self.s_d.d.next = (!self.s_d.q.val()) + 1;
-            }
             // The multiplier takes v_end·T·2^32 at this edge (it starts here).
-            self.s_vt2.d.next = self.narrow.val();
-            if self.s_nz.q.val() {
+            if self.setup.nz.val() {
                 self.st.d.next = self.k_dwell.val();
-            } else if self.s_dz.q.val() {
-                self.div.start.next = true;
+            } else if self.setup.dz.val() {
+                self.setup.div_start.next = true;
                 self.st.d.next = self.k_udiv.val();
             } else {
                 // v·T² needs the wide multiplier.
-                self.mul.start.next = true;
+                self.setup.mul_start.next = true;
                 self.st.d.next = self.k_x.val();
             }
         } else if self.st.q.val() == self.k_dwell.val() {
@@ -1102,9 +845,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.w_kind.d.next = 0.into();
             self.st.d.next = self.k_commit_setup.val();
         } else if self.st.q.val() == self.k_udiv.val() {
-            if self.div.valid.val() {
-                self.w_uqs.d.next = bit_cast::<32, DIV_NUM_BITS>(self.div.quotient.val());
-                self.w_urs.d.next = bit_cast::<32, 64>(self.div.remainder.val());
+            if self.setup.div_valid.val() {
+                self.w_uqs.d.next = bit_cast::<32, DIV_NUM_BITS>(self.setup.quotient.val());
+                self.w_urs.d.next = bit_cast::<32, 64>(self.setup.remainder.val());
                 self.w_uq.d.next = 0.into();
                 self.w_ur.d.next = self.w_n.q.val();
                 self.w_kind.d.next = 1.into();
@@ -1113,33 +856,33 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.st.d.next = self.k_commit_setup.val();
             }
         } else if self.st.q.val() == self.k_x.val() {
-            if self.mul.valid.val() {
+            if self.setup.mul_valid.val() {
                 // P' (the operands above).
-                self.div.start.next = true;
+                self.setup.div_start.next = true;
                 self.st.d.next = self.k_p.val();
             }
         } else if self.st.q.val() == self.k_p.val() {
-            if self.p_ready.q.val() {
-                if self.p_wide.q.val() {
+            if self.setup.p_ready.val() {
+                if self.setup.p_wide.val() {
                     // P' + 2T' does not fit the root: the nearly-uniform fallback.
-                    self.div.start.next = true;
+                    self.setup.div_start.next = true;
                     self.st.d.next = self.k_udiv.val();
                 } else {
-                    self.w_p.d.next = self.div.quotient.val().get_bits::<64>(0);
+                    self.w_p.d.next = self.setup.quotient.val().get_bits::<64>(0);
                     // B' (the operands above).
-                    self.div.start.next = true;
+                    self.setup.div_start.next = true;
                     self.st.d.next = self.k_b.val();
                 }
             }
         } else if self.st.q.val() == self.k_b.val() {
-            if self.div.valid.val() {
+            if self.setup.div_valid.val() {
                 // B' < 2^100 on the square-root paths (docs/model.md, "Widths").
-                self.w_b.d.next = self.div.quotient.val().get_bits::<100>(0);
+                self.w_b.d.next = self.setup.quotient.val().get_bits::<100>(0);
                 self.w_i.d.next = 0.into();
                 self.w_e.d.next = 0.into();
-                if self.s_neg.q.val() {
+                if self.setup.neg.val() {
                     // Decelerating: C starts at n·B' (the operands above).
-                    self.mul.start.next = true;
+                    self.setup.mul_start.next = true;
                     self.st.d.next = self.k_nb.val();
                 } else {
                     // Accelerating: C starts at 0.
@@ -1149,8 +892,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 }
             }
         } else if self.st.q.val() == self.k_nb.val() {
-            if self.mul.valid.val() {
-                self.w_a.d.next = self.mul.product.val();
+            if self.setup.mul_valid.val() {
+                self.w_a.d.next = self.setup.product.val();
                 self.w_kind.d.next = 3.into();
                 self.st.d.next = self.k_commit_setup.val();
             }
@@ -1233,15 +976,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.advance.next = true;
                 self.st.d.next = self.k_pick.val();
             } else {
-                self.div.start.next = true;
+                self.setup.div_start.next = true;
                 self.st.d.next = self.k_cv0w.val();
             }
         } else if (self.st.q.val() == self.k_cv0w.val()) & self.c_cs_on.val() {
-            if self.div.valid.val() {
-                // v0 < 2^31; v0² into the pipelined multiplier.
-                self.s_v0.d.next = self.div.quotient.val().get_bits::<32>(0);
-                self.op_a.d.next = self.div.quotient.val().get_bits::<32>(0);
-                self.op_b.d.next = self.div.quotient.val().get_bits::<32>(0);
+            if self.setup.div_valid.val() {
+                // v0 < 2^31; v0² into the pipelined multiplier (SetupPath).
                 self.st.d.next = self.k_csq1.val();
             }
         } else if (self.st.q.val() == self.k_csq1.val()) & self.c_cs_on.val() {
@@ -1250,20 +990,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.st.d.next = self.k_cn.val();
         } else if (self.st.q.val() == self.k_cn.val()) & self.c_cs_on.val() {
             // v0² arrived: n = ⌊v0²/(2^8·DECEL)⌋ + 1.
-            self.div.start.next = true;
+            self.setup.div_start.next = true;
             self.st.d.next = self.k_cnw.val();
         } else if (self.st.q.val() == self.k_cnw.val()) & self.c_cs_on.val() {
-            if self.div.valid.val() {
-                // n ≤ 2^24 (DECEL ≥ its minimum); n·(Δ + 1) into the multiplier and the
-                // signed count in the last step's direction.
-                // (−n = ¬(n − 1): the quotient's complement.)
-                if self.s_crev.q.val() {
-                    self.s_steps.d.next = !self.div.quotient.val().get_bits::<32>(0);
-                } else {
-                    self.s_steps.d.next = self.cs_n.val();
-                }
-                self.op_a.d.next = self.cs_n.val();
-                self.op_b.d.next = bit_cast::<32, LAST_BITS>(self.s_dl1.q.val());
+            if self.setup.div_valid.val() {
+                // n ≤ 2^24 (DECEL ≥ its minimum): the signed count and n·(Δ + 1) into
+                // the multiplier (SetupPath).
                 self.st.d.next = self.k_ct1.val();
             }
         } else if (self.st.q.val() == self.k_ct1.val()) & self.c_cs_on.val() {
@@ -1273,13 +1005,11 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if (self.st.q.val() == self.k_ct.val()) & self.c_cs_on.val() {
             // T = 2n(Δ + 1) ≤ 2^30: the segment (v0, T, ±n) enters the setup as a queue
             // head would after S_CHECK (v0·T's operands in op_a and op_b).
-            self.op_a.d.next = self.s_v0.q.val();
-            self.op_b.d.next = self.narrow.val().get_bits::<32>(0) << 1;
             self.st.d.next = self.k_issue_vt.val();
         } else if self.st.q.val() == self.k_drain.val() {
             // After an abort: wait until no unit still runs an abandoned operation. Like
             // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
-            if !(self.mul.busy.val() | self.div.busy.val() | self.root.busy.val()) {
+            if !(self.setup.busy.val() | self.root.busy.val()) {
                 self.advance.next = true;
                 self.st.d.next = self.k_pick.val();
             }
@@ -1396,32 +1126,19 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.queues.push_word.next = bit_cast::<SEGMENT_BITS, 32>(self.cmd_v0.val())
             | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_t.val()) << 32)
             | (bit_cast::<SEGMENT_BITS, 32>(self.cmd_steps.val()) << 64);
-        for i in 0..K {
-            self.q_pick[i].bus.next = self.queues.nonempty.val();
-            self.full_pick[i].bus.next = self.bank.full.val();
-            // Work of axis i not yet turned into entries: a segment in progress, set up
-            // or queued (the bank adds the entries in flight for its `more`).
-            self.pend_bus[i].value.next = (self.ctx[i].kind.val() != 0)
-                | self.ctx[i].next_valid.val()
-                | self.q_pick[i].value.val()
-                | (self.cs_act.q.val() & (self.m.q.val().index() == i));
-            self.ctx[i].clock.next = self.clock.val();
-            self.ctx[i].reset.next = self.flush.val() | (self.axis_flush.val() & (self.m.q.val().index() == i));
-            self.ctx[i].we.next = self.commit.val() & (self.m.q.val().index() == i);
-            self.ctx[i].nwe.next = self.nwe_now.val() & (self.m.q.val().index() == i);
-            self.ctx[i].promote.next = self.promote_now.val() & (self.m.q.val().index() == i);
-            self.ctx[i].cut.next = self.axis_cut.val() & (self.m.q.val().index() == i);
-            self.ctx[i].new_dwell.next = self.w_dwell.q.val();
-            self.ctx[i].new_kind.next = self.w_kind.q.val();
-        }
-        self.pend_bus[0].bus_in.next = 0.into();
-        for i in 1..K {
-            self.pend_bus[i].bus_in.next = self.pend_bus[i - 1].bus_out.val();
-        }
-        // The last element of the chain holds the whole bus (last assignment wins).
-        for i in 0..K {
-            self.bank.pending.next = self.pend_bus[i].bus_out.val();
-        }
+        // Axis m's context flags: a step's commit (kind), a setup's commit (next slot),
+        // a promote, a controlled stop's cut, a stop's flush.
+        self.view.we.next = self.commit.val();
+        self.view.nwe.next = self.nwe_now.val();
+        self.view.promote.next = self.promote_now.val();
+        self.view.cut.next = self.axis_cut.val();
+        self.view.axis_reset.next = self.axis_flush.val();
+        self.view.new_dwell.next = self.w_dwell.q.val();
+        self.view.new_kind.next = self.w_kind.q.val();
+        self.view.cs_act.next = self.cs_act.q.val();
+        // Work of each axis not yet turned into entries (the bank adds the entries in
+        // flight for its `more`).
+        self.bank.pending.next = self.view.pending.val();
         // (A command to an axis ≥ K is taken: the queues' `push_ready` is 1 for it.)
         if !self.cmd_ok_axis.val() {
             if self.cmd_valid.val() {
@@ -1443,17 +1160,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.m.d.next = 0.into();
             self.nm.d.next = self.c_first_next.val();
             self.ra.d.next = 0.into();
-            // Axis 0 after reset: idle, nothing queued (PICK moves on).
-            self.pf_kind.d.next = 0.into();
-            self.pf_queued.d.next = false;
-            self.pf_full.d.next = true;
-            self.pf_next_valid.d.next = false;
-            self.pf_next_dwell.d.next = false;
-            self.pf_slot.d.next = false;
-            self.pf_sat.d.next = false;
-            self.pf_stop.d.next = false;
-            self.pf_cs.d.next = false;
-            self.pf_cd.d.next = false;
             self.cs_act.d.next = false;
             self.stop_pend.d.next = 0.into();
             self.fl_v.d.next = false;

@@ -69,6 +69,7 @@ pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
 }
 
 pub mod axis_bank;
+pub mod axis_view;
 pub mod baseline;
 pub mod bit_insert;
 pub mod block_ram;
@@ -95,7 +96,9 @@ pub mod push_guard;
 pub mod ram_fifo;
 pub mod regfile;
 pub mod root;
+pub mod sched_states;
 pub mod seg_queue;
+pub mod setup_path;
 pub mod status_sync;
 pub mod step_gen;
 pub mod stop_ramp;
