@@ -6,22 +6,96 @@
 //! `nonempty`, the selected axis's level and taken counter, and the head of the axis
 //! read in the cycle before equal the model's. Flushes of one queue (`flush`, the
 //! per-axis stop), some with a push to that queue in the same cycle (written and
-//! counted taken) and some with a push to another, empty it alone.
+//! counted taken) and some with a push to another, empty it alone. A second RAM on the
+//! queue's RAM ports reads, beside every head, the field it stored for that segment.
 
 mod common;
 
 use common::*;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
-use tdm_stepper::hdl::seg_queue::{SegQueue, SEGMENT_BITS};
+use tdm_stepper::hdl::block_ram::BlockRam;
+use tdm_stepper::hdl::seg_queue::{SegQueue, SEGMENT_BITS, SEG_ADDR_BITS};
 use tdm_stepper::verify::{Port, TbSpec};
 
 const K: usize = 3;
 const QDEPTH: usize = 4;
 const CYCLES: usize = 6000;
 
-fn uut() -> SegQueue<K, QDEPTH> {
-    let mut u = SegQueue::<K, QDEPTH>::new();
+/// The queue with a second RAM on its RAM ports (`ram_we`, `ram_waddr`, `ram_raddr`)
+/// that stores each pushed word's step field (bits 95..64): `side` must read, one
+/// cycle after `head`'s address, the step field of the head, as a RAM holding more of
+/// each segment beside the queue does (the S-curve option's fields).
+#[derive(LogicBlock)]
+struct QueueWithSide {
+    clock: Signal<In, Clock>,
+    reset: Signal<In, Bit>,
+    abort: Signal<In, Bit>,
+    flush: Signal<In, Bit>,
+    push_valid: Signal<In, Bit>,
+    push_axis: Signal<In, Bits<8>>,
+    push_word: Signal<In, Bits<SEGMENT_BITS>>,
+    axis: Signal<In, Bits<8>>,
+    pop: Signal<In, Bit>,
+    sel_axis: Signal<In, Bits<8>>,
+    push_ready: Signal<Out, Bit>,
+    nonempty: Signal<Out, Bits<K>>,
+    sel_level: Signal<Out, Bits<8>>,
+    sel_taken: Signal<Out, Bits<8>>,
+    head: Signal<Out, Bits<SEGMENT_BITS>>,
+    side: Signal<Out, Bits<32>>,
+    q: SegQueue<K, QDEPTH>,
+    ram: BlockRam<32, SEG_ADDR_BITS>,
+}
+
+impl Logic for QueueWithSide {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.q.clock.next = self.clock.val();
+        self.q.reset.next = self.reset.val();
+        self.q.abort.next = self.abort.val();
+        self.q.flush.next = self.flush.val();
+        self.q.push_valid.next = self.push_valid.val();
+        self.q.push_axis.next = self.push_axis.val();
+        self.q.push_word.next = self.push_word.val();
+        self.q.axis.next = self.axis.val();
+        self.q.pop.next = self.pop.val();
+        self.q.sel_axis.next = self.sel_axis.val();
+        self.push_ready.next = self.q.push_ready.val();
+        self.nonempty.next = self.q.nonempty.val();
+        self.sel_level.next = self.q.sel_level.val();
+        self.sel_taken.next = self.q.sel_taken.val();
+        self.head.next = self.q.head.val();
+        self.ram.clock.next = self.clock.val();
+        self.ram.we.next = self.q.ram_we.val();
+        self.ram.waddr.next = self.q.ram_waddr.val();
+        self.ram.raddr.next = self.q.ram_raddr.val();
+        self.ram.wdata.next = self.push_word.val().get_bits::<32>(64);
+        self.side.next = self.ram.rdata.val();
+    }
+}
+
+fn uut() -> QueueWithSide {
+    let mut u = QueueWithSide {
+        clock: Default::default(),
+        reset: Default::default(),
+        abort: Default::default(),
+        flush: Default::default(),
+        push_valid: Default::default(),
+        push_axis: Default::default(),
+        push_word: Default::default(),
+        axis: Default::default(),
+        pop: Default::default(),
+        sel_axis: Default::default(),
+        push_ready: Default::default(),
+        nonempty: Default::default(),
+        sel_level: Default::default(),
+        sel_taken: Default::default(),
+        head: Default::default(),
+        side: Default::default(),
+        q: SegQueue::<K, QDEPTH>::new(),
+        ram: BlockRam::new(1 << SEG_ADDR_BITS),
+    };
     u.clock.connect();
     u.reset.connect();
     u.abort.connect();
@@ -63,7 +137,8 @@ fn stimulus() -> Vec<Vec<u128>> {
 
 /// Outputs per row: push_ready, nonempty, sel_level, sel_taken, head (the head of the
 /// previous row's `axis` as it was before that row's edge; None while that queue was
-/// empty, where the RAM word is not defined); and how many segments were popped.
+/// empty, where the RAM word is not defined), the side RAM's word (the head's step
+/// field); and how many segments were popped.
 fn model(rows: &[Vec<u128>]) -> (Vec<Vec<Option<u128>>>, usize) {
     let mut q: Vec<VecDeque<u128>> = vec![VecDeque::new(); K];
     let mut pops = 0;
@@ -76,7 +151,8 @@ fn model(rows: &[Vec<u128>]) -> (Vec<Vec<Option<u128>>>, usize) {
         let flush = r[8] == 1;
         let ready = pa >= K || q[pa].len() < QDEPTH;
         let nonempty = (0..K).filter(|&i| !q[i].is_empty()).map(|i| 1u128 << i).sum::<u128>();
-        out.push(vec![Some(ready as u128), Some(nonempty), Some(q[sel].len() as u128), Some(taken[sel] as u128), head]);
+        let side = head.map(|h| (h >> 64) & 0xffff_ffff);
+        out.push(vec![Some(ready as u128), Some(nonempty), Some(q[sel].len() as u128), Some(taken[sel] as u128), head, side]);
         head = q[axis].front().copied();
         if reset {
             q.iter_mut().for_each(|x| x.clear());
@@ -140,6 +216,7 @@ fn seg_queue_three_ways() {
             Port::new("sel_level", 8),
             Port::new("sel_taken", 8),
             Port::new("head", SEGMENT_BITS),
+            Port::new("side", 32),
         ],
     };
     three_ways(
@@ -164,6 +241,7 @@ fn seg_queue_three_ways() {
                 u.sel_level.val().to_u64() as u128,
                 u.sel_taken.val().to_u64() as u128,
                 bits_to_u128(u.head.val()),
+                u.side.val().to_u64() as u128,
             ]
         },
         &spec,

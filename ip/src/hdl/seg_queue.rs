@@ -43,6 +43,10 @@
 //!   `pending`: on ECP5 at K = 8 and 16 that compare was on the clock's critical
 //!   path). For axis `sel_axis`, its level (`wr − rd`) and taken counter (`rd`), from
 //!   the counters through multiplexers, no register of their own.
+//! * **The RAM's ports** (`ram_we`, `ram_waddr`, `ram_raddr`): a second RAM written and
+//!   read with them holds more of each segment at the same entry, with the same
+//!   latency as `head` (the S-curve option's fields). Wires only: unused, they cost
+//!   nothing.
 
 use super::bit_insert::BitInsert;
 use super::block_ram::BlockRam;
@@ -75,6 +79,11 @@ pub struct SegQueue<const K: usize, const QDEPTH: usize> {
     pub sel_axis: Signal<In, Bits<8>>,
     pub sel_level: Signal<Out, Bits<8>>,
     pub sel_taken: Signal<Out, Bits<8>>,
+    /// The RAM's write enable and addresses, for a RAM beside it that holds more of
+    /// each segment at the same addresses (the S-curve option's fields).
+    pub ram_we: Signal<Out, Bit>,
+    pub ram_waddr: Signal<Out, Bits<SEG_ADDR_BITS>>,
+    pub ram_raddr: Signal<Out, Bits<SEG_ADDR_BITS>>,
     ram: BlockRam<SEGMENT_BITS, SEG_ADDR_BITS>,
     wr: [DFF<Bits<8>>; K],
     rd: [DFF<Bits<8>>; K],
@@ -121,6 +130,9 @@ impl<const K: usize, const QDEPTH: usize> SegQueue<K, QDEPTH> {
             sel_axis: Default::default(),
             sel_level: Default::default(),
             sel_taken: Default::default(),
+            ram_we: Default::default(),
+            ram_waddr: Default::default(),
+            ram_raddr: Default::default(),
             ram: BlockRam::new(K * QDEPTH),
             wr: std::array::from_fn(|_| Default::default()),
             rd: std::array::from_fn(|_| Default::default()),
@@ -185,6 +197,8 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
         self.ram.wdata.next = self.push_word.val();
         self.ram.raddr.next = self.r_base.val() | (bit_cast::<SEG_ADDR_BITS, 8>(self.r_rd.val()) & self.c_mask.val());
         self.head.next = self.ram.rdata.val();
+        self.ram_waddr.next = self.ram.waddr.val();
+        self.ram_raddr.next = self.ram.raddr.val();
 
         for i in 0..K {
             self.wr[i].clock.next = self.clock.val();
@@ -247,5 +261,6 @@ impl<const K: usize, const QDEPTH: usize> Logic for SegQueue<K, QDEPTH> {
         for i in 0..K {
             self.nonempty.next = self.ne_bus[i].bus_out.val();
         }
+        self.ram_we.next = self.ram.we.val();
     }
 }
