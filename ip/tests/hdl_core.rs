@@ -12,8 +12,9 @@ mod common;
 use common::*;
 use rust_hdl::prelude::*;
 use tdm_stepper::hdl::baseline::Baseline;
-use tdm_stepper::hdl::core::{t_calc_sqrt, TdmCore, STATES, STATE_BITS};
-use tdm_stepper::model::{planner, AxisRun, Limits, Segment, SegmentPlan};
+use tdm_stepper::hdl::core::{gray, t_calc_sqrt, t_poly_step, TdmCore, STATES, STATE_BITS, T_POLY_LAST, T_POLY_SETUP};
+use tdm_stepper::model::poly::PolySegment;
+use tdm_stepper::model::{planner, AxisRun, Limits, Motion, Segment, SegmentPlan};
 use tdm_stepper::verify::{run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
 
 /// The rust-hdl trace of any core with these ports (TdmCore and Baseline).
@@ -41,6 +42,10 @@ macro_rules! rust_hdl_trace {
                 if r.len() > 12 {
                     u.cstop_axes.next = (r[12] as u64).into();
                     u.decel.next = (r[13] as u64).into();
+                }
+                // The polynomial fields, where the stimulus has them (spec_poly).
+                if r.len() > 14 {
+                    u.cmd_extra.next = r[14].to_bits();
                 }
             },
             |u| {
@@ -126,6 +131,64 @@ fn spec<const K: usize>() -> TbSpec {
 fn core_feed(segs: &[Segment]) -> Vec<Segment> {
     let limits = Limits::default();
     segs.iter().filter(|s| s.validate(&limits).is_ok()).map(|s| s.effective()).collect()
+}
+
+/// What the push check hands the core for these motions: the valid ones, the
+/// trapezoids in their effective form.
+fn motion_feed(ms: &[Motion]) -> Vec<Motion> {
+    let limits = Limits::default();
+    ms.iter()
+        .filter(|m| m.validate(&limits).is_ok())
+        .map(|m| match m {
+            Motion::Trapezoid(s) => Motion::Trapezoid(s.effective()),
+            p => *p,
+        })
+        .collect()
+}
+
+/// A motion's command columns: v0, T, steps and the polynomial fields (v1, A', the
+/// flag; 0 for a trapezoid).
+fn command_of(m: &Motion) -> [u128; 4] {
+    match m {
+        Motion::Trapezoid(s) => [s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128, 0],
+        Motion::Poly(p) => [
+            p.v0_rate as u128,
+            p.t_ticks as u128,
+            p.steps as u32 as u128,
+            p.v1_rate as u128 | (p.a_q32 as u64 as u128) << 32 | 1 << 96,
+        ],
+    }
+}
+
+/// [`events`] for motions, on [`spec_poly`]'s ports (no controlled stop).
+fn events_poly<const K: usize>(axes: &[Vec<Motion>], cycles: u64) -> Vec<(u64, Vec<u128>)> {
+    let idle = |sel: u128| vec![0, 0, 0, 0, 0, 0, 0, 0, sel, 0, 0, 0, 0, 0, 0];
+    let mut ev = vec![(0u64, [vec![1], idle(0)[1..].to_vec()].concat())];
+    let mut c = 3u64;
+    ev.push((c, idle(0)));
+    for (a, ms) in axes.iter().enumerate() {
+        for m in motion_feed(ms) {
+            let [v0, t, steps, extra] = command_of(&m);
+            c += 1;
+            ev.push((c, vec![0, 1, a as u128, v0, t, steps, 0, 0, 0, 0, 0, 0, 0, 0, extra]));
+        }
+    }
+    c += 1;
+    let mut go = idle(0);
+    go[6] = 1;
+    go[7] = (1u128 << K) - 1;
+    ev.push((c, go));
+    c += 1;
+    ev.push((c, idle(0)));
+    for a in 0..K {
+        ev.push((cycles - 2 * (K - a) as u64, idle(a as u128)));
+    }
+    ev
+}
+
+fn cycles_for_motions(axes: &[Vec<Motion>]) -> u64 {
+    let limits = Limits::default();
+    axes.iter().map(|s| AxisRun::run_motions(s, &limits).end_tick).max().unwrap() + 6000
 }
 
 /// Reset, one command per cycle (the segments the push check passes), a synchronised
@@ -218,6 +281,12 @@ fn release_of(rises: &[u64], edge_ticks: &[u64], what: &str) -> Option<i64> {
 }
 
 fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], cycles: u64, what: &str) {
+    let axes: Vec<Vec<Motion>> = axes.iter().map(|a| a.iter().map(|&s| s.into()).collect()).collect();
+    check_motions::<K>(&axes, trace, cycles, what)
+}
+
+/// As [`check_against_model`], for trapezoid and polynomial segments mixed.
+fn check_motions<const K: usize>(axes: &[Vec<Motion>], trace: &[Change], cycles: u64, what: &str) {
     let limits = Limits::default();
     let step = expand(trace, 0, cycles);
     let under = expand(trace, 2, cycles);
@@ -226,7 +295,7 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
     assert!(ready.iter().skip(4).all(|&r| r == 1), "{what}: a command was refused");
     let mut release: Option<i64> = None;
     for (a, segs) in axes.iter().enumerate() {
-        let run = AxisRun::run(segs, &limits);
+        let run = AxisRun::run_motions(segs, &limits);
         let rises = rises_of(&step, a);
         assert_eq!(rises.len(), run.edge_ticks.len(), "{what}: axis {a} step count");
         if let Some(l0) = release_of(&rises, &run.edge_ticks, &format!("{what}: axis {a}")) {
@@ -235,7 +304,7 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
         // Status reads at the end: position and the segment counts.
         let sel_cycle = (cycles - 2 * (K - a) as u64 + 1) as usize;
         assert_eq!(pos[sel_cycle] as u32 as i32 as i64, run.position, "{what}: axis {a} position");
-        let fed = core_feed(segs).len() as u128;
+        let fed = motion_feed(segs).len() as u128;
         assert_eq!(fed, (segs.len() - run.rejected.len()) as u128, "{what}: axis {a}: the model rejects what the check drops");
         let taken = expand(trace, 7, cycles)[sel_cycle];
         let done = expand(trace, 8, cycles)[sel_cycle];
@@ -771,6 +840,103 @@ fn one_axis_stops_and_the_other_runs_on() {
     assert_eq!(pos[sel1] as u32 as i32 as i64, signed_before + run_after.position, "axis 1's position: the edges before the stop, then the new move");
     let taken = expand(&reference, 7, cycles)[sel1];
     assert_eq!(taken, (core_feed(&axes[1]).len() + feed.len()) as u128, "axis 1: every segment taken (the stopped ones flushed)");
+}
+
+/// The S-curve core's ports: the controlled stop's, and `cmd_extra`.
+fn spec_poly<const K: usize>() -> TbSpec {
+    let mut s = spec_cs::<K>();
+    s.inputs.push(Port::new("cmd_extra", 97));
+    s
+}
+
+fn uut_poly<const K: usize>() -> TdmCore<K, R, DEPTH, QDEPTH, 1> {
+    connect_core!(TdmCore::<K, R, DEPTH, QDEPTH, 1>::new())
+}
+
+/// Motions of both kinds for a two-axis core, shortest period about 250 ticks: axis 0
+/// a trapezoid move, a cubic from rest to speed and back, a dwell, a cubic in reverse
+/// and a trapezoid again; axis 1 a jerk-limited move (seven phases) each way, with
+/// a rejected polynomial segment (its speed reverses inside it) between them.
+fn mixed_moves() -> Vec<Vec<Motion>> {
+    mixed_moves_slower(1)
+}
+
+/// [`mixed_moves`] `s` times slower (every duration × s, every speed / s).
+fn mixed_moves_slower(s: u32) -> Vec<Vec<Motion>> {
+    let limits = Limits::default();
+    let tr = |v: Vec<Segment>| v.into_iter().map(Motion::from).collect::<Vec<_>>();
+    let v1 = ((1u64 << 32) / (250 * s as u64)) as u32;
+    let cubic = |v0, v1, t: u32, n| Motion::from(PolySegment::cubic(v0, v1, t * s, n).unwrap());
+    let f = s as f64;
+    let jl = |steps| {
+        tdm_stepper::model::scurve::jerk_limited(steps, 0.0, 0.0, 4000.0 / f, 4.0e5 / (f * f), 8.0e7 / (f * f * f), 3.0e5 / (f * f), 6.0e7 / (f * f * f), 1_000_000, &limits)
+            .unwrap()
+    };
+    let sc = |t: [u32; 3]| t.map(|x| x * s);
+    vec![
+        [
+            tr(plan(20, sc([3000, 1000, 3000]))),
+            vec![cubic(0, v1, 3000, 6), cubic(v1, 0, 3000, 6), Segment::dwell(2000 * s).into(), cubic(0, 0, 4000, -5)],
+            tr(plan(-12, sc([2000, 500, 2000]))),
+        ]
+        .concat(),
+        [jl(60), vec![Motion::from(PolySegment::new(0, 0, -(40i64 << 32), 3000 * s, 5))], jl(-45)].concat(),
+    ]
+}
+
+/// The S-curve core (S = 1) runs trapezoid and polynomial segments mixed on two axes,
+/// every edge the model's, in rust-hdl and in Verilator (the same trace).
+#[test]
+fn mixed_trapezoid_and_polynomial_segments_match_the_model() {
+    const K: usize = 2;
+    let axes = mixed_moves();
+    let limits = Limits::default();
+    let rejected: usize = axes.iter().map(|a| AxisRun::run_motions(a, &limits).rejected.len()).sum();
+    assert_eq!(rejected, 1, "the move list has its one rejected segment");
+    let poly: usize = axes.iter().flatten().filter(|m| matches!(m, Motion::Poly(_))).count();
+    assert!(poly >= 10, "{poly} polynomial segments");
+    let cycles = cycles_for_motions(&axes);
+    let ev = events_poly::<K>(&axes, cycles);
+    let reference = rust_hdl_trace!(uut_poly::<K>(), &ev, cycles);
+    check_motions::<K>(&axes, &reference, cycles, "S-curve core, rust-hdl");
+    // The scheduler's time per polynomial setup and period, from the state trace:
+    // S_CHECK to S_COMMIT_SETUP for a setup, PICK to S_COMMIT_STEP for a period.
+    let code = |n: &str| gray(STATES.iter().position(|s| *s == n).unwrap()) as u128;
+    let st = expand(&reference, 6, cycles);
+    let run_to = |c: usize, end: &str| (c..st.len()).find(|&e| st[e] == code(end)).unwrap() - c + 1;
+    let setups: Vec<usize> = (1..st.len()).filter(|&c| st[c] == code("Y_SETUP") && st[c - 1] != code("Y_SETUP")).map(|c| run_to(c - 1, "S_COMMIT_SETUP")).collect();
+    let periods: Vec<usize> = (1..st.len()).filter(|&c| st[c] == code("Y_WAIT") && st[c - 1] == code("PICK")).map(|c| run_to(c - 1, "S_COMMIT_STEP")).collect();
+    let fed = |f: &dyn Fn(&PolySegment) -> bool| axes.iter().flat_map(|a| motion_feed(a)).filter(|m| matches!(m, Motion::Poly(p) if f(p))).count();
+    assert_eq!(setups.len(), fed(&|p| p.steps != 0), "one lane setup per polynomial segment with steps");
+    assert!(setups.iter().all(|&l| l == T_POLY_SETUP), "setups {setups:?} take T_POLY_SETUP = {T_POLY_SETUP}");
+    let n_poly: u32 = axes.iter().flat_map(|a| motion_feed(a)).map(|m| if let Motion::Poly(p) = m { p.n_steps() } else { 0 }).sum();
+    assert_eq!(periods.len() as u32, n_poly, "one lane request per polynomial step");
+    let lasts = periods.iter().filter(|&&l| l == T_POLY_LAST).count();
+    assert_eq!(lasts, fed(&|p| p.steps != 0), "one last step (no search) per segment");
+    assert!(periods.iter().all(|&l| l == T_POLY_LAST || l >= t_poly_step(1)), "a searched period takes t_poly_step(search)");
+    let verilog = generate_verilog(&uut_poly::<K>());
+    let got = run_sparse(Simulator::Verilator, &sim_dir("core_poly_k2", Simulator::Verilator), &verilog, &spec_poly::<K>(), &ev, cycles).unwrap();
+    check_motions::<K>(&axes, &got, cycles, "S-curve core, Verilator");
+    same_traces(&got, &reference, "S-curve core");
+}
+
+/// The same on K = 1, 4, 8 and 16 axes (Verilator), the two axes' moves cycled over
+/// the axes and slowed down K times (K = 1: as for K = 2), every edge the model's.
+#[test]
+fn mixed_segments_on_one_four_eight_and_sixteen_axes() {
+    fn run<const K: usize>() {
+        let two = mixed_moves_slower(K.max(2) as u32 / 2);
+        let axes: Vec<Vec<Motion>> = (0..K).map(|a| two[a % 2].clone()).collect();
+        let cycles = cycles_for_motions(&axes);
+        let ev = events_poly::<K>(&axes, cycles);
+        let name = format!("core_poly_k{K}");
+        let got = run_sparse(Simulator::Verilator, &sim_dir(&name, Simulator::Verilator), &generate_verilog(&uut_poly::<K>()), &spec_poly::<K>(), &ev, cycles).unwrap();
+        check_motions::<K>(&axes, &got, cycles, &name);
+    }
+    run::<1>();
+    run::<4>();
+    run::<8>();
+    run::<16>();
 }
 
 /// The controlled-stop core's ports: the core's, and `cstop_axes` and `decel`.

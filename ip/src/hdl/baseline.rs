@@ -10,6 +10,7 @@
 use super::bit_insert::{BitInsert, BitPick};
 use super::axis_bank::LATCH_BITS;
 use super::core::{TdmCore, STATE_BITS};
+use super::poly_lane::POLY_EXTRA_BITS;
 use super::sync_start::SyncStart;
 use rust_hdl::prelude::*;
 
@@ -22,6 +23,8 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub cmd_v0: Signal<In, Bits<32>>,
     pub cmd_t: Signal<In, Bits<32>>,
     pub cmd_steps: Signal<In, Bits<32>>,
+    /// Ignored (the baseline has no S-curve option); as [`TdmCore`]'s.
+    pub cmd_extra: Signal<In, Bits<POLY_EXTRA_BITS>>,
     pub cmd_ready: Signal<Out, Bit>,
     pub cmd_error: Signal<Out, Bit>,
     pub abort: Signal<In, Bit>,
@@ -96,6 +99,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
             cmd_v0: Default::default(),
             cmd_t: Default::default(),
             cmd_steps: Default::default(),
+            cmd_extra: Default::default(),
             cmd_ready: Default::default(),
             cmd_error: Default::default(),
             abort: Default::default(),
@@ -190,6 +194,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
             self.cores[i].cmd_v0.next = self.cmd_v0.val();
             self.cores[i].cmd_t.next = self.cmd_t.val();
             self.cores[i].cmd_steps.next = self.cmd_steps.val();
+            self.cores[i].cmd_extra.next = self.cmd_extra.val();
             self.cores[i].start.next = false;
             self.cores[i].start_mask.next = 0.into();
             self.go_pick[i].bus.next = self.sync.go.val() | self.ext_go.val();

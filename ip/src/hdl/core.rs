@@ -67,6 +67,18 @@
 //! hard stop (above). Segments pushed after the request queue behind the ramp. Only a
 //! core built [`TdmCore::with_controlled_stop`] has it.
 //!
+//! **S-curve lane** (S = 1; the default S = 0 has none and costs nothing). A
+//! polynomial segment ([`crate::model::poly::PolySegment`]) is pushed with its fields
+//! in `cmd_extra` (v1, A', the flag) and queued like any other; the [`PolyLane`]
+//! keeps those fields beside the queue and every axis's polynomial flags. S_CHECK
+//! sends a polynomial head to `Y_SETUP`, which asks the lane's unit to set it up into
+//! axis m's next slot ([`T_POLY_SETUP`] cycles in all); PICK asks it for the next
+//! period of a running polynomial segment ([`t_poly_step`]) and waits in `Y_WAIT`. The
+//! context holds such a segment as kind 1 (running); the periods go through the FIFO
+//! entry and the commit as a trapezoid's do, so stops, the start and the counters
+//! treat both kinds alike (a controlled stop forms a trapezoid ramp from the last
+//! period). Every use is gated by the localparam `c_poly`.
+//!
 //! **Counters** for the register bus (8 bits each, wrapping, per axis, read through
 //! `sel_axis`): segments taken from the queue (`sel_taken`, counting the ones an abort
 //! flushes), done (`sel_done`: their last period ended) and underruns begun
@@ -86,6 +98,8 @@ use super::seg_queue::SegQueue;
 pub use super::seg_queue::{MAX_QUEUE_DEPTH, SEGMENT_BITS};
 use super::axis_bank::{AxisBank, LATCH_BITS};
 use super::stop_ramp::{StopRamp, LAST_BITS};
+use super::poly_lane::{PolyLane, POLY_EXTRA_BITS};
+use super::poly_unit::{POLY_UNIT_MAX_AXES, UNIT_LAST_CYCLES, UNIT_LOAD_CYCLES, UNIT_SETUP_CYCLES};
 use rust_hdl::prelude::*;
 
 /// Cycles the scheduler spends per period on the square-root paths (accelerating and
@@ -121,11 +135,27 @@ pub const fn t_stop_form(r: usize) -> usize {
     7 + 2 * div_latency(r) + t_setup(r, true)
 }
 
+/// Cycles the scheduler spends on a polynomial segment's setup (S = 1), from S_CHECK
+/// to S_COMMIT_SETUP inclusive: S_CHECK, Y_SETUP, the unit's setup
+/// ([`UNIT_SETUP_CYCLES`]) and the commit. Measured by tests/hdl_core.rs.
+pub const T_POLY_SETUP: usize = UNIT_SETUP_CYCLES + 3;
+
+/// Cycles from PICK to S_COMMIT_STEP inclusive for a polynomial period whose search
+/// takes `search` cycles ([`crate::model::poly::GallopStats::unit_cycles`]): PICK, the
+/// unit's load ([`UNIT_LOAD_CYCLES`]), the search, its `done`, the commit. A segment's
+/// last step has no search: [`T_POLY_LAST`]. Measured by tests/hdl_core.rs.
+pub const fn t_poly_step(search: usize) -> usize {
+    UNIT_LOAD_CYCLES + search + 3
+}
+
+/// [`t_poly_step`] for a segment's last step (E_n = T, no search).
+pub const T_POLY_LAST: usize = UNIT_LAST_CYCLES + 2;
+
 const _: () = assert!(CTX_MAX_AXES == super::seg_queue::MAX_QUEUE_AXES);
 
 
 #[derive(LogicBlock)]
-pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
+pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize = 0> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub cmd_valid: Signal<In, Bit>,
@@ -133,6 +163,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub cmd_v0: Signal<In, Bits<32>>,
     pub cmd_t: Signal<In, Bits<32>>,
     pub cmd_steps: Signal<In, Bits<32>>,
+    /// The command's polynomial fields ([`PolyLane`]: v1, A', the flag); only a core
+    /// with the S-curve option (S = 1) reads them.
+    pub cmd_extra: Signal<In, Bits<POLY_EXTRA_BITS>>,
     pub cmd_ready: Signal<Out, Bit>,
     pub cmd_error: Signal<Out, Bit>,
     /// Hard stop of every axis (one cycle); see the module docs.
@@ -192,6 +225,23 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// The setup's datapath: the multipliers, the divider and their temporaries.
     setup: SetupPath<R>,
     root: OffsetRoot<R>,
+    /// The S-curve option's lane (S = 1), or none (S = 0: no Verilog, no cost).
+    lanes: [PolyLane<K>; S],
+    /// S = 1, a localparam gating every state and write of the lane (see
+    /// [`SetupPath`] for why not a port).
+    c_poly: Constant<Bit>,
+    // The lane's requests and outputs (0 without it).
+    y_setup: Signal<Local, Bit>,
+    y_step: Signal<Local, Bit>,
+    y_slot: Signal<Local, Bit>,
+    y_head_poly: Signal<Local, Bit>,
+    y_pk_poly: Signal<Local, Bit>,
+    y_busy: Signal<Local, Bit>,
+    y_done: Signal<Local, Bit>,
+    y_was_setup: Signal<Local, Bit>,
+    y_period: Signal<Local, Bits<32>>,
+    y_last: Signal<Local, Bit>,
+    h_steps: Signal<Local, Bits<32>>,
 
     st: DFF<Bits<STATE_BITS>>,
     m: DFF<Bits<8>>,
@@ -372,9 +422,11 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     k_ct1: Constant<Bits<STATE_BITS>>,
     k_ct2: Constant<Bits<STATE_BITS>>,
     k_ct: Constant<Bits<STATE_BITS>>,
+    k_ysetup: Constant<Bits<STATE_BITS>>,
+    k_ywait: Constant<Bits<STATE_BITS>>,
 }
 
-impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> TdmCore<K, R, DEPTH, QDEPTH> {
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize> TdmCore<K, R, DEPTH, QDEPTH, S> {
     /// A core for segments already validated (by the push check, against the
     /// export's minimum period); the core itself checks nothing.
     /// The core with the per-axis stop (`stop_axes`) working; [`Self::new`] builds it
@@ -401,6 +453,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             QDEPTH.is_power_of_two() && (2..=MAX_QUEUE_DEPTH).contains(&QDEPTH),
             "TdmCore: queue depth {QDEPTH} is not a power of two in 2..={MAX_QUEUE_DEPTH}"
         );
+        assert!(S <= 1, "TdmCore: S = {S}: one polynomial lane at most");
+        assert!(S == 0 || K <= POLY_UNIT_MAX_AXES, "TdmCore: K = {K} above the polynomial unit's {POLY_UNIT_MAX_AXES} axes");
         TdmCore {
             clock: Default::default(),
             reset: Default::default(),
@@ -409,6 +463,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             cmd_v0: Default::default(),
             cmd_t: Default::default(),
             cmd_steps: Default::default(),
+            cmd_extra: Default::default(),
             cmd_ready: Default::default(),
             cmd_error: Default::default(),
             abort: Default::default(),
@@ -447,6 +502,19 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             ctx_ram: Default::default(),
             root: Default::default(),
             setup: Default::default(),
+            lanes: std::array::from_fn(|_| Default::default()),
+            c_poly: Constant::new(S > 0),
+            y_setup: Default::default(),
+            y_step: Default::default(),
+            y_slot: Default::default(),
+            y_head_poly: Default::default(),
+            y_pk_poly: Default::default(),
+            y_busy: Default::default(),
+            y_done: Default::default(),
+            y_was_setup: Default::default(),
+            y_period: Default::default(),
+            y_last: Default::default(),
+            h_steps: Default::default(),
             st: Default::default(),
             m: Default::default(),
             nm: Default::default(),
@@ -568,6 +636,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
             k_ct1: state("C_T1"),
             k_ct2: state("C_T2"),
             k_ct: state("C_T"),
+            k_ysetup: state("Y_SETUP"),
+            k_ywait: state("Y_WAIT"),
         }
     }
 
@@ -582,8 +652,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Td
     }
 }
 
-impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic
-    for TdmCore<K, R, DEPTH, QDEPTH>
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize> Logic
+    for TdmCore<K, R, DEPTH, QDEPTH, S>
 {
     #[hdl_gen]
     fn update(&mut self) {
@@ -608,6 +678,9 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.axis_cut.next = false;
         self.axis_drop.next = false;
         self.cs_clear.next = false;
+        self.y_setup.next = false;
+        self.y_step.next = false;
+        self.y_slot.next = self.w_slot.q.val();
         self.fsm_state.next = self.st.q.val();
         self.cmd_error.next = self.cmd_err.q.val();
 
@@ -738,6 +811,25 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.setup.dl1.next = self.s_dl1.q.val();
         self.setup.crev.next = self.s_crev.q.val();
 
+        // ---- the S-curve option's lane (S = 1): its outputs -----------------
+        self.h_steps.next = self.queues.head.val().get_bits::<32>(64);
+        self.y_head_poly.next = false;
+        self.y_pk_poly.next = false;
+        self.y_busy.next = false;
+        self.y_done.next = false;
+        self.y_was_setup.next = false;
+        self.y_period.next = 0.into();
+        self.y_last.next = false;
+        for i in 0..S {
+            self.y_head_poly.next = self.lanes[i].head_poly.val();
+            self.y_pk_poly.next = self.lanes[i].pk_poly.val();
+            self.y_busy.next = self.lanes[i].busy.val();
+            self.y_done.next = self.lanes[i].done.val();
+            self.y_was_setup.next = self.lanes[i].was_setup.val();
+            self.y_period.next = self.lanes[i].period.val();
+            self.y_last.next = self.lanes[i].last.val();
+        }
+
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
             self.w_kind.d.next = self.view.pk_kind.val();
@@ -785,7 +877,18 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.advance.next = true;
             } else if (self.view.pk_kind.val() != 0) & !self.view.pk_full.val() {
                 // Axis m's next period.
-                if self.view.pk_kind.val() == 1 {
+                if self.y_pk_poly.val() & self.c_poly.val() {
+                    // A polynomial segment (kind 1 in the context): the lane's unit
+                    // computes it; while the unit still stores its last request's
+                    // state, the axis waits for its next turn.
+                    if self.y_busy.val() {
+                        self.advance.next = true;
+                    } else {
+                        self.y_step.next = true;
+                        self.y_slot.next = self.view.pk_slot.val();
+                        self.st.d.next = self.k_ywait.val();
+                    }
+                } else if self.view.pk_kind.val() == 1 {
                     self.st.d.next = self.k_uadd.val();
                 } else {
                     self.st.d.next = self.k_pstart.val();
@@ -806,8 +909,48 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
                 self.advance.next = true;
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // The queue head into the setup's temporaries (SetupPath).
-            self.st.d.next = self.k_issue_vt.val();
+            // The queue head into the setup's temporaries (SetupPath); a polynomial
+            // head with steps goes to the lane instead (one without is a dwell).
+            if self.y_head_poly.val() & (self.h_steps.val() != 0) & self.c_poly.val() {
+                self.st.d.next = self.k_ysetup.val();
+            } else {
+                self.st.d.next = self.k_issue_vt.val();
+            }
+        } else if (self.st.q.val() == self.k_ysetup.val()) & self.c_poly.val() {
+            // The head (still read at axis m) into the lane's unit, for axis m's next
+            // slot; the working copy takes its T, signed steps and sign, and the
+            // context kind 1 (running) with i = E = 0.
+            if !self.y_busy.val() {
+                self.y_setup.next = true;
+                self.w_dwell.d.next = false;
+                self.w_kind.d.next = 1.into();
+                self.w_t.d.next = self.queues.head.val().get_bits::<32>(32);
+                self.w_n.d.next = self.h_steps.val();
+                self.w_rev.d.next = self.h_steps.val().get_bit(31);
+                self.w_i.d.next = 0.into();
+                self.w_e.d.next = 0.into();
+                self.st.d.next = self.k_ywait.val();
+            }
+        } else if (self.st.q.val() == self.k_ywait.val()) & self.c_poly.val() {
+            if self.y_done.val() {
+                if self.y_was_setup.val() {
+                    // w_n takes |steps|.
+                    self.w_n.d.next = self.h_n.val();
+                    self.st.d.next = self.k_commit_setup.val();
+                } else {
+                    // The period into the FIFO entry (E_prev = 0, E = the period).
+                    self.pe_valid.d.next = true;
+                    self.pe_step.d.next = true;
+                    self.pe_last.d.next = self.y_last.val();
+                    self.s_eprev.d.next = 0.into();
+                    self.w_e.d.next = self.y_period.val();
+                    self.w_i.d.next = self.i_next.val();
+                    if self.y_last.val() {
+                        self.w_kind.d.next = 0.into();
+                    }
+                    self.st.d.next = self.k_commit_step.val();
+                }
+            }
         } else if self.st.q.val() == self.k_issue_vt.val() {
             // v0·T goes into the multiplier; T²'s operands are T and T (op_b holds).
             // T, the signed step count and its sign into the working copy.
@@ -1009,7 +1152,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         } else if self.st.q.val() == self.k_drain.val() {
             // After an abort: wait until no unit still runs an abandoned operation. Like
             // every way into PICK, it moves to axis m + 1 (PICK's flags are axis m + 1's).
-            if !(self.setup.busy.val() | self.root.busy.val()) {
+            if !(self.setup.busy.val() | self.root.busy.val() | self.y_busy.val()) {
                 self.advance.next = true;
                 self.st.d.next = self.k_pick.val();
             }
@@ -1051,6 +1194,29 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Lo
         self.ctx_ram.w_ur.next = self.w_ur.q.val();
         self.ctx_ram.w_uqs.next = self.w_uqs.q.val();
         self.ctx_ram.w_urs.next = self.w_urs.q.val();
+
+        // ---- the S-curve option's lane: its inputs ---------------------------
+        for i in 0..S {
+            self.lanes[i].clock.next = self.clock.val();
+            self.lanes[i].reset.next = self.reset.val();
+            self.lanes[i].abort.next = self.abort.val();
+            self.lanes[i].q_we.next = self.queues.ram_we.val();
+            self.lanes[i].q_waddr.next = self.queues.ram_waddr.val();
+            self.lanes[i].q_raddr.next = self.queues.ram_raddr.val();
+            self.lanes[i].push_extra.next = self.cmd_extra.val();
+            self.lanes[i].head.next = self.queues.head.val();
+            self.lanes[i].setup.next = self.y_setup.val();
+            self.lanes[i].step.next = self.y_step.val();
+            self.lanes[i].axis.next = self.m.q.val();
+            self.lanes[i].slot.next = self.y_slot.val();
+            self.lanes[i].next_m.next = self.nm.q.val();
+            self.lanes[i].nwe.next = self.nwe_now.val();
+            // A setup's commit: from the queue unless it is a stop ramp or a dwell.
+            self.lanes[i].from_queue.next = !self.cs_act.q.val() & !self.w_dwell.q.val();
+            self.lanes[i].promote.next = self.promote_now.val();
+            self.lanes[i].cut.next = self.axis_cut.val();
+            self.lanes[i].axis_reset.next = self.axis_flush.val();
+        }
 
         // ---- per-axis wiring ------------------------------------------------
         self.cmd_ok_axis.next = self.cmd_axis.val() <= self.c_last_axis.val();

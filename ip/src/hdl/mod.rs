@@ -43,6 +43,7 @@ macro_rules! core_connect_ports {
             self.cmd_v0.connect();
             self.cmd_t.connect();
             self.cmd_steps.connect();
+            self.cmd_extra.connect();
             self.start.connect();
             self.start_mask.connect();
             self.sel_axis.connect();
@@ -88,6 +89,7 @@ pub mod lut_ram;
 pub mod machine_io;
 pub mod pulse_stage;
 pub mod poly_check;
+pub mod poly_lane;
 pub mod poly_setup;
 pub mod poly_step;
 pub mod poly_unit;

@@ -9,9 +9,9 @@ pub const STATE_BITS: usize = 5;
 
 /// The scheduler's states, in the order of their Gray codes (state k has code
 /// `k ^ (k >> 1)`): consecutive states differ in one bit.
-pub const STATES: [&str; 30] = [
+pub const STATES: [&str; 32] = [
     "PICK", "S_CHECK", "S_ISSUE_VT", "S_ISSUE_TR", "S_VT", "S_TR", "S_DWELL", "S_UDIV", "S_X", "S_P", "S_B", "S_NB", "S_COMMIT_SETUP", "P_START", "P_WAIT", "U_ADD", "U_STEP", "S_COMMIT_STEP", "S_PROMOTE", "S_PUSH_DWELL",
-    "S_DRAIN", "C_V0", "C_V0_WAIT", "C_SQ1", "C_SQ2", "C_N", "C_N_WAIT", "C_T1", "C_T2", "C_T",
+    "S_DRAIN", "C_V0", "C_V0_WAIT", "C_SQ1", "C_SQ2", "C_N", "C_N_WAIT", "C_T1", "C_T2", "C_T", "Y_SETUP", "Y_WAIT",
 ];
 
 /// Gray code of state number `k`.

@@ -266,6 +266,7 @@ macro_rules! stepper_top {
                 self.core.cmd_v0.next = self.c_word.q.val().get_bits::<32>(0);
                 self.core.cmd_t.next = self.c_word.q.val().get_bits::<32>(32);
                 self.core.cmd_steps.next = self.c_word.q.val().get_bits::<32>(64);
+                self.core.cmd_extra.next = 0.into();
                 self.core.cmd_axis.next = self.c_word.q.val().get_bits::<8>(96);
                 self.core.start_mask.next = self.c_word.q.val().get_bits::<K>(0);
                 self.core.ext_go.next = 0.into();

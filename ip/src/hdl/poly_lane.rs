@@ -1,0 +1,217 @@
+//! The S-curve option's lane beside the scheduler: the polynomial unit
+//! ([`PolyUnit`]), the queued segments' polynomial fields, and which axes run a
+//! polynomial segment. The scheduler ([`super::core::TdmCore`] with S = 1) sends it
+//! requests and takes its periods; a core without the option has no lane (no Verilog,
+//! no cost). Checked three ways inside the core (tests/hdl_core.rs: mixed segments
+//! against the model, rust-hdl and Verilator), where its ports are driven as the
+//! scheduler drives them.
+//!
+//! **Queued fields.** A RAM beside the segment queue ([`super::seg_queue::SegQueue`]),
+//! written and read at the queue's own addresses (`q_we`, `q_waddr`, `q_raddr`): per
+//! queued segment `push_extra` = the polynomial flag (bit 96), A' (95..32) and v1
+//! (31..0), read with the queue's `head` (latency 1): `head_poly` says the head is a
+//! polynomial segment.
+//!
+//! **Requests** (one at a time, while `busy` is low; latency: [`PolyUnit`]'s):
+//! * `setup` sets up the queue head (`head`: v0, T, signed steps, and the fields
+//!   above) into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
+//!   takes the other one);
+//! * `step` asks for the next period of axis `axis`'s current slot (`slot`).
+//!
+//! `done` pulses when the request is served; for a step `period` (ticks) and `last`
+//! (the segment's last step) hold until the next request, and `was_setup` says which
+//! request it was. Every output is a register (the scheduler's process reads them:
+//! an output that followed an input combinationally would close a loop between the
+//! two blocks' processes).
+//!
+//! **Per-axis flags** (latency 1): `cur_poly` bit i (axis i's current segment is a
+//! polynomial one) and `next_poly` (its next slot's). `nwe` (the scheduler's commit
+//! into axis `axis`'s next slot) sets its `next_poly` to `from_queue & head_poly` (a
+//! stop ramp, formed by the scheduler, is a trapezoid); `promote` moves it into
+//! `cur_poly`; `cut` (a controlled stop drops the next slot) clears `next_poly`;
+//! `axis_reset` clears both, `abort` and `reset` every axis's. `pk_poly`: axis
+//! `next_m`'s `cur_poly` registered for the next PICK (K ≥ 2), or axis 0's directly at
+//! K = 1, as [`super::axis_view::AxisView`] gives PICK its flags.
+
+use super::block_ram::BlockRam;
+use super::poly_unit::PolyUnit;
+use super::seg_queue::{SEGMENT_BITS, SEG_ADDR_BITS};
+use rust_hdl::prelude::*;
+
+/// The polynomial fields of a queued segment: v1 (31..0), A' (95..32), the flag (96).
+pub const POLY_EXTRA_BITS: usize = 97;
+
+#[derive(LogicBlock)]
+pub struct PolyLane<const K: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub abort: Signal<In, Bit>,
+    pub q_we: Signal<In, Bit>,
+    pub q_waddr: Signal<In, Bits<SEG_ADDR_BITS>>,
+    pub q_raddr: Signal<In, Bits<SEG_ADDR_BITS>>,
+    pub push_extra: Signal<In, Bits<POLY_EXTRA_BITS>>,
+    pub head: Signal<In, Bits<SEGMENT_BITS>>,
+    pub setup: Signal<In, Bit>,
+    pub step: Signal<In, Bit>,
+    pub axis: Signal<In, Bits<8>>,
+    pub slot: Signal<In, Bit>,
+    pub next_m: Signal<In, Bits<8>>,
+    pub nwe: Signal<In, Bit>,
+    pub from_queue: Signal<In, Bit>,
+    pub promote: Signal<In, Bit>,
+    pub cut: Signal<In, Bit>,
+    pub axis_reset: Signal<In, Bit>,
+    pub head_poly: Signal<Out, Bit>,
+    pub pk_poly: Signal<Out, Bit>,
+    pub busy: Signal<Out, Bit>,
+    pub done: Signal<Out, Bit>,
+    pub was_setup: Signal<Out, Bit>,
+    pub period: Signal<Out, Bits<32>>,
+    pub last: Signal<Out, Bit>,
+    unit: PolyUnit,
+    extra: BlockRam<POLY_EXTRA_BITS, SEG_ADDR_BITS>,
+    cur_poly: DFF<Bits<K>>,
+    next_poly: DFF<Bits<K>>,
+    req_setup: DFF<Bit>,
+    pf_poly: DFF<Bit>,
+    /// Axis `axis`'s bit, and `next_m`'s flag shifted down to bit 0.
+    m_bit: Signal<Local, Bits<K>>,
+    nx_sh: Signal<Local, Bits<K>>,
+    nx_poly: Signal<Local, Bit>,
+    u_slot: Signal<Local, Bits<1>>,
+    h_steps: Signal<Local, Bits<32>>,
+    h_neg: Signal<Local, Bits<32>>,
+    c_one_k: Constant<Bits<K>>,
+    c_single: Constant<Bit>,
+}
+
+impl<const K: usize> Default for PolyLane<K> {
+    fn default() -> Self {
+        PolyLane {
+            clock: Default::default(),
+            reset: Default::default(),
+            abort: Default::default(),
+            q_we: Default::default(),
+            q_waddr: Default::default(),
+            q_raddr: Default::default(),
+            push_extra: Default::default(),
+            head: Default::default(),
+            setup: Default::default(),
+            step: Default::default(),
+            axis: Default::default(),
+            slot: Default::default(),
+            next_m: Default::default(),
+            nwe: Default::default(),
+            from_queue: Default::default(),
+            promote: Default::default(),
+            cut: Default::default(),
+            axis_reset: Default::default(),
+            head_poly: Default::default(),
+            pk_poly: Default::default(),
+            busy: Default::default(),
+            done: Default::default(),
+            was_setup: Default::default(),
+            period: Default::default(),
+            last: Default::default(),
+            unit: PolyUnit::new(K),
+            extra: BlockRam::new(1 << SEG_ADDR_BITS),
+            cur_poly: Default::default(),
+            next_poly: Default::default(),
+            req_setup: Default::default(),
+            pf_poly: Default::default(),
+            m_bit: Default::default(),
+            nx_sh: Default::default(),
+            nx_poly: Default::default(),
+            u_slot: Default::default(),
+            h_steps: Default::default(),
+            h_neg: Default::default(),
+            c_one_k: Constant::new(1.into()),
+            c_single: Constant::new(K == 1),
+        }
+    }
+}
+
+impl<const K: usize> Logic for PolyLane<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, cur_poly, next_poly, req_setup, pf_poly);
+        // ---- the queued fields ------------------------------------------------
+        self.extra.clock.next = self.clock.val();
+        self.extra.we.next = self.q_we.val();
+        self.extra.waddr.next = self.q_waddr.val();
+        self.extra.wdata.next = self.push_extra.val();
+        self.extra.raddr.next = self.q_raddr.val();
+        self.head_poly.next = self.extra.rdata.val().get_bit(96);
+
+        // ---- the unit ---------------------------------------------------------
+        // n = |steps| (a polynomial segment has n ≥ 1).
+        self.h_steps.next = self.head.val().get_bits::<32>(64);
+        self.h_neg.next = (!self.h_steps.val()) + 1;
+        self.unit.clock.next = self.clock.val();
+        self.unit.setup.next = self.setup.val();
+        self.unit.step.next = self.step.val();
+        self.unit.axis.next = self.axis.val().get_bits::<4>(0);
+        // A setup goes into the next slot, a step reads the current one.
+        if self.slot.val() ^ self.setup.val() {
+            self.u_slot.next = 1.into();
+        } else {
+            self.u_slot.next = 0.into();
+        }
+        self.unit.slot.next = self.u_slot.val();
+        self.unit.in_v0.next = self.head.val().get_bits::<32>(0);
+        self.unit.in_t.next = self.head.val().get_bits::<32>(32);
+        if self.h_steps.val().get_bit(31) {
+            self.unit.in_n.next = self.h_neg.val();
+        } else {
+            self.unit.in_n.next = self.h_steps.val();
+        }
+        self.unit.in_v1.next = self.extra.rdata.val().get_bits::<32>(0);
+        self.unit.in_a.next = self.extra.rdata.val().get_bits::<64>(32);
+        if self.setup.val() | self.step.val() {
+            self.req_setup.d.next = self.setup.val();
+        }
+        self.busy.next = self.unit.busy.val();
+        self.done.next = self.unit.done.val();
+        self.period.next = self.unit.period.val();
+        self.last.next = self.unit.last.val();
+        self.was_setup.next = self.req_setup.q.val();
+
+        // ---- per-axis flags ---------------------------------------------------
+        self.m_bit.next = self.c_one_k.val() << self.axis.val();
+        if self.nwe.val() {
+            if self.from_queue.val() & self.head_poly.val() {
+                self.next_poly.d.next = self.next_poly.q.val() | self.m_bit.val();
+            } else {
+                self.next_poly.d.next = self.next_poly.q.val() & !self.m_bit.val();
+            }
+        }
+        if self.promote.val() {
+            if (self.next_poly.q.val() & self.m_bit.val()).any() {
+                self.cur_poly.d.next = self.cur_poly.q.val() | self.m_bit.val();
+            } else {
+                self.cur_poly.d.next = self.cur_poly.q.val() & !self.m_bit.val();
+            }
+            self.next_poly.d.next = self.next_poly.q.val() & !self.m_bit.val();
+        }
+        if self.cut.val() {
+            self.next_poly.d.next = self.next_poly.q.val() & !self.m_bit.val();
+        }
+        if self.axis_reset.val() {
+            self.cur_poly.d.next = self.cur_poly.q.val() & !self.m_bit.val();
+            self.next_poly.d.next = self.next_poly.q.val() & !self.m_bit.val();
+        }
+        if self.reset.val() | self.abort.val() {
+            self.cur_poly.d.next = 0.into();
+            self.next_poly.d.next = 0.into();
+        }
+        // PICK's flag: axis m + 1's, registered (K = 1: axis 0's register itself).
+        self.nx_sh.next = self.cur_poly.q.val() >> self.next_m.val();
+        self.nx_poly.next = (self.nx_sh.val() & self.c_one_k.val()).any();
+        self.pf_poly.d.next = self.nx_poly.val() & !self.reset.val();
+        if self.c_single.val() {
+            self.pk_poly.next = self.cur_poly.q.val().any();
+        } else {
+            self.pk_poly.next = self.pf_poly.q.val();
+        }
+    }
+}
