@@ -30,6 +30,14 @@ pub const MAX_AXES: usize = regs::MAX_AXES;
 /// (docs/architecture.md, "FIFO depth"; `fifo_depth_covers_a_setup_at_the_minimum_period`).
 /// The FIFO's LUT RAM has 32 entries whatever the depth, so the depth costs no area.
 pub const FIFO_DEPTH: usize = 8;
+
+/// Cycles per period the S-curve option plans for on each axis (`--profiles
+/// trapezoid,scurve`): the sustainable period is K times this. A polynomial period
+/// takes the scheduler `t_poly_step` (the search + 9: 78 median on planned moves,
+/// 4 for a segment's last step) and the next polynomial request waits the unit's
+/// five-cycle write-back; the period FIFO (depth 8) carries the longer searches. Held
+/// by the core's streaming test at half the rate it allows.
+pub const POLY_T_CALC: usize = 100;
 /// Period FIFO depths an export supports.
 pub const FIFO_DEPTHS: [usize; 1] = [FIFO_DEPTH];
 /// Core clock range, Hz (the identity register holds it; every period is in ticks).
@@ -150,6 +158,9 @@ pub struct ExportOptions {
     /// all`). Their ports are not in the Verilog, their registers and fields not in the
     /// table, and their logic is gated off by constants (synthesis removes it).
     pub io_omit: u8,
+    /// The S-curve option (`--profiles trapezoid,scurve`): polynomial segments beside
+    /// the trapezoid ones (TDM only).
+    pub scurve: bool,
 }
 
 impl Default for ExportOptions {
@@ -163,8 +174,27 @@ impl Default for ExportOptions {
             min_period: None,
             io: false,
             io_omit: 0,
+            scurve: false,
         }
     }
+}
+
+/// `--profiles LIST`: the segment kinds the core runs: `trapezoid` (always) and
+/// `scurve` (polynomial segments: the S-curve option). Returns whether `scurve` is in.
+pub fn parse_profiles(s: &str) -> Result<bool, String> {
+    let mut scurve = false;
+    let mut trapezoid = false;
+    for p in s.split(',').map(str::trim) {
+        match p {
+            "trapezoid" => trapezoid = true,
+            "scurve" => scurve = true,
+            other => return Err(format!("--profiles {s:?}: unknown profile {other:?}; profiles are trapezoid, scurve")),
+        }
+    }
+    if !trapezoid {
+        return Err(format!("--profiles {s:?}: trapezoid is always built (the stop ramps are trapezoids): use trapezoid or trapezoid,scurve"));
+    }
+    Ok(scurve)
 }
 
 /// The machine I/O's groups, as `--io` names them.
@@ -235,6 +265,9 @@ impl ExportOptions {
         if self.io && self.io_omit & regs::IO_ALL == regs::IO_ALL {
             return Err("--io: no group left to export".into());
         }
+        if self.scurve && self.arch == Arch::Baseline {
+            return Err("--profiles scurve with --arch baseline: the S-curve option is built for the TDM core only".into());
+        }
         if self.io && self.arch == Arch::Baseline {
             return Err("--io with --arch baseline: the machine I/O is built for the TDM core only".into());
         }
@@ -258,10 +291,11 @@ impl ExportOptions {
             clock_hz: self.clock_hz,
             queue_depth: QUEUE_DEPTH,
             fifo_depth: self.fifo_depth,
-            t_calc: t_calc_sqrt(RADIX_BITS),
+            t_calc: if self.scurve { POLY_T_CALC } else { t_calc_sqrt(RADIX_BITS) },
             min_period: self.min_period_ticks() as u32,
             io: self.io,
             io_omit: if self.io { self.io_omit } else { 0 },
+            scurve: self.scurve,
         }
     }
 
@@ -275,7 +309,7 @@ impl ExportOptions {
     /// for the TDM core (the shared unit serves K axes), t_calc for the baseline,
     /// and never below the 2-tick minimum of the step generator.
     pub fn sustainable_period_ticks(&self) -> u64 {
-        let t = t_calc_sqrt(RADIX_BITS) as u64;
+        let t = if self.scurve { POLY_T_CALC } else { t_calc_sqrt(RADIX_BITS) } as u64;
         let k = match self.arch {
             Arch::Tdm => self.axes as u64,
             Arch::Baseline => 1,
@@ -293,8 +327,8 @@ impl ExportOptions {
 macro_rules! stepper_fn {
     ($fname:ident, $top:ident) => {
         #[inline(never)]
-        fn $fname<const K: usize>(params: CoreParams) -> String {
-            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH>::new(params));
+        fn $fname<const K: usize, const S: usize>(params: CoreParams) -> String {
+            let mut u = Box::new($top::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH, S>::new(params));
             u.connect_ports();
             generate_verilog(u.as_ref())
         }
@@ -308,9 +342,11 @@ macro_rules! dispatch {
     ($opts:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
         let o = $opts;
         match o.arch {
-            Arch::Tdm if o.io => match o.axes { $($k => tdm_io_verilog::<$k>($params),)* _ => unreachable!() },
-            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k>($params),)* _ => unreachable!() },
-            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb>($params),)* _ => unreachable!() },
+            Arch::Tdm if o.io && o.scurve => match o.axes { $($k => tdm_io_verilog::<$k, 1>($params),)* _ => unreachable!() },
+            Arch::Tdm if o.io => match o.axes { $($k => tdm_io_verilog::<$k, 0>($params),)* _ => unreachable!() },
+            Arch::Tdm if o.scurve => match o.axes { $($k => tdm_verilog::<$k, 1>($params),)* _ => unreachable!() },
+            Arch::Tdm => match o.axes { $($k => tdm_verilog::<$k, 0>($params),)* _ => unreachable!() },
+            Arch::Baseline => match o.axes { $($kb => baseline_verilog::<$kb, 0>($params),)* _ => unreachable!() },
         }
     }};
 }
@@ -527,7 +563,7 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         axes: opts.axes,
         clock_hz: opts.clock_hz,
         radix_bits: RADIX_BITS,
-        t_calc_cycles: t_calc_sqrt(RADIX_BITS),
+        t_calc_cycles: opts.params().t_calc,
         t_calc_uniform_cycles: crate::hdl::core::T_CALC_UNIFORM,
         queue_depth: QUEUE_DEPTH,
         period_fifo_depth: opts.fifo_depth,

@@ -51,6 +51,10 @@ enum Command {
         /// pins, logic and registers; `none` (the default) leaves them all out at no cost.
         #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
         io: export::IoChoice,
+        /// Segment kinds the core runs: trapezoid, or trapezoid,scurve (the S-curve
+        /// option: polynomial segments and their registers; TDM only).
+        #[arg(long, default_value = "trapezoid", value_parser = export::parse_profiles, action = clap::ArgAction::Set)]
+        profiles: bool,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -131,6 +135,10 @@ enum Command {
         /// without it.
         #[arg(long, default_value = "none", value_parser = export::parse_io, action = clap::ArgAction::Set)]
         io: export::IoChoice,
+        /// Segment kinds the core runs: trapezoid, or trapezoid,scurve (the S-curve
+        /// option: polynomial segments and their registers; TDM only).
+        #[arg(long, default_value = "trapezoid", value_parser = export::parse_profiles, action = clap::ArgAction::Set)]
+        profiles: bool,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -148,8 +156,8 @@ enum Command {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, out } => {
-            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit };
+        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, profiles, out } => {
+            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit, scurve: profiles };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = export::export(&opts, &out)?;
@@ -206,7 +214,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 .into());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io } => {
+        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io, profiles } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
@@ -232,6 +240,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 cached_only,
                 io: io.io,
                 io_omit: io.omit,
+                scurve: profiles,
             };
             let repo = std::env::current_dir().map_err(|e| e.to_string())?;
             let (s, files) = sweep::run(&opts, &repo)?;

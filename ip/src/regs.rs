@@ -101,6 +101,8 @@ pub enum Feature {
     /// Machine I/O and safety (`export --io GROUPS`): a core exported with any of these
     /// groups ([`IO_GROUPS`] bits) has the register.
     Io(u8),
+    /// The S-curve option (`export --profiles trapezoid,scurve`): polynomial segments.
+    Scurve,
 }
 
 /// The machine I/O's groups (`export --io`), defined with their model.
@@ -133,6 +135,9 @@ pub struct CoreParams {
     pub io: bool,
     /// With the machine I/O: the groups left out ([`IO_GROUPS`] bits; 0 for `--io all`).
     pub io_omit: u8,
+    /// The S-curve option (`export --profiles trapezoid,scurve`): polynomial segments,
+    /// their staging registers and check.
+    pub scurve: bool,
 }
 
 impl CoreParams {
@@ -156,6 +161,7 @@ impl CoreParams {
         match feature {
             Feature::Base => true,
             Feature::Io(groups) => self.io_groups() & groups != 0,
+            Feature::Scurve => self.scurve,
         }
     }
 
@@ -224,6 +230,10 @@ fn fg(groups: u8, name: &'static str, lsb: u32, width: u32, access: Access, doc:
 
 fn reg(name: &'static str, offset: u16, per_axis: bool, reset: Reset, fields: Vec<Field>, doc: &'static str) -> Register {
     Register { name, offset, per_axis, reset, fields, doc, feature: Feature::Base }
+}
+
+fn poly_reg(name: &'static str, offset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
+    Register { name, offset, per_axis: false, reset: Reset::Value(0), fields, doc, feature: Feature::Scurve }
 }
 
 fn io_reg(name: &'static str, offset: u16, per_axis: bool, reset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
@@ -486,6 +496,18 @@ pub fn table() -> Vec<Register> {
             "Probe latch: the axis's position when the filtered probe input changed in the IO_EDGES direction (every axis in the same tick); 0 after reset.",
         ),
         io_reg_of(IO_PROBE, "PROBE_POS_HI", 0xE, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PROBE_POS_LO or HOME_POS_LO read")], "Probe latch, high half (read PROBE_POS_LO first)."),
+        // The S-curve option (export --profiles trapezoid,scurve).
+        poly_reg("POLY_V1_LO", 0x40, vec![f("VALUE", 0, 16, Rw, "end speed v1, Q0.32 steps per tick, bits 15:0")], "Polynomial staging (global): end speed, low half."),
+        poly_reg("POLY_V1_HI", 0x41, vec![f("VALUE", 0, 16, Rw, "v1 bits 31:16")], "Polynomial staging: end speed, high half."),
+        poly_reg("POLY_A_0", 0x42, vec![f("VALUE", 0, 16, Rw, "A' = A·2^32 (signed 64-bit, two's complement), bits 15:0")], "Polynomial staging: A' (A = a0·T²/2, the distance the start acceleration a0 alone adds over the segment, in steps), bits 15:0."),
+        poly_reg("POLY_A_1", 0x43, vec![f("VALUE", 0, 16, Rw, "A' bits 31:16")], "Polynomial staging: A', bits 31:16."),
+        poly_reg("POLY_A_2", 0x44, vec![f("VALUE", 0, 16, Rw, "A' bits 47:32")], "Polynomial staging: A', bits 47:32."),
+        poly_reg("POLY_A_3", 0x45, vec![f("VALUE", 0, 16, Rw, "A' bits 63:48 (the sign in bit 15)")], "Polynomial staging: A', bits 63:48."),
+        poly_reg(
+            "POLY_ARM", 0x46,
+            vec![f("ARM", 0, 1, Rw, "1: the next push (a STEPS_HI write of any axis) is a polynomial segment {V0, T, STEPS, POLY_V1, POLY_A}; the push that is taken (not refused) clears it, and so does CTRL.ENABLE = 0")],
+            "Polynomial push: arms the next push as a polynomial (S-curve) segment, checked by the polynomial rules (the same ERROR_CODEs).",
+        ),
     ]
 }
 
@@ -690,6 +712,23 @@ fn contract(m: &mut String, p: &CoreParams) {
         v = PUSH_VERDICT_BUS_CLOCKS,
         c = COMMAND_SPACING_BUS_CLOCKS
     );
+    if p.scurve {
+        let _ = writeln!(
+            m,
+            "* **Polynomial (S-curve) segments.** Write POLY_V1_LO/HI and POLY_A_0..3 (any order, \
+             any time before the push), then POLY_ARM = 1, then the axis's V0, T and STEPS as for \
+             any push: the STEPS_HI write pushes {{V0, T, STEPS, POLY_V1, POLY_A}} as a polynomial \
+             segment and clears POLY_ARM (a refused push leaves it set, for the retry). The staging \
+             is global: push from one context at a time. The segment is checked with the polynomial \
+             rules (docs/model.md: the range, then the speed's control points, codes 1 to 6) and its \
+             verdict shows {v} bus clocks after NWE rises at the end of the STEPS_HI write (two more \
+             than a trapezoid's). A second polynomial push committed fewer than {c} bus clocks after \
+             the previous one is refused (GSTATUS.REFUSED); a START, ABORT or trapezoid push is not \
+             held by it. Trapezoid and polynomial segments mix freely in an axis's queue.",
+            v = PUSH_VERDICT_BUS_CLOCKS + (crate::hdl::push_check::POLY_PUSH_LATENCY - crate::hdl::push_check::PUSH_CHECK_LATENCY) as u64,
+            c = crate::hdl::push_check::POLY_PUSH_LATENCY
+        );
+    }
     let acc = crate::hdl::core::t_setup(crate::export::RADIX_BITS, false);
     let dec = crate::hdl::core::t_setup(crate::export::RADIX_BITS, true);
     let _ = writeln!(

@@ -2,7 +2,8 @@
 //! committed docs/registers.md and docs/tdm_stepper_regs.h (they must equal what the
 //! register table generates), the C header under gcc -Wall -Werror, the module's
 //! ports against the documented list, Verilator -Wall lint for K = 1, 2, 8 and 16
-//! (with the machine I/O at K = 1, 2, 3 and 16, and the baseline), and clear errors
+//! (with the machine I/O at K = 1, 2, 3 and 16, the S-curve option at K = 1, 3 and 16, and the
+//! baseline), and clear errors
 //! for bad arguments.
 
 mod common;
@@ -93,19 +94,24 @@ fn verilog_ports(v: &str) -> Vec<(String, String, usize)> {
 #[test]
 fn exported_verilog_lints_clean_and_has_the_documented_ports() {
     let cases = [
-        (1, "tdm", "none"),
-        (2, "tdm", "none"),
-        (8, "tdm", "none"),
-        (16, "tdm", "none"),
-        (2, "baseline", "none"),
-        (1, "tdm", "all"),
-        (3, "tdm", "all"),
-        (16, "tdm", "all"),
-        (2, "tdm", "limits,watchdog"),
-        (1, "tdm", "estop,probe"),
+        (1, "tdm", "none", "trapezoid"),
+        (2, "tdm", "none", "trapezoid"),
+        (8, "tdm", "none", "trapezoid"),
+        (16, "tdm", "none", "trapezoid"),
+        (2, "baseline", "none", "trapezoid"),
+        (1, "tdm", "all", "trapezoid"),
+        (3, "tdm", "all", "trapezoid"),
+        (16, "tdm", "all", "trapezoid"),
+        (2, "tdm", "limits,watchdog", "trapezoid"),
+        (1, "tdm", "estop,probe", "trapezoid"),
+        // The S-curve option (export --profiles trapezoid,scurve), with and without the machine I/O.
+        (1, "tdm", "none", "trapezoid,scurve"),
+        (16, "tdm", "all", "trapezoid,scurve"),
+        (3, "tdm", "limits,home", "trapezoid,scurve"),
     ];
-    for (k, arch, io) in cases {
-        let dir = export_to(&["--axes", &k.to_string(), "--arch", arch, "--io", io], &format!("export_lint_{arch}_{k}_{io}"));
+    for (k, arch, io, profiles) in cases {
+        let tag = if profiles == "trapezoid" { String::new() } else { "_scurve".into() };
+        let dir = export_to(&["--axes", &k.to_string(), "--arch", arch, "--io", io, "--profiles", profiles], &format!("export_lint_{arch}_{k}_{io}{tag}"));
         let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
         let want: Vec<(String, String, usize)> =
             export::ports(k, { let c = export::parse_io(io).unwrap(); if c.io { tdm_stepper::regs::IO_ALL & !c.omit } else { 0 } }).iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
@@ -262,6 +268,9 @@ fn bad_arguments_get_a_clear_error_and_no_panic() {
         (vec!["--name".into(), "my$core".into()], "a module name is 1 to 40"),
         (vec!["--name".into(), "module".into()], "not a Verilog keyword"),
         (vec!["--name".into(), "x".repeat(41)], "a module name is 1 to 40"),
+        (vec!["--profiles".into(), "scurve".into()], "trapezoid is always built"),
+        (vec!["--profiles".into(), "trapezoid,quintic".into()], "unknown profile"),
+        (vec!["--profiles".into(), "trapezoid,scurve".into(), "--arch".into(), "baseline".into()], "TDM core only"),
     ];
     for (args, msg) in cases {
         let out = bin().args(["export", "--out"]).arg(tmp.join("x")).args(&args).output().unwrap();

@@ -13,7 +13,7 @@ mod common;
 
 use common::*;
 use rust_hdl::prelude::*;
-use tdm_stepper::hdl::push_check::{PushCheck, PUSH_CHECK_LATENCY};
+use tdm_stepper::hdl::push_check::{PushCheck, POLY_PUSH_LATENCY, PUSH_CHECK_LATENCY};
 use tdm_stepper::hdl::regfile::CMD_BITS;
 use tdm_stepper::model::{Limits, Segment, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
 use tdm_stepper::verify::{Port, TbSpec};
@@ -215,7 +215,7 @@ fn verdicts_equal_the_model_three_ways() {
         three_ways(
             &name,
             || {
-                let mut u = PushCheck::new(limits);
+                let mut u = PushCheck::<0>::new(limits);
                 u.clock.connect();
                 u.reset.connect();
                 u.in_valid.connect();
@@ -248,6 +248,166 @@ fn verdicts_equal_the_model_three_ways() {
             &want,
         );
     }
+}
+
+/// The S-curve option's push check (S = 1), three ways: trapezoid pushes, START and
+/// ABORT as above, and polynomial pushes (kind 3, v1 and A' on `in_extra`) mixed
+/// among them. A polynomial push comes out POLY_PUSH_LATENCY cycles later, unchanged
+/// when valid, else as a rejection with the model's code (`PolySegment::validate`),
+/// or the further check's code from its cycle 3 when the segment's own checks pass;
+/// a command offered 4 cycles after it (as soon as `busy` falls) comes out after it;
+/// `poly_busy` covers its cycles 1 to 5, and `out_extra` gives a valid one's v1 and A'
+/// with its verdict.
+#[test]
+fn polynomial_pushes_three_ways() {
+    use tdm_stepper::model::poly::PolySegment;
+    let mut rng = Rng(0x5c0e_7e57_1234);
+    let limits = Limits::new(24).unwrap();
+    let trap = segments(&limits, &mut rng);
+    let polys: Vec<PolySegment> = poly::segments(&limits, &mut rng);
+    let poly_cmd = |p: &PolySegment, axis: u32| {
+        p.v0_rate as u128 | (p.t_ticks as u128) << 32 | (p.steps as u32 as u128) << 64 | (axis as u128) << 96 | 3 << 104
+    };
+    let extra = |p: &PolySegment| p.v1_rate as u128 | (p.a_q32 as u64 as u128) << 32;
+    // Rows: reset, in_valid, in_data, in_v0, ext_code, in_extra.
+    let mut rows: Vec<Vec<u128>> = vec![vec![1, 0, 0, 0, 0, 0], vec![0, 0, 0, 0, 0, 0]];
+    // (row, latency, what comes out: out_valid, out_data, rej_valid, rej_axis, rej_code)
+    let mut plan: Vec<(usize, usize, Vec<Option<u128>>)> = Vec::new();
+    let mut ext_at: Vec<(usize, u128)> = Vec::new();
+    let mut poly_rows: Vec<usize> = Vec::new();
+    // A valid polynomial push's fields on `out_extra` with its verdict.
+    let mut extra_out: Vec<(usize, u128)> = Vec::new();
+    let (mut ti, mut pi) = (0, 0);
+    let mut last_poly: Option<usize> = None;
+    let (mut codes, mut ext_wins, mut back_to_back) = (std::collections::BTreeSet::new(), 0, 0);
+    while pi < polys.len() {
+        let r = rows.len();
+        let axis = (rng.next() % 16) as u32;
+        let ext = [0u128, 0, 0, 0, 7, 9][(rng.next() % 6) as usize];
+        // A polynomial push only once the last one's check is free.
+        let poly_ok = last_poly.map_or(true, |l| r >= l + POLY_PUSH_LATENCY);
+        let choice = rng.next() % 4;
+        if choice < 2 && poly_ok {
+            let p = polys[pi];
+            pi += 1;
+            let cmd = poly_cmd(&p, axis);
+            ext_at.push((r + 3, ext));
+            let code = match p.validate(&limits) {
+                Err(e) => e.code() as u128,
+                Ok(()) => ext,
+            };
+            ext_wins += (p.validate(&limits).is_ok() && ext != 0) as usize;
+            codes.insert(code);
+            let out = if code == 0 { vec![Some(1), Some(cmd), Some(0), None, None] } else { vec![Some(0), None, Some(1), Some(axis as u128), Some(code)] };
+            if code == 0 {
+                extra_out.push((r + POLY_PUSH_LATENCY, extra(&p)));
+            }
+            rows.push(vec![0, 1, cmd, p.v0_rate as u128, 0, extra(&p)]);
+            plan.push((r, POLY_PUSH_LATENCY, out));
+            poly_rows.push(r);
+            last_poly = Some(r);
+        } else if choice == 2 {
+            let cmd = (rng.next() as u128 & 0xffff) | 1 << 104;
+            rows.push(vec![0, 1, cmd, cmd & 0xffff_ffff, 0, rng.next_u128() >> 32]);
+            plan.push((r, PUSH_CHECK_LATENCY, vec![Some(1), Some(cmd), Some(0), None, None]));
+        } else {
+            let seg = trap[ti % trap.len()];
+            ti += 1;
+            ext_at.push((r + 3, ext));
+            let out = match seg.validate(&limits) {
+                Ok(()) if ext != 0 => vec![Some(0), None, Some(1), Some(axis as u128), Some(ext)],
+                Ok(()) => vec![Some(1), Some(push(&seg.effective(), axis)), Some(0), None, None],
+                Err(e) => vec![Some(0), None, Some(1), Some(axis as u128), Some(e.code() as u128)],
+            };
+            rows.push(vec![0, 1, push(&seg, axis), seg.v0_rate as u128, 0, rng.next_u128() >> 32]);
+            plan.push((r, PUSH_CHECK_LATENCY, out));
+        }
+        if last_poly == Some(r.saturating_sub(4)) && r >= 4 {
+            back_to_back += 1;
+        }
+        // 4 to 7 cycles to the next command.
+        let gap = 4 + (rng.next() % 4) as usize;
+        for _ in 1..gap {
+            rows.push(vec![0, 0, rng.next_u128() & ((1 << CMD_BITS) - 1), rng.next() as u32 as u128, 0, rng.next_u128() >> 32]);
+        }
+    }
+    for _ in 0..10 {
+        rows.push(vec![0, 0, 0, 0, 0, 0]);
+    }
+    for r in rows.iter_mut().skip(2) {
+        r[4] = (rng.next() % 16) as u128;
+    }
+    for (r, ext) in &ext_at {
+        rows[*r][4] = *ext;
+    }
+    assert!(codes.len() >= 6, "polynomial codes seen {codes:?}");
+    assert!(ext_wins >= 3, "only {ext_wins} valid polynomial pushes the guard rejects");
+    assert!(back_to_back >= 5, "only {back_to_back} commands offered 4 cycles after a polynomial push");
+    // busy, out_valid, out_data, rej_valid, rej_axis, rej_code, poly_busy
+    let mut want: Vec<Vec<Option<u128>>> = vec![vec![Some(0), Some(0), None, Some(0), None, None, Some(0), None]; rows.len()];
+    want[0] = vec![None; 8];
+    want[1] = vec![None; 8];
+    for &(r, x) in &extra_out {
+        want[r][7] = Some(x);
+    }
+    for (r, lat, out) in &plan {
+        for b in 1..PUSH_CHECK_LATENCY {
+            want[r + b][0] = Some(1);
+        }
+        let w = &mut want[r + lat];
+        assert_eq!(w[1], Some(0), "two verdicts in one cycle (row {})", r + lat);
+        w[1..6].clone_from_slice(out);
+    }
+    for r in &poly_rows {
+        for b in 1..POLY_PUSH_LATENCY {
+            want[r + b][6] = Some(1);
+        }
+    }
+    three_ways(
+        "push_check_poly",
+        || {
+            let mut u = PushCheck::<1>::new(limits);
+            u.clock.connect();
+            u.reset.connect();
+            u.in_valid.connect();
+            u.in_data.connect();
+            u.in_v0.connect();
+            u.ext_code.connect();
+            u.in_extra.connect();
+            u.connect_all();
+            u
+        },
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.in_valid.next = r[1] == 1;
+            u.in_data.next = r[2].to_bits();
+            u.in_v0.next = Bits::<32>::from(r[3] as u64);
+            u.ext_code.next = Bits::<4>::from(r[4] as u64);
+            u.in_extra.next = r[5].to_bits();
+        },
+        |u| {
+            vec![
+                u.busy.val() as u128,
+                u.out_valid.val() as u128,
+                bits_to_u128(u.out_data.val()),
+                u.rej_valid.val() as u128,
+                u.rej_axis.val().to_u64() as u128,
+                u.rej_code.val().to_u64() as u128,
+                u.poly_busy.val() as u128,
+                bits_to_u128(u.out_extra.val()),
+            ]
+        },
+        &{
+            let mut s = spec();
+            s.inputs.push(Port::new("in_extra", 96));
+            s.outputs.push(Port::new("poly_busy", 1));
+            s.outputs.push(Port::new("out_extra", 96));
+            s
+        },
+        &rows,
+        &want,
+    );
 }
 
 /// PolyCheck (the polynomial segment's push check), three ways.
@@ -296,7 +456,7 @@ mod poly {
         twice.div_euclid(2)
     }
 
-    fn segments(limits: &Limits, rng: &mut Rng) -> Vec<PolySegment> {
+    pub(super) fn segments(limits: &Limits, rng: &mut Rng) -> Vec<PolySegment> {
         let rmax = limits.max_rate();
         let big_t = POLY_MAX_T_TICKS;
         let mut v = vec![

@@ -24,7 +24,7 @@ const K: usize = 2;
 const L: usize = PUSH_CHECK_LATENCY;
 
 fn uut() -> RegFile<K> {
-    let p = CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: 16, fifo_depth: 4, t_calc: 22, min_period: 2, io: false, io_omit: 0 };
+    let p = CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: 16, fifo_depth: 4, t_calc: 22, min_period: 2, io: false, io_omit: 0, scurve: false };
     let mut u = RegFile::<K>::new(p);
     u.clock.connect();
     u.reset.connect();
@@ -43,6 +43,8 @@ fn uut() -> RegFile<K> {
     u.cmd_almost_full.connect();
     u.start_fail_toggle.connect();
     u.guard_code.connect();
+    u.poly_arm.connect();
+    u.poly_extra.connect();
     u.connect_all();
     u
 }

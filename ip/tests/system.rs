@@ -27,7 +27,7 @@ const CLOCKS: Clocks = Clocks { clk_half_ps: 10_002, bus_half_ps: 5_001 };
 const MCU_HALF_PS: u64 = 2_976;
 
 fn params<const K: usize>() -> CoreParams {
-    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false, io_omit: 0 }
+    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false, io_omit: 0, scurve: false }
 }
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
@@ -1891,4 +1891,89 @@ fn an_export_with_only_the_limits_has_only_their_pins_and_registers() {
     assert_eq!(position(&b, &t, stopped.0), Some(r.len() as i32), "the position: the edges emitted");
     assert_eq!((v(stopped.1) >> 6 & 1, v(stopped.1) >> 1 & 1, v(stopped.2)), (1, 1, 0), "STOPPED, LIMIT_POS, idle");
     assert!(t.changes.iter().any(|(c, s)| *c > r[0] && *c < e0 && s[3] == Some(0b11)), "drv_enable high while moving");
+}
+
+
+/// The S-curve option through the bus (`export --profiles trapezoid,scurve`, K = 2, in
+/// Verilator): axis 0 a seven-phase jerk-limited move out and back, axis 1 a trapezoid
+/// move, cubics from rest to speed and back and a polynomial segment whose speed
+/// reverses inside it (rejected at the push: STATUS.ERROR with code 2, counted out of
+/// LEVEL: DONE_COUNT at the end counts the accepted ones, the segments around it
+/// unchanged). Every edge is the model's from one release
+/// tick; the polynomial staging registers read back what was written, and POLY_ARM
+/// reads 0 once its push is taken.
+#[test]
+fn scurve_moves_through_the_bus_in_verilator() {
+    use tdm_stepper::model::poly::PolySegment;
+    use tdm_stepper::model::scurve::jerk_limited;
+    use tdm_stepper::model::Motion;
+    let opts = tdm_stepper::export::ExportOptions { axes: 2, scurve: true, ..Default::default() };
+    let limits = opts.limits();
+    let hz = opts.clock_hz;
+    let jl = |steps| jerk_limited(steps, 0.0, 0.0, 50_000.0, 2.0e7, 2.0e10, 2.0e7, 2.0e10, hz, &limits).unwrap();
+    let v1 = ((1u64 << 32) / 2000) as u32;
+    let cubic = |v0, v1, t, n| Motion::from(PolySegment::cubic(v0, v1, t, n).unwrap());
+    let bad = Motion::from(PolySegment::new(0, 0, -(40i64 << 32), 30_000, 5));
+    assert_eq!(bad.validate(&limits).err().map(|e| e.code()), Some(2), "the bad segment reverses");
+    let axes: Vec<Vec<Motion>> = vec![
+        [jl(300), jl(-300)].concat(),
+        [
+            tdm_stepper::model::planner::trapezoid_by_ticks(40, [40_000, 20_000, 40_000], &limits).unwrap().into_iter().map(Motion::from).collect::<Vec<_>>(),
+            vec![cubic(0, v1, 60_000, 15), bad, cubic(v1, 0, 60_000, 15)],
+        ]
+        .concat(),
+    ];
+    let poly: usize = axes.iter().flatten().filter(|m| matches!(m, Motion::Poly(_))).count();
+    assert!(poly >= 10, "{poly} polynomial segments");
+    let mut b = bus();
+    b.enable(ENABLE_WAIT);
+    // The staging registers read back; POLY_ARM reads 1 until a push takes it.
+    b.write_reg("POLY_V1_LO", 0, 0x1234);
+    b.write_reg("POLY_A_3", 0, 0x8765);
+    b.write_reg("POLY_ARM", 0, 1);
+    let r_v1 = b.read_reg("POLY_V1_LO", 0);
+    let r_a3 = b.read_reg("POLY_A_3", 0);
+    let r_arm = b.read_reg("POLY_ARM", 0);
+    b.write_reg("POLY_ARM", 0, 0);
+    for (a, ms) in axes.iter().enumerate() {
+        for m in ms {
+            b.push_motion(a, m);
+        }
+    }
+    let r_arm_after = b.read_reg("POLY_ARM", 0);
+    let r_status = b.read_reg("STATUS", 1);
+    b.idle(200);
+    b.write_reg("START", 0, 3);
+    let end = axes.iter().map(|ms| AxisRun::run_motions(ms, &limits).end_tick).max().unwrap();
+    b.idle_until_ps(b.now_ps() + (end + 10_000) * 2 * CLOCKS.clk_half_ps);
+    let done: Vec<_> = (0..2).map(|a| b.read_reg("DONE_COUNT", a)).collect();
+    let cycles = cycles_after(&b, 2_000);
+    let t = verilator_exported_with("system_scurve", &b, cycles, opts);
+    assert_eq!(read16(&b, &t, r_v1), 0x1234, "POLY_V1_LO reads back");
+    assert_eq!(read16(&b, &t, r_a3), 0x8765, "POLY_A_3 reads back");
+    assert_eq!(read16(&b, &t, r_arm), 1, "POLY_ARM reads back");
+    assert_eq!(read16(&b, &t, r_arm_after), 0, "the last polynomial push took the arm");
+    let st = read16(&b, &t, r_status);
+    assert_eq!(st >> 8 & 1, 1, "axis 1's STATUS.ERROR after the reversing segment");
+    assert_eq!(st >> 12, 2, "ERROR_CODE 2 (would reverse)");
+    for (a, id) in done.into_iter().enumerate() {
+        assert_eq!(read16(&b, &t, id) as usize, motion_count(&axes[a], &limits), "axis {a}: DONE_COUNT is the accepted segments");
+    }
+    // Every edge the model's, one release tick.
+    let mut release = None;
+    for (a, ms) in axes.iter().enumerate() {
+        let run = AxisRun::run_motions(ms, &limits);
+        let r = rises(&t, a);
+        assert_eq!(r.len(), run.edge_ticks.len(), "axis {a} step count");
+        let l0 = r[0] as i64 - 1 - run.edge_ticks[0] as i64;
+        assert_eq!(*release.get_or_insert(l0), l0, "axis {a} released on another tick (skew)");
+        for (i, (&got, &e)) in r.iter().zip(&run.edge_ticks).enumerate() {
+            assert_eq!(got as i64, l0 + 1 + e as i64, "axis {a} edge {i}");
+        }
+    }
+}
+
+/// The segments of `ms` that pass validation.
+fn motion_count(ms: &[tdm_stepper::model::Motion], limits: &Limits) -> usize {
+    ms.iter().filter(|m| m.validate(limits).is_ok()).count()
 }

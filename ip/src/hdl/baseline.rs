@@ -15,7 +15,7 @@ use super::sync_start::SyncStart;
 use rust_hdl::prelude::*;
 
 #[derive(LogicBlock)]
-pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
+pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize = 0> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub cmd_valid: Signal<In, Bit>,
@@ -76,7 +76,7 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     c_last_axis: Constant<Bits<8>>,
 }
 
-impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Baseline<K, R, DEPTH, QDEPTH> {
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize> Baseline<K, R, DEPTH, QDEPTH, S> {
     /// As [`TdmCore::with_axis_stops`]: each one-axis core's stop works.
     pub fn with_axis_stops(mut self) -> Self {
         self.cores = self.cores.map(|c| c.with_axis_stops());
@@ -90,6 +90,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
     }
 
     pub fn new() -> Self {
+        assert!(S == 0, "Baseline: no S-curve option (S = {S})");
         assert!((1..=64).contains(&K), "Baseline: K = {K} outside 1..=64");
         Baseline {
             clock: Default::default(),
@@ -151,7 +152,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Ba
     core_connect_ports!();
 }
 
-impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for Baseline<K, R, DEPTH, QDEPTH> {
+impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize> Logic for Baseline<K, R, DEPTH, QDEPTH, S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, cmd_err, fail_tog);

@@ -94,7 +94,8 @@ use super::mul_seq::mul_seq_latency;
 use super::mul_wide::MUL_REG_LATENCY;
 use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
-use super::seg_queue::SegQueue;
+use super::block_ram::BlockRam;
+use super::seg_queue::{SegQueue, SEG_ADDR_BITS};
 pub use super::seg_queue::{MAX_QUEUE_DEPTH, SEGMENT_BITS};
 use super::axis_bank::{AxisBank, LATCH_BITS};
 use super::stop_ramp::{StopRamp, LAST_BITS};
@@ -227,6 +228,9 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     root: OffsetRoot<R>,
     /// The S-curve option's lane (S = 1), or none (S = 0: no Verilog, no cost).
     lanes: [PolyLane<K>; S],
+    /// The queued segments' polynomial fields ([`PolyLane`]'s `head_extra`), at the
+    /// segment queue's addresses (its RAM ports).
+    xram: [BlockRam<POLY_EXTRA_BITS, SEG_ADDR_BITS>; S],
     /// S = 1, a localparam gating every state and write of the lane (see
     /// [`SetupPath`] for why not a port).
     c_poly: Constant<Bit>,
@@ -503,6 +507,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             root: Default::default(),
             setup: Default::default(),
             lanes: std::array::from_fn(|_| Default::default()),
+            xram: std::array::from_fn(|_| BlockRam::new(1 << SEG_ADDR_BITS)),
             c_poly: Constant::new(S > 0),
             y_setup: Default::default(),
             y_step: Default::default(),
@@ -821,7 +826,14 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
         self.y_period.next = 0.into();
         self.y_last.next = false;
         for i in 0..S {
-            self.y_head_poly.next = self.lanes[i].head_poly.val();
+            self.xram[i].clock.next = self.clock.val();
+            self.xram[i].we.next = self.queues.ram_we.val();
+            self.xram[i].waddr.next = self.queues.ram_waddr.val();
+            self.xram[i].wdata.next = self.cmd_extra.val();
+            self.xram[i].raddr.next = self.queues.ram_raddr.val();
+            self.y_head_poly.next = self.xram[i].rdata.val().get_bit(96);
+        }
+        for i in 0..S {
             self.y_pk_poly.next = self.lanes[i].pk_poly.val();
             self.y_busy.next = self.lanes[i].busy.val();
             self.y_done.next = self.lanes[i].done.val();
@@ -1200,11 +1212,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             self.lanes[i].clock.next = self.clock.val();
             self.lanes[i].reset.next = self.reset.val();
             self.lanes[i].abort.next = self.abort.val();
-            self.lanes[i].q_we.next = self.queues.ram_we.val();
-            self.lanes[i].q_waddr.next = self.queues.ram_waddr.val();
-            self.lanes[i].q_raddr.next = self.queues.ram_raddr.val();
-            self.lanes[i].push_extra.next = self.cmd_extra.val();
             self.lanes[i].head.next = self.queues.head.val();
+            self.lanes[i].head_extra.next = self.xram[i].rdata.val();
             self.lanes[i].setup.next = self.y_setup.val();
             self.lanes[i].step.next = self.y_step.val();
             self.lanes[i].axis.next = self.m.q.val();

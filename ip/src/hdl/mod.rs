@@ -90,6 +90,7 @@ pub mod machine_io;
 pub mod pulse_stage;
 pub mod poly_check;
 pub mod poly_lane;
+pub mod poly_regs;
 pub mod poly_setup;
 pub mod poly_step;
 pub mod poly_unit;

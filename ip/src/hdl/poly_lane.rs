@@ -6,15 +6,15 @@
 //! against the model, rust-hdl and Verilator), where its ports are driven as the
 //! scheduler drives them.
 //!
-//! **Queued fields.** A RAM beside the segment queue ([`super::seg_queue::SegQueue`]),
-//! written and read at the queue's own addresses (`q_we`, `q_waddr`, `q_raddr`): per
-//! queued segment `push_extra` = the polynomial flag (bit 96), A' (95..32) and v1
-//! (31..0), read with the queue's `head` (latency 1): `head_poly` says the head is a
-//! polynomial segment.
+//! **Queued fields.** The core keeps them in a RAM beside the segment queue, at the
+//! queue's own addresses, and gives the head's as `head_extra`: the polynomial flag
+//! (bit 96), A' (95..32) and v1 (31..0). (The RAM is the core's, not the lane's: its
+//! read register then reaches the scheduler straight, with no process of the lane in
+//! between, which Verilator would see as a loop through the lane's inputs.)
 //!
 //! **Requests** (one at a time, while `busy` is low; latency: [`PolyUnit`]'s):
-//! * `setup` sets up the queue head (`head`: v0, T, signed steps, and the fields
-//!   above) into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
+//! * `setup` sets up the queue head (`head`: v0, T, signed steps, and `head_extra`)
+//!   into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
 //!   takes the other one);
 //! * `step` asks for the next period of axis `axis`'s current slot (`slot`).
 //!
@@ -26,16 +26,15 @@
 //!
 //! **Per-axis flags** (latency 1): `cur_poly` bit i (axis i's current segment is a
 //! polynomial one) and `next_poly` (its next slot's). `nwe` (the scheduler's commit
-//! into axis `axis`'s next slot) sets its `next_poly` to `from_queue & head_poly` (a
+//! into axis `axis`'s next slot) sets its `next_poly` to `from_queue` and the head's flag (a
 //! stop ramp, formed by the scheduler, is a trapezoid); `promote` moves it into
 //! `cur_poly`; `cut` (a controlled stop drops the next slot) clears `next_poly`;
 //! `axis_reset` clears both, `abort` and `reset` every axis's. `pk_poly`: axis
 //! `next_m`'s `cur_poly` registered for the next PICK (K ≥ 2), or axis 0's directly at
 //! K = 1, as [`super::axis_view::AxisView`] gives PICK its flags.
 
-use super::block_ram::BlockRam;
 use super::poly_unit::PolyUnit;
-use super::seg_queue::{SEGMENT_BITS, SEG_ADDR_BITS};
+use super::seg_queue::SEGMENT_BITS;
 use rust_hdl::prelude::*;
 
 /// The polynomial fields of a queued segment: v1 (31..0), A' (95..32), the flag (96).
@@ -46,11 +45,8 @@ pub struct PolyLane<const K: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub abort: Signal<In, Bit>,
-    pub q_we: Signal<In, Bit>,
-    pub q_waddr: Signal<In, Bits<SEG_ADDR_BITS>>,
-    pub q_raddr: Signal<In, Bits<SEG_ADDR_BITS>>,
-    pub push_extra: Signal<In, Bits<POLY_EXTRA_BITS>>,
     pub head: Signal<In, Bits<SEGMENT_BITS>>,
+    pub head_extra: Signal<In, Bits<POLY_EXTRA_BITS>>,
     pub setup: Signal<In, Bit>,
     pub step: Signal<In, Bit>,
     pub axis: Signal<In, Bits<8>>,
@@ -61,7 +57,6 @@ pub struct PolyLane<const K: usize> {
     pub promote: Signal<In, Bit>,
     pub cut: Signal<In, Bit>,
     pub axis_reset: Signal<In, Bit>,
-    pub head_poly: Signal<Out, Bit>,
     pub pk_poly: Signal<Out, Bit>,
     pub busy: Signal<Out, Bit>,
     pub done: Signal<Out, Bit>,
@@ -69,7 +64,6 @@ pub struct PolyLane<const K: usize> {
     pub period: Signal<Out, Bits<32>>,
     pub last: Signal<Out, Bit>,
     unit: PolyUnit,
-    extra: BlockRam<POLY_EXTRA_BITS, SEG_ADDR_BITS>,
     cur_poly: DFF<Bits<K>>,
     next_poly: DFF<Bits<K>>,
     req_setup: DFF<Bit>,
@@ -91,11 +85,8 @@ impl<const K: usize> Default for PolyLane<K> {
             clock: Default::default(),
             reset: Default::default(),
             abort: Default::default(),
-            q_we: Default::default(),
-            q_waddr: Default::default(),
-            q_raddr: Default::default(),
-            push_extra: Default::default(),
             head: Default::default(),
+            head_extra: Default::default(),
             setup: Default::default(),
             step: Default::default(),
             axis: Default::default(),
@@ -106,7 +97,6 @@ impl<const K: usize> Default for PolyLane<K> {
             promote: Default::default(),
             cut: Default::default(),
             axis_reset: Default::default(),
-            head_poly: Default::default(),
             pk_poly: Default::default(),
             busy: Default::default(),
             done: Default::default(),
@@ -114,7 +104,6 @@ impl<const K: usize> Default for PolyLane<K> {
             period: Default::default(),
             last: Default::default(),
             unit: PolyUnit::new(K),
-            extra: BlockRam::new(1 << SEG_ADDR_BITS),
             cur_poly: Default::default(),
             next_poly: Default::default(),
             req_setup: Default::default(),
@@ -135,14 +124,6 @@ impl<const K: usize> Logic for PolyLane<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(self, clock, cur_poly, next_poly, req_setup, pf_poly);
-        // ---- the queued fields ------------------------------------------------
-        self.extra.clock.next = self.clock.val();
-        self.extra.we.next = self.q_we.val();
-        self.extra.waddr.next = self.q_waddr.val();
-        self.extra.wdata.next = self.push_extra.val();
-        self.extra.raddr.next = self.q_raddr.val();
-        self.head_poly.next = self.extra.rdata.val().get_bit(96);
-
         // ---- the unit ---------------------------------------------------------
         // n = |steps| (a polynomial segment has n ≥ 1).
         self.h_steps.next = self.head.val().get_bits::<32>(64);
@@ -165,8 +146,8 @@ impl<const K: usize> Logic for PolyLane<K> {
         } else {
             self.unit.in_n.next = self.h_steps.val();
         }
-        self.unit.in_v1.next = self.extra.rdata.val().get_bits::<32>(0);
-        self.unit.in_a.next = self.extra.rdata.val().get_bits::<64>(32);
+        self.unit.in_v1.next = self.head_extra.val().get_bits::<32>(0);
+        self.unit.in_a.next = self.head_extra.val().get_bits::<64>(32);
         if self.setup.val() | self.step.val() {
             self.req_setup.d.next = self.setup.val();
         }
@@ -179,7 +160,7 @@ impl<const K: usize> Logic for PolyLane<K> {
         // ---- per-axis flags ---------------------------------------------------
         self.m_bit.next = self.c_one_k.val() << self.axis.val();
         if self.nwe.val() {
-            if self.from_queue.val() & self.head_poly.val() {
+            if self.from_queue.val() & self.head_extra.val().get_bit(96) {
                 self.next_poly.d.next = self.next_poly.q.val() | self.m_bit.val();
             } else {
                 self.next_poly.d.next = self.next_poly.q.val() & !self.m_bit.val();

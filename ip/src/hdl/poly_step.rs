@@ -123,7 +123,7 @@ pub struct PolyStep {
     w2: DFF<Bits<W>>,
     w3: DFF<Bits<W>>,
     w4: DFF<Bits<W>>,
-    q: DFF<Bits<W>>,
+    rq: DFF<Bits<W>>,
     x: DFF<Bits<W>>,
     z: DFF<Bits<W>>,
     g: DFF<Bits<W>>,
@@ -242,7 +242,7 @@ impl Default for PolyStep {
             w2: Default::default(),
             w3: Default::default(),
             w4: Default::default(),
-            q: Default::default(),
+            rq: Default::default(),
             x: Default::default(),
             z: Default::default(),
             g: Default::default(),
@@ -321,7 +321,7 @@ impl Logic for PolyStep {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, st, w1, w2, w3, w4, q, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, forced, oa, ob, oc, oa2,
+            self, clock, st, w1, w2, w3, w4, rq, x, z, g, pass, fit, h, e, cap, b, b0, rising, fin, forced, oa, ob, oc, oa2,
             ob2, oc2, cy, bnd, ws1, ws2, ws3, wh1, wh2, wh3
         );
 
@@ -347,7 +347,7 @@ impl Logic for PolyStep {
         if self.oc.q.val() == 1 {
             self.opc.next = self.w3.q.val();
         } else if self.oc.q.val() == 2 {
-            self.opc.next = self.q.q.val();
+            self.opc.next = self.rq.q.val();
         } else if self.oc.q.val() == 3 {
             self.opc.next = self.z.q.val() << 1;
         }
@@ -371,7 +371,7 @@ impl Logic for PolyStep {
         if self.oc2.q.val() == 1 {
             self.opc2.next = self.w3.q.val();
         } else if self.oc2.q.val() == 2 {
-            self.opc2.next = self.q.q.val();
+            self.opc2.next = self.rq.q.val();
         } else if self.oc2.q.val() == 3 {
             self.opc2.next = self.z.q.val() << 1;
         }
@@ -428,8 +428,8 @@ impl Logic for PolyStep {
                 self.w1.d.next = self.w2.q.val();
                 self.w2.d.next = self.w3.q.val();
                 self.w3.d.next = self.w4.q.val();
-                self.w4.d.next = self.q.q.val();
-                self.q.d.next = self.shift_in.val();
+                self.w4.d.next = self.rq.q.val();
+                self.rq.d.next = self.shift_in.val();
             }
             if self.start.val() {
                 self.e.d.next = self.in_base.val();
@@ -441,7 +441,7 @@ impl Logic for PolyStep {
                 self.forced.d.next = self.in_setup.val();
                 if self.in_setup.val() {
                     // R = 0 and e = 0: the trial makes Q = M(1) − 1 and e = 1.
-                    self.q.d.next = self.c_ones.val();
+                    self.rq.d.next = self.c_ones.val();
                     self.e.d.next = 0.into();
                     self.nst.next = self.k_try.val();
                 } else if self.in_b0.val() == 0 {
@@ -475,7 +475,7 @@ impl Logic for PolyStep {
         } else if self.st.q.val() == self.k_a2.val() {
             self.z.d.next = (self.z.q.val() & self.c_lo.val()) | (self.p.val() & !self.c_lo.val());
             if self.pass.q.val() {
-                self.q.d.next = self.g.q.val();
+                self.rq.d.next = self.g.q.val();
                 self.e.d.next = self.e.q.val() + self.h.q.val();
                 self.nst.next = self.k_a3.val();
             } else {
@@ -590,7 +590,7 @@ impl Logic for PolyStep {
         self.busy.next = self.st.q.val() != self.k_idle.val();
         self.done.next = self.fin.q.val();
         self.out_edge.next = self.e.q.val();
-        self.out_q.next = self.q.q.val();
+        self.out_q.next = self.rq.q.val();
         self.out_w1.next = self.w1.q.val();
         self.out_w2.next = self.w2.q.val();
         self.out_w3.next = self.w3.q.val();

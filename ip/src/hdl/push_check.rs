@@ -24,6 +24,17 @@
 //! * cycle 4: the verdict, from those registers. `out_valid`/`out_data` for a valid push, START or ABORT;
 //!   `rej_valid` with `rej_axis` and `rej_code` for a rejected push.
 //!
+//! **Polynomial pushes** (S = 1, the S-curve option; kind 3): the segment's five
+//! fields go into a [`PolyCheck`] at edge 0 (v0, T, θ from `in_data`, v1 and A' from
+//! `in_extra`), which gives the model's code ([`crate::model::PolySegment::validate`])
+//! [`POLY_PUSH_LATENCY`] = 6 cycles later; the further check's code is taken in cycle 3
+//! as for any push and wins when the segment's own checks pass. The command comes out
+//! unchanged (no effective form) or as a rejection in cycle 6. It does not hold other
+//! commands: one offered in cycle 4 or later comes out in cycle 8 or later, after it,
+//! so the order is kept and no two verdicts meet. `poly_busy` is 1 in cycles 1 to 5:
+//! a second polynomial push offered then would be lost, so the register file refuses
+//! it. Without the option (S = 0) there is no [`PolyCheck`] and kind 3 never comes.
+//!
 //! `busy` is 1 in cycles 1 to 3: a command offered then would be lost, so the register
 //! file refuses it (GSTATUS.REFUSED). A command offered in cycle 4 is taken. The bus
 //! slave commits writes at least 4 bus clocks apart when the MCU keeps the documented
@@ -31,6 +42,7 @@
 //! refused. `reset` (synchronous) drops the command in flight.
 
 use super::mul_wide::MulReg;
+use super::poly_check::{PolyCheck, POLY_CHECK_LATENCY};
 use super::regfile::CMD_BITS;
 use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
 use rust_hdl::prelude::*;
@@ -38,8 +50,14 @@ use rust_hdl::prelude::*;
 /// Cycles from `in_valid` to `out_valid` / `rej_valid`.
 pub const PUSH_CHECK_LATENCY: usize = 4;
 
+/// Cycles from `in_valid` to `out_valid` / `rej_valid` for a polynomial push (S = 1).
+pub const POLY_PUSH_LATENCY: usize = POLY_CHECK_LATENCY;
+
+/// The polynomial fields of a push (S = 1): v1 (31..0) and A' (95..32).
+pub const CMD_EXTRA_BITS: usize = 96;
+
 #[derive(LogicBlock)]
-pub struct PushCheck {
+pub struct PushCheck<const S: usize = 0> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub in_valid: Signal<In, Bit>,
@@ -51,9 +69,15 @@ pub struct PushCheck {
     /// [`super::push_guard::PushGuard`]; 0 passes): the verdict takes it when the
     /// segment's own checks pass. Tied to 0 without the machine I/O.
     pub ext_code: Signal<In, Bits<4>>,
+    /// A polynomial push's v1 (31..0) and A' (95..32), read at its edge 0 (S = 1).
+    pub in_extra: Signal<In, Bits<CMD_EXTRA_BITS>>,
     pub busy: Signal<Out, Bit>,
+    /// The polynomial check is busy (cycles 1 to 5 of a polynomial push).
+    pub poly_busy: Signal<Out, Bit>,
     pub out_valid: Signal<Out, Bit>,
     pub out_data: Signal<Out, Bits<CMD_BITS>>,
+    /// A polynomial push's v1 and A' as taken at its edge 0, with its `out_valid`.
+    pub out_extra: Signal<Out, Bits<CMD_EXTRA_BITS>>,
     pub rej_valid: Signal<Out, Bit>,
     pub rej_axis: Signal<Out, Bits<4>>,
     pub rej_code: Signal<Out, Bits<4>>,
@@ -75,6 +99,21 @@ pub struct PushCheck {
     code: DFF<Bits<4>>,
     mul_vt: MulReg<32, 32, 64>,
     mul_rt: MulReg<32, 32, 64>,
+    /// The S-curve option's check (S = 1), the polynomial push it checks and the
+    /// further check's code taken in the push's cycle 3.
+    pc: [PolyCheck; S],
+    p_cmd: DFF<Bits<CMD_BITS>>,
+    p_extra: DFF<Bits<CMD_EXTRA_BITS>>,
+    p_ext: DFF<Bits<4>>,
+    /// Cycles 1..5 of a polynomial push (`poly_busy` from these flip-flops: the
+    /// PolyCheck's own `busy` would follow `in_valid` through its process, a loop to
+    /// the register file's process in Verilator's view).
+    pb: DFF<Bits<5>>,
+    c_poly: Constant<Bit>,
+    is_poly: Signal<Local, Bit>,
+    in_poly: Signal<Local, Bit>,
+    p_valid: Signal<Local, Bit>,
+    p_code: Signal<Local, Bits<4>>,
     c_rmax: Constant<Bits<32>>,
     c_rmax1: Constant<Bits<32>>,
     c_max_t: Constant<Bits<32>>,
@@ -95,9 +134,11 @@ pub struct PushCheck {
     bad: Signal<Local, Bit>,
 }
 
-impl PushCheck {
-    /// The check for a core with these limits (RMAX = [`Limits::max_rate`]).
+impl<const S: usize> PushCheck<S> {
+    /// The check for a core with these limits (RMAX = [`Limits::max_rate`]); S = 1
+    /// checks polynomial pushes too.
     pub fn new(limits: Limits) -> Self {
+        assert!(S <= 1, "PushCheck: S = {S}");
         let rmax = limits.max_rate() as u64;
         assert!(rmax + MAX_V0_RATE as u64 <= u32::MAX as u64, "v0 + RMAX must fit 32 bits");
         PushCheck {
@@ -107,9 +148,12 @@ impl PushCheck {
             in_data: Default::default(),
             in_v0: Default::default(),
             ext_code: Default::default(),
+            in_extra: Default::default(),
             busy: Default::default(),
+            poly_busy: Default::default(),
             out_valid: Default::default(),
             out_data: Default::default(),
+            out_extra: Default::default(),
             rej_valid: Default::default(),
             rej_axis: Default::default(),
             rej_code: Default::default(),
@@ -128,6 +172,16 @@ impl PushCheck {
             code: Default::default(),
             mul_vt: Default::default(),
             mul_rt: Default::default(),
+            pc: std::array::from_fn(|_| PolyCheck::new(limits)),
+            p_cmd: Default::default(),
+            p_extra: Default::default(),
+            p_ext: Default::default(),
+            pb: Default::default(),
+            c_poly: Constant::new(S > 0),
+            is_poly: Default::default(),
+            in_poly: Default::default(),
+            p_valid: Default::default(),
+            p_code: Default::default(),
             c_rmax: Constant::new(rmax.into()),
             c_rmax1: Constant::new((rmax + 1).into()),
             c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
@@ -149,10 +203,10 @@ impl PushCheck {
     }
 }
 
-impl Logic for PushCheck {
+impl<const S: usize> Logic for PushCheck<S> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, s1, s2, s3, s4, cmd, vr, rcode, n2, n2t, v0_fast, v0_fast1, near, code);
+        dff_setup!(self, clock, s1, s2, s3, s4, cmd, vr, rcode, n2, n2t, v0_fast, v0_fast1, near, code, p_cmd, p_extra, p_ext, pb);
         self.mul_vt.clock.next = self.clock.val();
         self.mul_rt.clock.next = self.clock.val();
 
@@ -180,6 +234,7 @@ impl Logic for PushCheck {
             self.x_n.next = self.x_steps.val();
         }
         self.is_push.next = self.cmd.q.val().get_bits::<2>(104) == 0;
+        self.is_poly.next = (self.cmd.q.val().get_bits::<2>(104) == 3) & self.c_poly.val();
         self.mul_vt.a.next = self.x_v0.val();
         self.mul_vt.b.next = self.x_t.val();
         self.mul_rt.a.next = self.vr.q.val();
@@ -229,9 +284,47 @@ impl Logic for PushCheck {
             self.code.d.next = self.ext_code.val();
         }
 
-        // Cycle 4: the verdict.
+        // ---- polynomial pushes (S = 1) ---------------------------------------
+        self.in_poly.next = self.in_valid.val() & (self.in_data.val().get_bits::<2>(104) == 3) & self.c_poly.val();
+        if self.in_poly.val() {
+            self.p_cmd.d.next = self.in_data.val();
+            self.p_extra.d.next = self.in_extra.val();
+        }
+        self.out_extra.next = self.p_extra.q.val();
+        if self.s3.q.val() & self.is_poly.val() {
+            self.p_ext.d.next = self.ext_code.val();
+        }
+        self.p_valid.next = false;
+        self.p_code.next = 0.into();
+        for i in 0..S {
+            self.pc[i].clock.next = self.clock.val();
+            self.pc[i].reset.next = self.reset.val();
+            self.pc[i].in_valid.next = self.in_poly.val();
+            self.pc[i].in_v0.next = self.in_data.val().get_bits::<32>(0);
+            self.pc[i].in_t.next = self.in_data.val().get_bits::<32>(32);
+            self.pc[i].in_steps.next = self.in_data.val().get_bits::<32>(64);
+            self.pc[i].in_v1.next = self.in_extra.val().get_bits::<32>(0);
+            self.pc[i].in_a.next = self.in_extra.val().get_bits::<64>(32);
+            self.p_valid.next = self.pc[i].out_valid.val();
+            self.p_code.next = self.pc[i].out_code.val();
+        }
+        // The segment's own code first, then the further check's.
+        if self.p_code.val() == 0 {
+            self.p_code.next = self.p_ext.q.val();
+        }
+        // Cycles 1 to 5 of a polynomial push (PolyCheck ignores an offer then).
+        self.pb.d.next = self.pb.q.val() << 1;
+        if self.in_poly.val() & !self.pb.q.val().any() {
+            self.pb.d.next = (self.pb.q.val() << 1) | 1;
+        }
+        if self.reset.val() {
+            self.pb.d.next = 0.into();
+        }
+        self.poly_busy.next = self.pb.q.val().any();
+
+        // Cycle 4: the verdict (a polynomial push's in cycle 6, below).
         self.bad.next = self.code.q.val() != 0;
-        self.out_valid.next = self.s4.q.val() & (!self.is_push.val() | !self.bad.val());
+        self.out_valid.next = self.s4.q.val() & !self.is_poly.val() & (!self.is_push.val() | !self.bad.val());
         self.x_v0m1.next = self.x_v0.val() - 1;
         self.out_data.next = self.cmd.q.val();
         if self.is_push.val() & self.near.q.val() {
@@ -240,6 +333,13 @@ impl Logic for PushCheck {
         self.rej_valid.next = self.s4.q.val() & self.is_push.val() & self.bad.val();
         self.rej_axis.next = self.cmd.q.val().get_bits::<4>(96);
         self.rej_code.next = self.code.q.val();
+        if self.p_valid.val() & self.c_poly.val() {
+            self.out_valid.next = self.p_code.val() == 0;
+            self.out_data.next = self.p_cmd.q.val();
+            self.rej_valid.next = self.p_code.val() != 0;
+            self.rej_axis.next = self.p_cmd.q.val().get_bits::<4>(96);
+            self.rej_code.next = self.p_code.val();
+        }
 
         if self.reset.val() {
             self.s1.d.next = false;

@@ -45,7 +45,7 @@
 
 use super::bit_insert::BitInsert;
 use super::lut_ram::LutRam;
-use super::push_check::PushCheck;
+use super::push_check::{PushCheck, CMD_EXTRA_BITS};
 use crate::model::Limits;
 use super::status_sync::STATUS_BITS;
 use crate::regs::{self, CoreParams, ADDR_BITS};
@@ -81,7 +81,7 @@ fn c16(v: u16) -> Constant<Bits<16>> {
 }
 
 #[derive(LogicBlock)]
-pub struct RegFile<const K: usize> {
+pub struct RegFile<const K: usize, const S: usize = 0> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub wr: Signal<In, Bit>,
@@ -127,6 +127,12 @@ pub struct RegFile<const K: usize> {
     pub offer_steps: Signal<Out, Bits<32>>,
     pub st_pushed: Signal<Out, Bits<8>>,
     pub guard_code: Signal<In, Bits<4>>,
+    /// The S-curve option (S = 1; [`super::poly_regs::PolyRegs`]): POLY_ARM makes the
+    /// next push polynomial (command kind 3) with `poly_extra` (v1, A'), which the
+    /// check takes with it; `cmd_extra` gives them with the push's `cmd_write`.
+    pub poly_arm: Signal<In, Bit>,
+    pub poly_extra: Signal<In, Bits<CMD_EXTRA_BITS>>,
+    pub cmd_extra: Signal<Out, Bits<CMD_EXTRA_BITS>>,
 
     /// Staging, one LUT RAM per half-word register (V0_LO, V0_HI, T_LO, T_HI,
     /// STEPS_LO, STEPS_HI), addressed by axis.
@@ -139,7 +145,10 @@ pub struct RegFile<const K: usize> {
     /// Mirror read by the event logic: {underruns, done} at `st_axis`.
     mc_ram: LutRam<16, 4>,
     /// Every command on its way to the command FIFO: pushes validated here.
-    chk: PushCheck,
+    chk: PushCheck<S>,
+    c_poly: Constant<Bit>,
+    /// A polynomial push while the polynomial check is still busy: refused.
+    p_refuse: Signal<Local, Bit>,
     /// A status word of this axis has arrived since reset (POS and DONE_COUNT read 0
     /// before it).
     m_vld: [DFF<Bit>; K],
@@ -313,7 +322,7 @@ pub struct RegFile<const K: usize> {
     o_done_count: Constant<Bits<4>>,
 }
 
-impl<const K: usize> RegFile<K> {
+impl<const K: usize, const S: usize> RegFile<K, S> {
     pub fn new(p: CoreParams) -> Self {
         assert_eq!(p.axes, K, "RegFile: parameters for another K");
         assert!((1..=regs::MAX_AXES).contains(&K), "RegFile: K = {K} outside 1..={}", regs::MAX_AXES);
@@ -354,6 +363,11 @@ impl<const K: usize> RegFile<K> {
             mb_ram: Default::default(),
             mc_ram: Default::default(),
             chk: PushCheck::new(Limits { min_period_ticks: p.min_period }),
+            c_poly: Constant::new(S > 0),
+            p_refuse: Default::default(),
+            poly_arm: Default::default(),
+            poly_extra: Default::default(),
+            cmd_extra: Default::default(),
             m_vld: std::array::from_fn(|_| Default::default()),
             pushed: std::array::from_fn(|_| Default::default()),
             q_full: std::array::from_fn(|_| Default::default()),
@@ -509,7 +523,7 @@ impl<const K: usize> RegFile<K> {
     }
 }
 
-impl<const K: usize> Logic for RegFile<K> {
+impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
@@ -570,9 +584,14 @@ impl<const K: usize> Logic for RegFile<K> {
         // and the check's previous command going into it at this very edge (a command
         // taken in the check's last cycle; else the check's one command at a time
         // means `cmd_full` already counts every write before this one's, 4 cycles on).
-        self.fifo_full.next = self.cmd_full.val() | (self.cmd_almost_full.val() & self.chk.out_valid.val());
+        // A polynomial push in flight (S = 1) goes into the FIFO in its cycle 6, after a
+        // command taken in its cycle 4 or 5 is decided: that one needs two free slots.
+        self.fifo_full.next = self.cmd_full.val()
+            | (self.cmd_almost_full.val() & (self.chk.out_valid.val() | (self.chk.poly_busy.val() & self.c_poly.val())));
+        self.p_refuse.next = self.poly_arm.val() & self.chk.poly_busy.val() & self.c_poly.val();
         self.cmd_write.next = self.chk.out_valid.val();
         self.cmd_data.next = self.chk.out_data.val();
+        self.cmd_extra.next = self.chk.out_extra.val();
         self.rej_onehot.next = 0.into();
         if self.chk.rej_valid.val() {
             self.rej_onehot.next = self.c_one.val() << bit_cast::<16, 4>(self.chk.rej_axis.val());
@@ -738,7 +757,7 @@ impl<const K: usize> Logic for RegFile<K> {
         // can only refuse a push that would just have fitted.
         self.push_ok.next = false;
         if self.w_ok.val() & (self.w_off.val() == self.o_steps_hi.val()) {
-            if !self.accepting.val() | self.c_busy.val() {
+            if !self.accepting.val() | self.c_busy.val() | self.p_refuse.val() {
                 self.refused.d.next = true;
             } else if self.fifo_full.val() | self.w_fq.q.val() {
                 self.ev_err.next = self.ev_err.val() | self.w_onehot.val();
@@ -765,6 +784,10 @@ impl<const K: usize> Logic for RegFile<K> {
             | (bit_cast::<CMD_BITS, 32>(self.x_t.val()) << 32)
             | (bit_cast::<CMD_BITS, 32>(self.x_steps.val()) << 64)
             | (bit_cast::<CMD_BITS, 4>(self.w_axis.val()) << 96);
+        // An armed push is polynomial (kind 3).
+        if self.poly_arm.val() & self.c_poly.val() {
+            self.c_data.next = self.c_data.val() | (bit_cast::<CMD_BITS, 2>(3.into()) << 104);
+        }
         if self.push_ok.val() {
             self.c_write.next = true;
         }
@@ -785,7 +808,7 @@ impl<const K: usize> Logic for RegFile<K> {
                 if self.w_off.val() == self.o_steps_hi.val() {
                     if self.push_ok.val() {
                         self.pushed[i].d.next = self.pushed[i].q.val() + 1;
-                    } else if self.accepting.val() & !self.c_busy.val() {
+                    } else if self.accepting.val() & !self.c_busy.val() & !self.p_refuse.val() {
                         self.f_over[i].d.next = true;
                     }
                 }
@@ -962,6 +985,8 @@ impl<const K: usize> Logic for RegFile<K> {
         // The push's v0 on its own port: v0 + RMAX does not wait for the START/ABORT select.
         self.chk.in_v0.next = self.x_v0.val();
         self.chk.ext_code.next = self.guard_code.val();
+        // The S-curve option's fields (a core without it has no polynomial check).
+        self.chk.in_extra.next = self.poly_extra.val();
         self.offer.next = self.c_write.val();
         self.offer_kind.next = self.c_data.val().get_bits::<2>(104);
         self.offer_axis.next = self.c_data.val().get_bits::<4>(96);

@@ -41,6 +41,9 @@ use super::io_regs::IoRegs;
 use super::machine_io::MachineIo;
 use super::push_guard::PushGuard;
 use super::stop_regs::StopRegs;
+use super::poly_lane::POLY_EXTRA_BITS;
+use super::poly_regs::PolyRegs;
+use super::push_check::CMD_EXTRA_BITS;
 use super::regfile::{RegFile, CMD_BITS};
 use super::status_sync::{StatusSync, STATUS_BITS};
 use crate::regs::{CoreParams, ADDR_BITS};
@@ -50,7 +53,7 @@ macro_rules! stepper_top {
     ($name:ident, $core:ident, $doc:expr $(, $io:ident)?) => {
         #[doc = $doc]
         #[derive(LogicBlock)]
-        pub struct $name<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> {
+        pub struct $name<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize = 0> {
             pub clk: Signal<In, Clock>,
             pub bus_clk: Signal<In, Clock>,
             pub reset: Signal<In, Bit>,
@@ -71,10 +74,18 @@ macro_rules! stepper_top {
             /// The core's cancelled-START toggle, synchronised into bus_clk.
             fail_sync: BitSync,
             pub exmc: ExmcSlave,
-            pub regs: RegFile<K>,
+            pub regs: RegFile<K, S>,
             cmd_fifo: AsyncFifo<CMD_BITS>,
             status: StatusSync<K>,
-            pub core: $core<K, R, DEPTH, QDEPTH>,
+            pub core: $core<K, R, DEPTH, QDEPTH, S>,
+            /// The S-curve option (S = 1): its registers, and a FIFO beside the command
+            /// FIFO, written and read in the same cycles, for a polynomial push's v1
+            /// and A'; the command stage's copy and the polynomial flag.
+            polys: [PolyRegs; S],
+            xfifo: [AsyncFifo<CMD_EXTRA_BITS>; S],
+            c_extra: DFF<Bits<CMD_EXTRA_BITS>>,
+            c_pflag: DFF<Bit>,
+            p_rd: Signal<Local, Bits<16>>,
             cmd_kind: Signal<Local, Bits<2>>,
             core_reset: Signal<Local, Bit>,
             /// The status word's BUSY bit (with the machine I/O, registered).
@@ -104,12 +115,13 @@ macro_rules! stepper_top {
             )?
         }
 
-        impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> $name<K, R, DEPTH, QDEPTH> {
+        impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize> $name<K, R, DEPTH, QDEPTH, S> {
             /// The core for these parameters (the minimum period among them); `params`
             /// must agree with K, DEPTH and QDEPTH.
             pub fn new(params: CoreParams) -> Self {
                 assert_eq!(params.queue_depth, QDEPTH, "queue depth parameter");
                 assert_eq!(params.fifo_depth, DEPTH, "period FIFO depth parameter");
+                assert_eq!(params.scurve, S == 1, "S-curve parameter");
                 $name {
                     clk: Default::default(),
                     bus_clk: Default::default(),
@@ -142,6 +154,11 @@ macro_rules! stepper_top {
                     c_start: Default::default(),
                     c_abort: Default::default(),
                     c_word: Default::default(),
+                    polys: std::array::from_fn(|_| Default::default()),
+                    xfifo: std::array::from_fn(|_| Default::default()),
+                    c_extra: Default::default(),
+                    c_pflag: Default::default(),
+                    p_rd: Default::default(),
                     $(
                         estop_n: Default::default(),
                         probe: Default::default(),
@@ -183,10 +200,10 @@ macro_rules! stepper_top {
             }
         }
 
-        impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize> Logic for $name<K, R, DEPTH, QDEPTH> {
+        impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize> Logic for $name<K, R, DEPTH, QDEPTH, S> {
             #[hdl_gen]
             fn update(&mut self) {
-                dff_setup!(self, clk, c_push, c_start, c_abort, c_word);
+                dff_setup!(self, clk, c_push, c_start, c_abort, c_word, c_extra, c_pflag);
                 // Resets and the enable, into each domain.
                 self.rst_bus.clock.next = self.bus_clk.val();
                 self.rst_bus.sig_in.next = self.reset.val();
@@ -220,7 +237,33 @@ macro_rules! stepper_top {
                 self.regs.rd_axis_next.next = self.exmc.rd_axis_next.val();
                 self.regs.wr_next.next = self.exmc.wr_next.val();
                 self.regs.wr_axis_next.next = self.exmc.wr_axis_next.val();
-                self.exmc.rd_data.next = self.regs.rd_data.val();
+                // The S-curve option's registers and extra FIFO (S = 1).
+                self.regs.poly_arm.next = false;
+                self.regs.poly_extra.next = 0.into();
+                self.p_rd.next = 0.into();
+                self.c_extra.d.next = 0.into();
+                for i in 0..S {
+                    self.polys[i].bus_clock.next = self.bus_clk.val();
+                    self.polys[i].bus_reset.next = self.rst_bus.sig_out.val();
+                    self.polys[i].wr.next = self.exmc.wr.val();
+                    self.polys[i].wr_addr.next = self.exmc.wr_addr.val();
+                    self.polys[i].wr_data.next = self.exmc.wr_data.val();
+                    self.polys[i].rd_addr.next = self.exmc.rd_addr.val();
+                    self.polys[i].enable.next = self.regs.enable.val();
+                    self.polys[i].pushed.next = self.regs.offer.val() & (self.regs.offer_kind.val() == 3);
+                    self.regs.poly_arm.next = self.polys[i].arm.val();
+                    self.regs.poly_extra.next = self.polys[i].extra.val();
+                    self.p_rd.next = self.polys[i].rd_data.val();
+                    self.xfifo[i].wclock.next = self.bus_clk.val();
+                    self.xfifo[i].wreset.next = self.rst_bus.sig_out.val();
+                    self.xfifo[i].write.next = self.regs.cmd_write.val();
+                    self.xfifo[i].data_in.next = self.regs.cmd_extra.val();
+                    self.xfifo[i].rclock.next = self.clk.val();
+                    self.xfifo[i].rreset.next = self.rst_core.sig_out.val();
+                    self.xfifo[i].read.next = true;
+                    self.c_extra.d.next = self.xfifo[i].data_out.val();
+                }
+                self.exmc.rd_data.next = self.regs.rd_data.val() | self.p_rd.val();
                 self.irq.next = self.regs.irq.val();
                 // The push guard is the machine I/O's.
                 self.regs.guard_code.next = 0.into();
@@ -250,11 +293,17 @@ macro_rules! stepper_top {
                 // memory drives the core's flush or queues combinationally.
                 self.c_word.d.next = self.cmd_fifo.data_out.val().get_bits::<104>(0);
                 self.c_push.d.next = false;
+                self.c_pflag.d.next = false;
                 self.c_start.d.next = false;
                 self.c_abort.d.next = false;
                 if !self.cmd_fifo.empty.val() & !self.core_reset.val() {
                     if self.cmd_kind.val() == 0 {
                         self.c_push.d.next = true;
+                    }
+                    // A polynomial push (S = 1 only: kind 3 never comes without it).
+                    if self.cmd_kind.val() == 3 {
+                        self.c_push.d.next = true;
+                        self.c_pflag.d.next = true;
                     }
                     if self.cmd_kind.val() == 1 {
                         self.c_start.d.next = true;
@@ -266,7 +315,10 @@ macro_rules! stepper_top {
                 self.core.cmd_v0.next = self.c_word.q.val().get_bits::<32>(0);
                 self.core.cmd_t.next = self.c_word.q.val().get_bits::<32>(32);
                 self.core.cmd_steps.next = self.c_word.q.val().get_bits::<32>(64);
-                self.core.cmd_extra.next = 0.into();
+                self.core.cmd_extra.next = bit_cast::<POLY_EXTRA_BITS, CMD_EXTRA_BITS>(self.c_extra.q.val());
+                if self.c_pflag.q.val() {
+                    self.core.cmd_extra.next = bit_cast::<POLY_EXTRA_BITS, CMD_EXTRA_BITS>(self.c_extra.q.val()) | (bit_cast::<POLY_EXTRA_BITS, 1>(1.into()) << 96);
+                }
                 self.core.cmd_axis.next = self.c_word.q.val().get_bits::<8>(96);
                 self.core.start_mask.next = self.c_word.q.val().get_bits::<K>(0);
                 self.core.ext_go.next = 0.into();
@@ -373,7 +425,12 @@ macro_rules! stepper_top {
                     self.guard.rd.next = self.exmc.rd.val();
                     self.guard.rd_addr.next = self.exmc.rd_addr.val();
                     self.guard.offer.next = self.regs.offer.val();
-                    self.guard.offer_kind.next = self.regs.offer_kind.val();
+                    // A polynomial push (kind 3) is a push to the guard.
+                    if self.regs.offer_kind.val() == 3 {
+                        self.guard.offer_kind.next = 0.into();
+                    } else {
+                        self.guard.offer_kind.next = self.regs.offer_kind.val();
+                    }
                     self.guard.offer_axis.next = self.regs.offer_axis.val();
                     self.guard.offer_steps.next = self.regs.offer_steps.val();
                     self.guard.accept.next = self.regs.cmd_write.val();
@@ -404,7 +461,7 @@ macro_rules! stepper_top {
                     self.$io.stop_mode.next = self.stop_regs.mode.val();
                     self.$io.home_stop.next = self.stop_regs.home_arm.val();
                     self.core.decel.next = self.stop_regs.decel.val();
-                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val() | self.stop_regs.rd_data.val();
+                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val() | self.stop_regs.rd_data.val() | self.p_rd.val();
                     self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
                     // The hard stop holds the abort, except in a cycle that brings a push:
                     // the queue takes it then and the next cycle's abort flushes it and

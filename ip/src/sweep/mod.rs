@@ -95,16 +95,23 @@ pub struct SweepOptions {
     pub io: bool,
     /// With `io`: the groups left out (`regs::IO_GROUPS` bits; 0 for `--io all`).
     pub io_omit: u8,
+    /// Export every point with the S-curve option (`--profiles trapezoid,scurve`).
+    pub scurve: bool,
 }
 
 impl SweepOptions {
     /// Appended to the work folder of each point: runs with and without the machine I/O
     /// (and with different groups of it) keep their own folders (and cached results).
     pub(crate) fn io_suffix(&self) -> String {
-        match (self.io, self.io_omit) {
+        let io = match (self.io, self.io_omit) {
             (false, _) => String::new(),
             (true, 0) => "_io".into(),
             (true, omit) => format!("_io_{}", export::io_group_names(crate::regs::IO_ALL & !omit).replace(',', "_")),
+        };
+        if self.scurve {
+            io + "_scurve"
+        } else {
+            io
         }
     }
 }
@@ -344,11 +351,11 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     };
     for &k in &opts.axes {
         for &a in &opts.archs {
-            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, ..Default::default() }.check()?;
+            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, ..Default::default() }.check()?;
         }
     }
     for &k in opts.fmax_axes.iter().chain(&opts.breakdown_axes) {
-        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, ..Default::default() }.check()?;
+        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, ..Default::default() }.check()?;
     }
     if !opts.fmax_axes.is_empty() && opts.io && opts.io_omit != 0 {
         return Err("--fmax with some machine I/O groups: the Fmax wrapper drives every group's pins; use --io all".into());

@@ -288,6 +288,25 @@ impl BusModel {
         self.write_reg("STEPS_HI", axis, (steps >> 16) as u16);
     }
 
+    /// Stages `m` in `axis`'s registers and pushes it: a trapezoid as
+    /// [`Self::push_segment`]; a polynomial segment (a core exported with the S-curve
+    /// option) with POLY_V1, POLY_A and POLY_ARM first.
+    pub fn push_motion(&mut self, axis: usize, m: &crate::model::Motion) {
+        match m {
+            crate::model::Motion::Trapezoid(s) => self.push_segment(axis, s),
+            crate::model::Motion::Poly(p) => {
+                let a = p.a_q32 as u64;
+                self.write_reg("POLY_V1_LO", 0, p.v1_rate as u16);
+                self.write_reg("POLY_V1_HI", 0, (p.v1_rate >> 16) as u16);
+                for (k, name) in ["POLY_A_0", "POLY_A_1", "POLY_A_2", "POLY_A_3"].iter().enumerate() {
+                    self.write_reg(name, 0, (a >> (16 * k)) as u16);
+                }
+                self.write_reg("POLY_ARM", 0, 1);
+                self.push_segment(axis, &crate::model::Segment::new(p.v0_rate, p.t_ticks, p.steps));
+            }
+        }
+    }
+
     /// Reads the position of `axis`: POS_LO (latching the high half), then POS_HI.
     pub fn read_position(&mut self, axis: usize) -> (ReadId, ReadId) {
         (self.read_reg("POS_LO", axis), self.read_reg("POS_HI", axis))
