@@ -216,6 +216,79 @@ int tdm_push_some(tdm_dev *dev, unsigned axis, const tdm_segment *segs, unsigned
     return 0;
 }
 
+#if defined(TDM_POLY_ARM)
+/* The staging, the arm, the segment (its STEPS_HI write pushes it), then the arm read
+ * back: 0 if the core took the push, TDM_E_REFUSED (arm cleared) if not. */
+static int write_poly(tdm_dev *dev, unsigned axis, const tdm_poly_segment *seg)
+{
+    tdm_segment head;
+    uint64_t a = (uint64_t)seg->a_q32;
+    head.v0_rate = seg->v0_rate;
+    head.t_ticks = seg->t_ticks;
+    head.steps = seg->steps;
+    tdm_write(dev, TDM_POLY_V1_LO, (uint16_t)(seg->v1_rate & 0xFFFFu));
+    tdm_write(dev, TDM_POLY_V1_HI, (uint16_t)(seg->v1_rate >> 16));
+    tdm_write(dev, TDM_POLY_A_0, (uint16_t)(a & 0xFFFFu));
+    tdm_write(dev, TDM_POLY_A_1, (uint16_t)((a >> 16) & 0xFFFFu));
+    tdm_write(dev, TDM_POLY_A_2, (uint16_t)((a >> 32) & 0xFFFFu));
+    tdm_write(dev, TDM_POLY_A_3, (uint16_t)(a >> 48));
+    tdm_write(dev, TDM_POLY_ARM, TDM_POLY_ARM_ARM_MASK);
+    write_segment(dev, axis, &head);
+    if ((tdm_read(dev, TDM_POLY_ARM) & TDM_POLY_ARM_ARM_MASK) != 0u) {
+        tdm_write(dev, TDM_POLY_ARM, 0u);
+        return TDM_E_REFUSED;
+    }
+    return 0;
+}
+
+int tdm_push_poly(tdm_dev *dev, unsigned axis, const tdm_poly_segment *seg)
+{
+    int rc;
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if (seg == 0) {
+        return TDM_E_ARG;
+    }
+    rc = tdm_poly_check(seg, dev->max_rate);
+    if (rc != 0) {
+        return rc;
+    }
+    if (tdm_queue_room(dev, axis) == 0u) {
+        return TDM_E_FULL;
+    }
+    return write_poly(dev, axis, seg);
+}
+
+int tdm_push_poly_some(tdm_dev *dev, unsigned axis, const tdm_poly_segment *segs, unsigned count, unsigned *taken)
+{
+    unsigned room;
+    unsigned i;
+    if (taken == 0 || (segs == 0 && count != 0u)) {
+        return TDM_E_ARG;
+    }
+    *taken = 0u;
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if (count == 0u) {
+        return 0;
+    }
+    room = tdm_queue_room(dev, axis);
+    for (i = 0; i < count && i < room; i++) {
+        int rc = tdm_poly_check(&segs[i], dev->max_rate);
+        if (rc == 0) {
+            rc = write_poly(dev, axis, &segs[i]);
+        }
+        if (rc != 0) {
+            return rc;
+        }
+        *taken = i + 1u;
+    }
+    return 0;
+}
+#endif /* TDM_POLY_ARM */
+
 int tdm_start(tdm_dev *dev, uint16_t mask)
 {
     uint32_t all = (1ul << dev->axes) - 1u;

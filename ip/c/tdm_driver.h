@@ -258,6 +258,29 @@ int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *hom
 #endif
 #endif /* TDM_STOP */
 
+#if defined(TDM_POLY_ARM)
+/* ---- S-curve: declared only with a header from `export --profiles trapezoid,scurve`
+ * Polynomial segments come from the S-curve planner (tdm_scurve.h: tdm_plan_jerk,
+ * tdm_plan_fourth) and mix freely with trapezoid segments on every axis. */
+#include "tdm_scurve.h"
+
+/* Validates and pushes one polynomial segment: writes POLY_V1 and POLY_A (global
+ * staging), sets POLY_ARM, writes the segment's V0, T and STEPS (the STEPS_HI write
+ * pushes it), then reads POLY_ARM back: the core clears it when it takes the push, so
+ * a 1 means the push was refused (the driver clears the arm, so the next trapezoid push
+ * is not taken as polynomial, and returns TDM_E_REFUSED). TDM_E_AXIS, TDM_E_ARG, the
+ * segment's code (1..6, tdm_poly_check) without touching the bus, or TDM_E_FULL when
+ * the queue is full (nothing written). Not reentrant with another push: the staging
+ * registers are shared by all axes. */
+int tdm_push_poly(tdm_dev *dev, unsigned axis, const tdm_poly_segment *seg);
+
+/* tdm_push_some for polynomial segments: as many of segs[0..count) as the queue has
+ * room for, in order; *taken says how many went. 0, TDM_E_AXIS, TDM_E_ARG,
+ * TDM_E_REFUSED, or the code (1..6) of the first invalid segment (segs[*taken]), which
+ * is not pushed; nothing after it is. */
+int tdm_push_poly_some(tdm_dev *dev, unsigned axis, const tdm_poly_segment *segs, unsigned count, unsigned *taken);
+#endif /* TDM_POLY_ARM */
+
 #ifdef __cplusplus
 }
 #endif

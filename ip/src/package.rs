@@ -20,13 +20,17 @@ pub const LPF_FILE: &str = "tdm_stepper.lpf";
 pub const PCF_FILE: &str = "tdm_stepper_pcf.txt";
 pub const CORE_FILE: &str = "tdm_stepper.core";
 
-/// The MCU driver and the planner (portable C99), written beside the register
-/// header they include: (file name, text).
-pub const C_SOURCES: [(&str, &str); 4] = [
+/// The MCU driver and the planners (portable C99), written beside the register
+/// header they include: (file name, text). The S-curve planner is written with every
+/// export (it plans on the host too); the driver pushes its segments only with a
+/// header from an S-curve export.
+pub const C_SOURCES: [(&str, &str); 6] = [
     ("tdm_driver.h", include_str!("../c/tdm_driver.h")),
     ("tdm_driver.c", include_str!("../c/tdm_driver.c")),
     ("tdm_planner.h", include_str!("../c/tdm_planner.h")),
     ("tdm_planner.c", include_str!("../c/tdm_planner.c")),
+    ("tdm_scurve.h", include_str!("../c/tdm_scurve.h")),
+    ("tdm_scurve.c", include_str!("../c/tdm_scurve.c")),
 ];
 
 /// `bus_clk` frequency the constraints assume (the register file and the slave close

@@ -357,10 +357,16 @@ fn build_with_shim_flags(dir: &Path, main_c: &Path, extra: &[PathBuf], cflags: &
 /// Every STEP edge the shim printed before `until` is the Rust model's for
 /// `per_axis`, every axis from one release tick (zero skew), DIR the segment's sign.
 fn check_model_edges(out: &str, per_axis: &[Vec<Segment>], limits: &Limits, until: u64) {
+    let motions: Vec<Vec<Motion>> = per_axis.iter().map(|s| s.iter().copied().map(Motion::from).collect()).collect();
+    check_model_motion_edges(out, &motions, limits, until);
+}
+
+/// [`check_model_edges`] for trapezoid and polynomial segments.
+fn check_model_motion_edges(out: &str, per_axis: &[Vec<Motion>], limits: &Limits, until: u64) {
     let e = edges(out, per_axis.len(), until);
     let mut release = None;
     for (a, segs) in per_axis.iter().enumerate() {
-        let run = AxisRun::run(segs, limits);
+        let run = AxisRun::run_motions(segs, limits);
         assert!(run.rejected.is_empty(), "axis {a}: the planner's segments are valid");
         assert_eq!(e[a].len(), run.edge_ticks.len(), "axis {a}: step count");
         let l0 = e[a][0].0 as i64 - 1 - run.edge_ticks[0] as i64;
@@ -373,7 +379,7 @@ fn check_model_edges(out: &str, per_axis: &[Vec<Segment>], limits: &Limits, unti
                 s += 1;
                 left = segs[s].n_steps();
             }
-            assert_eq!(dir, segs[s].steps < 0, "axis {a} edge {i}: DIR");
+            assert_eq!(dir, segs[s].steps() < 0, "axis {a} edge {i}: DIR");
             left -= 1;
         }
     }
@@ -399,6 +405,59 @@ fn readme_mcu_example_runs_as_written() {
         trapezoid_by_rates(-1800, 60_000, 6_000_000, 3_000_000, opts.clock_hz, &limits).unwrap(),
     ];
     check_model_edges(&out, &per_axis, &limits, u64::MAX);
+}
+
+/// The README's S-curve worked example, compiled as written with the header of an
+/// S-curve export (K = 2, 50 MHz) and run through the shim: it returns 0, every edge is
+/// the model's for the Rust planner's segments of the same two moves (a jerk-limited
+/// and a fourth-order move, from one release tick), and the driver's polynomial push
+/// refuses a reversing segment (code 2, no bus access), a bad axis and a null segment;
+/// POLY_ARM reads 0 after the pushes (each took its arm). The driver built with a
+/// default export's header has no polynomial push (the S-curve header adds it), and it
+/// builds for a Cortex-M4 without a warning.
+#[test]
+fn readme_scurve_example_runs_as_written_through_the_driver() {
+    let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let section = readme.split("## S-curve moves").nth(1).expect("README has an S-curve section").split("\n## ").next().unwrap();
+    let code = section.split("```c\n").nth(1).expect("a C block").split("```").next().unwrap();
+    let dir = sim_dir("c_scurve_example", Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ExportOptions { axes: 2, scurve: true, ..Default::default() };
+    export::export(&opts, &dir).unwrap();
+    std::fs::write(dir.join("scurve_example.c"), code).unwrap();
+    let fp = ["-ffp-contract=off"];
+    let objs = [
+        gcc_c(&dir, &dir.join("scurve_example.c"), "scurve_example.o"),
+        gcc_c_with(&dir, &dir, &dir.join("tdm_scurve.c"), "tdm_scurve.o", &fp),
+    ];
+    let (plain, _) = export_dir("c_scurve_plain", 2);
+    gcc_c(&plain, &plain.join("tdm_driver.c"), "tdm_driver.o");
+    let syms = run(Command::new("nm").arg(plain.join("tdm_driver.o")), "nm");
+    assert!(!syms.contains("tdm_push_poly"), "a default export's driver has no polynomial push");
+    let mut arm = Command::new("arm-none-eabi-gcc");
+    arm.args(["-mcpu=cortex-m4", "-mthumb", "-Os"]).args(GCC_FLAGS).arg("-I").arg(&dir).arg("-c").arg(dir.join("tdm_driver.c")).arg("-o").arg(dir.join("d.arm.o"));
+    let text = run(&mut arm, "arm-none-eabi-gcc tdm_driver.c (scurve)");
+    assert!(text.trim().is_empty(), "arm-none-eabi-gcc printed diagnostics for the S-curve driver:\n{text}");
+
+    let exe = build_with_shim(&dir, &tests_c().join("scurve_main.c"), &objs);
+    let out = run(Command::new(exe).current_dir(&dir), "the README S-curve example");
+    let syms = run(Command::new("nm").arg(dir.join("tdm_driver.o")), "nm");
+    assert!(syms.contains(" T tdm_push_poly\n") && syms.contains(" T tdm_push_poly_some\n"), "the S-curve driver has the polynomial push");
+    assert!(out.contains("RC 0\n"), "scurve_move failed: {}", out.lines().find(|l| l.starts_with("RC")).unwrap_or(""));
+    let limits = opts.limits();
+    let hz = opts.clock_hz;
+    let per_axis = vec![
+        scurve::jerk_limited(3000, 0.0, 0.0, 60_000.0, 6e6, 6e8, 3e6, 3e8, hz, &limits).unwrap(),
+        scurve::fourth_order(-2000, 50_000.0, 5e6, 5e8, 1e11, hz, &limits).unwrap(),
+    ];
+    assert!(per_axis.iter().all(|ms| ms.len() >= 6 && ms.len() <= export::QUEUE_DEPTH), "{:?}", per_axis.iter().map(|m| m.len()).collect::<Vec<_>>());
+    check_model_motion_edges(&out, &per_axis, &limits, u64::MAX);
+    assert_eq!(field(&out, "BADPOLY")[0], [2, 0], "a reversing segment: code 2, no bus access");
+    assert_eq!(field(&out, "BADSOME")[0], [2, 0], "push_some: code 2, nothing taken");
+    assert_eq!(field(&out, "AXISPOLY")[0], [-4]);
+    assert_eq!(field(&out, "NULLPOLY")[0], [-7]);
+    assert_eq!(field(&out, "ARM")[0], [0], "every push took its arm");
+    assert_eq!(field(&out, "LEVEL")[0], [export::QUEUE_DEPTH as i64; 2], "both queues drained, nothing left behind");
 }
 
 #[test]
