@@ -10,6 +10,9 @@
 //!     { "segments": [ { "v0_steps_per_s": 0, "t_s": 0.02, "steps": 600 },
 //!                     { "v0_steps_per_s": 60000, "t_s": 0.01, "steps": 600 } ] } ] }
 //! ```
+//! An axis may also give a jerk-limited (`"jerk"`) or a fourth-order (`"fourth"`)
+//! move; a file with one simulates the core exported with `--profiles
+//! trapezoid,scurve` (its minimum period is then K·100 ticks for every axis).
 //! Every axis starts together (one START with all of them). The bus model drives the
 //! documented minimum timing from a 168 MHz MCU into a ≈100 MHz `bus_clk`; `clk` is
 //! `clock_hz` (rounded to a whole number of 3 ps half periods). While the bus rests
@@ -18,7 +21,7 @@
 
 use crate::export::{self, ExportOptions, QUEUE_DEPTH, RADIX_BITS};
 use crate::hdl::top::TdmStepper;
-use crate::model::{planner, units, AxisRun, Limits, Segment};
+use crate::model::{planner, scurve, units, AxisRun, Limits, Motion, Segment};
 use crate::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming, ReadId};
 use crate::verify::system::{bus_pauses, gtkw_text, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
 use plotters::prelude::*;
@@ -48,6 +51,44 @@ pub enum AxisMove {
         #[serde(rename = "move")]
         mv: RateMove,
     },
+    Jerk { jerk: JerkMove },
+    Fourth { fourth: FourthMove },
+}
+
+impl AxisMove {
+    /// An S-curve move: it needs the core with polynomial segments.
+    pub fn is_scurve(&self) -> bool {
+        matches!(self, AxisMove::Jerk { .. } | AxisMove::Fourth { .. })
+    }
+}
+
+/// A jerk-limited (seven-phase) move, planned by [`scurve::jerk_limited`] (the C
+/// planner's `tdm_plan_jerk`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JerkMove {
+    pub steps: i64,
+    #[serde(default)]
+    pub v_start_steps_per_s: f64,
+    #[serde(default)]
+    pub v_end_steps_per_s: f64,
+    pub speed_steps_per_s: f64,
+    pub accel_steps_per_s2: f64,
+    pub jerk_steps_per_s3: f64,
+    pub decel_steps_per_s2: f64,
+    pub decel_jerk_steps_per_s3: f64,
+}
+
+/// The fourth-order (snap-limited) profile, rest to rest, planned by
+/// [`scurve::fourth_order`] (`tdm_plan_fourth`).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FourthMove {
+    pub steps: i64,
+    pub speed_steps_per_s: f64,
+    pub accel_steps_per_s2: f64,
+    pub jerk_steps_per_s3: f64,
+    pub snap_steps_per_s4: f64,
 }
 
 /// A move as distance, top speed, acceleration and deceleration (integers), planned
@@ -149,7 +190,25 @@ pub const MOVES_FIELDS: &[(&str, &str, &str, &str)] = &[
     ("move", "speed_steps_per_s", "integer", "top speed, steps/s (1 to clock_hz)"),
     ("move", "accel_steps_per_s2", "integer", "acceleration, steps/s^2 (1 to 2147483647)"),
     ("move", "decel_steps_per_s2", "integer", "deceleration, steps/s^2 (1 to 2147483647)"),
+    ("axis", "jerk", "object", "a jerk-limited (seven-phase S-curve) move by distance, speeds, accelerations and jerks, planned into polynomial segments (needs the S-curve core)"),
+    ("axis", "fourth", "object", "a fourth-order (snap-limited) S-curve move, rest to rest, planned into polynomial segments (needs the S-curve core)"),
+    ("jerk", "steps", "integer", "signed distance in steps"),
+    ("jerk", "v_start_steps_per_s", "number", "start speed, steps/s (default 0; at most the top speed)"),
+    ("jerk", "v_end_steps_per_s", "number", "end speed, steps/s (default 0; at most the top speed)"),
+    ("jerk", "speed_steps_per_s", "number", "top speed, steps/s (> 0, at most the core's maximum rate)"),
+    ("jerk", "accel_steps_per_s2", "number", "acceleration limit, steps/s^2 (> 0)"),
+    ("jerk", "jerk_steps_per_s3", "number", "jerk limit while speeding up, steps/s^3 (> 0)"),
+    ("jerk", "decel_steps_per_s2", "number", "deceleration limit, steps/s^2 (> 0)"),
+    ("jerk", "decel_jerk_steps_per_s3", "number", "jerk limit while slowing down, steps/s^3 (> 0)"),
+    ("fourth", "steps", "integer", "signed distance in steps"),
+    ("fourth", "speed_steps_per_s", "number", "top speed, steps/s (> 0, at most the core's maximum rate)"),
+    ("fourth", "accel_steps_per_s2", "number", "acceleration limit, steps/s^2 (> 0)"),
+    ("fourth", "jerk_steps_per_s3", "number", "jerk limit, steps/s^3 (> 0)"),
+    ("fourth", "snap_steps_per_s4", "number", "snap limit, steps/s^4 (> 0)"),
 ];
+
+/// The `jerk` fields a file may leave out (they default to 0).
+const JERK_OPTIONAL: [&str; 2] = ["v_start_steps_per_s", "v_end_steps_per_s"];
 
 /// The `move` fields that are u32 rates (at least 1).
 const MOVE_RATE_FIELDS: [&str; 3] = ["speed_steps_per_s", "accel_steps_per_s2", "decel_steps_per_s2"];
@@ -191,7 +250,14 @@ pub fn parse_moves(text: &str) -> Result<MovesFile, String> {
         check(ax, "axis", &path, &[])?;
         let m = ax.as_object().unwrap();
         if m.len() != 1 {
-            return Err(format!("{path}: give exactly one of \"segments\", \"trapezoid\" or \"move\""));
+            return Err(format!("{path}: give exactly one of \"segments\", \"trapezoid\", \"move\", \"jerk\" or \"fourth\""));
+        }
+        if let Some(t) = m.get("jerk") {
+            let required: Vec<&str> = fields_of("jerk").into_iter().filter(|f| !JERK_OPTIONAL.contains(f)).collect();
+            check(t, "jerk", &format!("{path}.jerk"), &required)?;
+        }
+        if let Some(t) = m.get("fourth") {
+            check(t, "fourth", &format!("{path}.fourth"), &fields_of("fourth"))?;
         }
         if let Some(t) = m.get("trapezoid") {
             check(t, "trapezoid", &format!("{path}.trapezoid"), &fields_of("trapezoid"))?;
@@ -235,6 +301,8 @@ pub fn moves_schema() -> String {
     }
     rate_move["properties"]["accel_steps_per_s2"]["maximum"] = json!(planner::MAX_ACCEL);
     rate_move["properties"]["decel_steps_per_s2"]["maximum"] = json!(planner::MAX_ACCEL);
+    let jerk = obj("jerk", fields_of("jerk").into_iter().filter(|f| !JERK_OPTIONAL.contains(f)).collect());
+    let fourth = obj("fourth", fields_of("fourth"));
     let mut file = obj("file", vec!["axes"]);
     file["$schema"] = json!("https://json-schema.org/draft/2020-12/schema");
     file["title"] = json!("tdm-stepper sim moves file");
@@ -248,14 +316,20 @@ pub fn moves_schema() -> String {
             {"type": "object", "additionalProperties": false, "required": ["trapezoid"],
              "properties": {"trapezoid": trapezoid}},
             {"type": "object", "additionalProperties": false, "required": ["move"],
-             "properties": {"move": rate_move}}
+             "properties": {"move": rate_move}},
+            {"type": "object", "additionalProperties": false, "required": ["jerk"],
+             "properties": {"jerk": jerk}},
+            {"type": "object", "additionalProperties": false, "required": ["fourth"],
+             "properties": {"fourth": fourth}}
         ]
     });
     serde_json::to_string_pretty(&file).expect("json") + "\n"
 }
 
-/// Plans every axis of a moves file into segments that a core with `limits` accepts.
-pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, String> {
+/// Plans every axis of a moves file into segments that a core with `limits` accepts
+/// (polynomial segments for the S-curve moves).
+pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Motion>>, String> {
+    let tr = |r: Result<Vec<Segment>, String>| r.map(|v| v.into_iter().map(Motion::from).collect::<Vec<_>>());
     let f = moves.clock_hz;
     units::check_clock(f as u64).map_err(|e| format!("clock_hz: {e}"))?;
     moves
@@ -263,11 +337,26 @@ pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, Str
         .iter()
         .enumerate()
         .map(|(a, m)| match m {
-            AxisMove::Trapezoid { trapezoid: t } => {
-                planner::trapezoid_by_times(t.steps, t.t_acc_s, t.t_cruise_s, t.t_dec_s, f, limits)
-                    .map_err(|e| format!("axis {a}: trapezoid: {e}"))
+            AxisMove::Trapezoid { trapezoid: t } => tr(planner::trapezoid_by_times(t.steps, t.t_acc_s, t.t_cruise_s, t.t_dec_s, f, limits)
+                .map_err(|e| format!("axis {a}: trapezoid: {e}"))),
+            AxisMove::Jerk { jerk: j } => scurve::jerk_limited(
+                j.steps,
+                j.v_start_steps_per_s,
+                j.v_end_steps_per_s,
+                j.speed_steps_per_s,
+                j.accel_steps_per_s2,
+                j.jerk_steps_per_s3,
+                j.decel_steps_per_s2,
+                j.decel_jerk_steps_per_s3,
+                f,
+                limits,
+            )
+            .map_err(|e| format!("axis {a}: jerk: {e}")),
+            AxisMove::Fourth { fourth: q } => {
+                scurve::fourth_order(q.steps, q.speed_steps_per_s, q.accel_steps_per_s2, q.jerk_steps_per_s3, q.snap_steps_per_s4, f, limits)
+                    .map_err(|e| format!("axis {a}: fourth: {e}"))
             }
-            AxisMove::Move { mv } => planner::trapezoid_by_rates(
+            AxisMove::Move { mv } => tr(planner::trapezoid_by_rates(
                 mv.steps,
                 mv.speed_steps_per_s,
                 mv.accel_steps_per_s2,
@@ -275,8 +364,8 @@ pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, Str
                 f,
                 limits,
             )
-            .map_err(|e| format!("axis {a}: move: {e}")),
-            AxisMove::Segments { segments } => segments
+            .map_err(|e| format!("axis {a}: move: {e}"))),
+            AxisMove::Segments { segments } => tr(segments
                 .iter()
                 .enumerate()
                 .map(|(k, s)| {
@@ -287,7 +376,7 @@ pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, Str
                         steps,
                     ))
                 })
-                .collect(),
+                .collect()),
         })
         .collect()
 }
@@ -296,7 +385,8 @@ pub fn plan(moves: &MovesFile, limits: &Limits) -> Result<Vec<Vec<Segment>>, Str
 #[derive(Clone, Debug, Serialize)]
 pub struct AxisReport {
     pub axis: usize,
-    pub segments: Vec<Segment>,
+    /// The planned segments, each tagged with its kind (`trapezoid` or `poly`).
+    pub segments: Vec<Motion>,
     /// (index, error code) of segments the core rejected, as the model predicts.
     pub rejected: Vec<(usize, u8)>,
     pub steps: usize,
@@ -326,6 +416,8 @@ pub struct AxisReport {
 pub struct Report {
     pub engine: Engine,
     pub axes_in_core: usize,
+    /// The core was exported with `--profiles trapezoid,scurve` (the file has an S-curve move).
+    pub scurve: bool,
     pub clock_hz: u32,
     pub clk_cycles: u64,
     pub simulated_seconds: f64,
@@ -346,17 +438,26 @@ pub struct Report {
 /// than 2·K·t_calc or some segment shorter than 2·K·t_setup (so that an underrun is
 /// possible), every step and every setup is allowed the shared unit's whole round.
 pub fn run_limit_ticks(runs: &[AxisRun], k: usize) -> u64 {
-    let t_calc = crate::hdl::core::t_calc_sqrt(RADIX_BITS) as u64;
-    let t_setup = crate::hdl::core::t_setup(RADIX_BITS, true) as u64;
+    run_limit_ticks_for(runs, k, false)
+}
+
+/// [`run_limit_ticks`] for a core with (`scurve`) or without the S-curve option: with
+/// it, t_calc is `POLY_T_CALC` and the longest setup the polynomial one.
+pub fn run_limit_ticks_for(runs: &[AxisRun], k: usize, scurve: bool) -> u64 {
+    let (t_calc, t_setup) = if scurve {
+        (export::POLY_T_CALC as u64, (crate::hdl::core::T_POLY_SETUP as u64).max(crate::hdl::core::t_setup(RADIX_BITS, true) as u64))
+    } else {
+        (crate::hdl::core::t_calc_sqrt(RADIX_BITS) as u64, crate::hdl::core::t_setup(RADIX_BITS, true) as u64)
+    };
     let k = k as u64;
     let tight = runs.iter().any(|r| {
         r.edge_ticks.windows(2).any(|w| w[1] - w[0] < 2 * k * t_calc)
-            || r.accepted.iter().any(|s| (s.t_ticks as u64) < 2 * k * t_setup)
+            || r.motions.iter().any(|s| (s.t_ticks() as u64) < 2 * k * t_setup)
     });
     let planned = runs.iter().map(|r| r.end_tick).max().unwrap_or(0);
     let worst = if tight {
         runs.iter()
-            .map(|r| r.end_tick + r.edge_ticks.len() as u64 * k * t_calc + r.accepted.len() as u64 * k * t_setup)
+            .map(|r| r.end_tick + r.edge_ticks.len() as u64 * k * t_calc + r.motions.len() as u64 * k * t_setup)
             .max()
             .unwrap_or(0)
     } else {
@@ -438,7 +539,8 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let text = std::fs::read_to_string(&opts.moves).map_err(|e| format!("cannot read {}: {e}", opts.moves.display()))?;
     let moves: MovesFile = parse_moves(&text).map_err(|e| format!("{}: {e}", opts.moves.display()))?;
     let k = opts.axes;
-    let exp = ExportOptions { axes: k, clock_hz: moves.clock_hz, min_period: opts.min_period, ..Default::default() };
+    let scurve = moves.axes.iter().any(AxisMove::is_scurve);
+    let exp = ExportOptions { axes: k, clock_hz: moves.clock_hz, min_period: opts.min_period, scurve, ..Default::default() };
     exp.check()?;
     // The model enforces the exported core's minimum period, as the core does.
     let limits = exp.limits();
@@ -455,7 +557,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
             ));
         }
     }
-    let runs: Vec<AxisRun> = axes.iter().map(|s| AxisRun::run(s, &limits)).collect();
+    let runs: Vec<AxisRun> = axes.iter().map(|s| AxisRun::run_motions(s, &limits)).collect();
     let clocks = clocks_for(moves.clock_hz);
     let tick_ps = 2 * clocks.clk_half_ps;
 
@@ -471,14 +573,14 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let pace = b.cycles_for_ps(8 * tick_ps);
     for (a, segs) in axes.iter().enumerate() {
         for s in segs {
-            b.push_segment(a, s);
+            b.push_motion(a, s);
             b.idle(pace);
         }
     }
     b.idle(100);
     b.write_reg("START", 0, ((1u32 << axes.len()) - 1) as u16);
     let start_ps = b.now_ps();
-    let limit = run_limit_ticks(&runs, k);
+    let limit = run_limit_ticks_for(&runs, k, scurve);
     b.idle_until_ps(start_ps + limit * tick_ps);
     let reads: Vec<((ReadId, ReadId), ReadId)> = (0..axes.len()).map(|a| (b.read_position(a), b.read_reg("STATUS", a))).collect();
     let cycles = b.now_ps() / tick_ps + 100;
@@ -581,6 +683,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     let report = Report {
         engine: opts.engine,
         axes_in_core: k,
+        scurve,
         clock_hz: moves.clock_hz,
         clk_cycles: cycles,
         simulated_seconds: cycles as f64 / moves.clock_hz as f64,
@@ -622,8 +725,9 @@ fn rises(trace: &SystemTrace, a: usize) -> Vec<u64> {
 
 macro_rules! rust_hdl_k {
     ($k:expr, $exp:expr, $clocks:expr, $b:expr, $cycles:expr, $progress:expr, [$($kk:literal),*]) => {
-        match $k {
-            $($kk => Ok(rust_hdl_sim::<$kk>($exp, $clocks, $b, $cycles, $progress)),)*
+        match ($k, $exp.scurve) {
+            $(($kk, false) => Ok(rust_hdl_sim::<$kk, 0>($exp, $clocks, $b, $cycles, $progress)),)*
+            $(($kk, true) => Ok(rust_hdl_sim::<$kk, 1>($exp, $clocks, $b, $cycles, $progress)),)*
             _ => Err(format!("--engine rust-hdl supports --axes 1, 2, 4 or 8 (got {})", $k)),
         }
     };
@@ -639,8 +743,8 @@ fn rust_hdl_run(k: usize, exp: ExportOptions, clocks: &Clocks, b: &BusModel, cyc
         .map_err(|_| "the rust-hdl simulation panicked".to_string())?
 }
 
-fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
-    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH>::new(exp.params()));
+fn rust_hdl_sim<const K: usize, const S: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
+    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH, S>::new(exp.params()));
     u.connect_ports();
     let pauses = bus_pauses(b.events(), 1_000_000_000);
     let trace = run_stepper_rust_hdl(u.as_mut(), clocks, b.events(), cycles, &pauses, progress);
@@ -650,14 +754,39 @@ fn rust_hdl_sim<const K: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusMode
     trace
 }
 
+/// The exact acceleration of `motions` (of the speed's magnitude, steps/s²) against
+/// time (s), 200 samples per segment: a trapezoid segment's is constant,
+/// 2(n − v0·T)/T²; a polynomial segment's follows its polynomial.
+pub fn planned_acceleration(motions: &[Motion], f: f64) -> Vec<(f64, f64)> {
+    let q32 = 2f64.powi(32);
+    let mut out = Vec::new();
+    let mut t0 = 0f64;
+    for m in motions {
+        let t = m.t_ticks() as f64;
+        for k in 0..=200 {
+            let tau = t * k as f64 / 200.0;
+            let a = match m {
+                Motion::Trapezoid(s) => 2.0 * (s.n_steps() as f64 - s.v0_rate as f64 / q32 * t) / (t * t),
+                Motion::Poly(p) => p.derivatives_at(tau).1,
+            };
+            out.push(((t0 + tau) / f, a * f * f));
+        }
+        t0 += t;
+    }
+    out
+}
+
 fn write_svg(r: &Report, runs: &[AxisRun], path: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let f = r.clock_hz as f64;
     let rows = r.axes.len();
-    let root = SVGBackend::new(path, (1100, 420 * rows as u32)).into_drawing_area();
+    // With S-curve moves each axis gets a third plot: the planned acceleration.
+    let row_h = if r.scurve { 640 } else { 420 };
+    let root = SVGBackend::new(path, (1100, row_h * rows as u32)).into_drawing_area();
     root.fill(&WHITE)?;
     for (ax, area) in r.axes.iter().zip(root.split_evenly((rows, 1))) {
         let run = &runs[ax.axis];
-        let (top, bottom) = area.split_vertically(260);
+        let (top, rest) = area.split_vertically(260);
+        let (accel_area, bottom) = if r.scurve { let (m, b) = rest.split_vertically(220); (Some(m), b) } else { (None, rest) };
         // What went wrong, in words, over the plots (or instead of them).
         let Some(l0) = ax.release_cycle else {
             area.draw(&Text::new(format!("axis {}: no STEP edge", ax.axis), (20, 30), ("sans-serif", 20).into_font().color(&RED)))?;
@@ -695,6 +824,18 @@ fn write_svg(r: &Report, runs: &[AxisRun], path: &Path) -> Result<(), Box<dyn st
             .build_cartesian_2d(0f64..t_end, -lim..lim)?;
         c2.configure_mesh().x_desc("time (s)").y_desc("ticks").draw()?;
         c2.draw_series(err.iter().map(|&p| Circle::new(p, 1, RED.filled())))?;
+        if let Some(m) = accel_area {
+            let acc = planned_acceleration(&run.motions, f);
+            let lim = acc.iter().map(|p| p.1.abs()).fold(1.0, f64::max) * 1.1;
+            let mut c3 = ChartBuilder::on(&m)
+                .caption(format!("axis {}: acceleration (steps/s²), planned (exact, of the segments' kinematics)", ax.axis), ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(28)
+                .y_label_area_size(70)
+                .build_cartesian_2d(0f64..t_end, -lim..lim)?;
+            c3.configure_mesh().x_desc("time (s)").y_desc("steps/s²").draw()?;
+            c3.draw_series(LineSeries::new(acc, GREEN.stroke_width(2)))?;
+        }
         for (i, p) in ax.problems.iter().enumerate() {
             top.draw(&Text::new(format!("PROBLEM: {p}"), (80, 36 + 18 * i as i32), ("sans-serif", 14).into_font().color(&RED)))?;
         }

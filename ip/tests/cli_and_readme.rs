@@ -27,13 +27,13 @@ fn readme() -> String {
 #[test]
 fn quick_start_commands_exist_and_ci_runs_the_test_command() {
     let cmds = commands_under("## Quick start");
-    assert_eq!(cmds.len(), 2, "two commands: {cmds:?}");
+    assert_eq!(cmds.len(), 3, "three commands: {cmds:?}");
     // The first runs a subcommand of our binary.
     let sub = cmds[0].strip_prefix("cargo run --release -- ").expect("cargo run of the binary");
     let out = bin().args(sub.split_whitespace()).arg("--help").output().unwrap();
     assert!(out.status.success(), "`tdm-stepper {sub} --help` failed");
-    // The second is the test script, and CI calls exactly it.
-    assert_eq!(cmds[1], "scripts/test.sh");
+    // The last is the test script, and CI calls exactly it.
+    assert_eq!(cmds[2], "scripts/test.sh");
     let ci = std::fs::read_to_string(repo().join(".ci/run")).unwrap();
     assert!(ci.lines().any(|l| l.trim() == "exec scripts/test.sh"), ".ci/run must exec scripts/test.sh");
 }
@@ -123,6 +123,43 @@ fn readme_worked_example_runs_as_written() {
     let want: Vec<u64> = edges.iter().map(|c| c * 20_000).collect();
     if let Some(i) = (0..want.len()).find(|&i| rise_ps[i] != want[i]) {
         panic!("VCD STEP rise {i} at {} ps, edge cycle {} × 20,000 ps = {} ps", rise_ps[i], edges[i], want[i]);
+    }
+}
+
+/// The quick start's S-curve `sim`, run as written (in a scratch copy of examples/):
+/// it exits 0 with the S-curve core, both axes end where the moves go with no
+/// underrun, every edge within 0.625 tick of exact kinematics, zero skew, and the SVG
+/// has the acceleration plot for both axes.
+#[test]
+fn readme_quick_start_scurve_sim_runs_as_written() {
+    let cmds = commands_under("## Quick start");
+    let c = &cmds[1];
+    assert!(c.starts_with("cargo run --release -- sim ") && c.contains("examples/scurve_move.json"), "{c}");
+    let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readme_scurve_sim");
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(work.join("examples")).unwrap();
+    std::fs::copy(repo().join("examples/scurve_move.json"), work.join("examples/scurve_move.json")).unwrap();
+    let args: Vec<&str> = c.strip_prefix("cargo run --release -- ").unwrap().split_whitespace().collect();
+    let out = bin().current_dir(&work).args(&args).arg("--work").arg(work.join("sim")).output().unwrap();
+    assert!(out.status.success(), "{c}: {}", String::from_utf8_lossy(&out.stderr));
+    let w: Vec<&str> = c.split_whitespace().collect();
+    let report_path = work.join(w[w.iter().position(|x| *x == "--report").unwrap() + 1]);
+    let report: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&report_path).unwrap()).unwrap();
+    assert_eq!(report["scurve"], true);
+    assert_eq!(report["ok"], true, "{}", report["axes"]);
+    assert_eq!(report["skew_ticks"], 0);
+    for (a, pos) in [(0, 3000i64), (1, -2000)] {
+        let ax = &report["axes"][a];
+        assert_eq!(ax["final_position"], pos, "axis {a}");
+        assert_eq!(ax["steps"], pos.abs(), "axis {a}");
+        assert!(ax["max_edge_error_ticks"].as_f64().unwrap() <= 0.625, "axis {a}: {}", ax["max_edge_error_ticks"]);
+        assert_eq!(ax["underrun"], false, "axis {a}");
+        let segs = ax["segments"].as_array().unwrap();
+        assert!(segs.len() >= 6 && segs.iter().all(|s| s["kind"] == "poly"), "axis {a}: polynomial segments");
+    }
+    let svg = std::fs::read_to_string(report_path.with_extension("svg")).unwrap();
+    for a in 0..2 {
+        assert!(svg.contains(&format!("axis {a}: acceleration")), "axis {a}'s acceleration plot in the SVG");
     }
 }
 
@@ -305,7 +342,7 @@ fn moves_schema_is_committed_and_the_examples_follow_it() {
         assert!(committed.contains(&format!("\"{field}\"")), "{object}.{field} not in the schema");
         let _ = ty;
     }
-    assert_eq!(schema["properties"]["axes"]["items"]["oneOf"].as_array().unwrap().len(), 3);
+    assert_eq!(schema["properties"]["axes"]["items"]["oneOf"].as_array().unwrap().len(), 5);
     for e in std::fs::read_dir(repo().join("examples")).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "json") {

@@ -287,11 +287,17 @@ fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], 
 
 /// As [`check_against_model`], for trapezoid and polynomial segments mixed.
 fn check_motions<const K: usize>(axes: &[Vec<Motion>], trace: &[Change], cycles: u64, what: &str) {
+    check_motion_columns::<K>(axes, trace, cycles, what, [0, 2, 4, 5, 7, 8]);
+}
+
+/// [`check_motions`] on a trace whose step, underrun, sel_position, cmd_ready,
+/// sel_taken and sel_done outputs are the columns `cols`.
+fn check_motion_columns<const K: usize>(axes: &[Vec<Motion>], trace: &[Change], cycles: u64, what: &str, cols: [usize; 6]) {
     let limits = Limits::default();
-    let step = expand(trace, 0, cycles);
-    let under = expand(trace, 2, cycles);
-    let pos = expand(trace, 4, cycles);
-    let ready = expand(trace, 5, cycles);
+    let step = expand(trace, cols[0], cycles);
+    let under = expand(trace, cols[1], cycles);
+    let pos = expand(trace, cols[2], cycles);
+    let ready = expand(trace, cols[3], cycles);
     assert!(ready.iter().skip(4).all(|&r| r == 1), "{what}: a command was refused");
     let mut release: Option<i64> = None;
     for (a, segs) in axes.iter().enumerate() {
@@ -306,8 +312,8 @@ fn check_motions<const K: usize>(axes: &[Vec<Motion>], trace: &[Change], cycles:
         assert_eq!(pos[sel_cycle] as u32 as i32 as i64, run.position, "{what}: axis {a} position");
         let fed = motion_feed(segs).len() as u128;
         assert_eq!(fed, (segs.len() - run.rejected.len()) as u128, "{what}: axis {a}: the model rejects what the check drops");
-        let taken = expand(trace, 7, cycles)[sel_cycle];
-        let done = expand(trace, 8, cycles)[sel_cycle];
+        let taken = expand(trace, cols[4], cycles)[sel_cycle];
+        let done = expand(trace, cols[5], cycles)[sel_cycle];
         assert_eq!(taken, fed % 256, "{what}: axis {a} segments taken");
         assert_eq!(done, fed % 256, "{what}: axis {a} segments done");
     }
@@ -920,8 +926,9 @@ fn mixed_trapezoid_and_polynomial_segments_match_the_model() {
     same_traces(&got, &reference, "S-curve core");
 }
 
-/// The same on K = 1, 4, 8 and 16 axes (Verilator), the two axes' moves cycled over
-/// the axes and slowed down K times (K = 1: as for K = 2), every edge the model's.
+/// The same on K = 1, 4 and 8 axes (Verilator), the two axes' moves cycled over the
+/// axes and slowed down K times (K = 1: as for K = 2), every edge the model's (K = 16:
+/// the streaming test below).
 #[test]
 fn mixed_segments_on_one_four_eight_and_sixteen_axes() {
     fn run<const K: usize>() {
@@ -936,7 +943,131 @@ fn mixed_segments_on_one_four_eight_and_sixteen_axes() {
     run::<1>();
     run::<4>();
     run::<8>();
-    run::<16>();
+}
+
+/// The streaming test of the S-curve option: K = 16 axes, each fed (as its queue
+/// drains, never more than QDEPTH − 3 segments waiting) a mix of jerk-limited,
+/// fourth-order, trapezoid and cubic segments and dwells for 5.2 M ticks (over 100 ms
+/// at 50 MHz), at half the documented S-curve maximum rate (a period of at least
+/// 2·K·POLY_T_CALC = 3,200 ticks; every axis reaches 93 % of that rate). No underrun,
+/// no refused command, every edge the model's from one release tick on every axis,
+/// and each axis's position and segment counts at the end (Verilator, the core with
+/// DEPTH = 4 period FIFO entries).
+#[test]
+fn sixteen_axes_stream_mixed_segments_at_half_the_scurve_rate() {
+    use tdm_stepper::export::POLY_T_CALC;
+    use tdm_stepper::model::scurve::{fourth_order, jerk_limited};
+    const K: usize = 16;
+    const HZ: u32 = 50_000_000;
+    let min_period = 2 * K as u32 * POLY_T_CALC as u32;
+    let half = Limits::new(min_period).unwrap(); // RMAX = 2^32 / (3,200 + 1)
+    let vh = HZ as f64 / min_period as f64; // 15,625 steps/s
+    let rate = |v: f64| (v / HZ as f64 * 2f64.powi(32)) as u32;
+    let span = |ms: &[Motion]| ms.iter().map(|m| m.t_ticks() as u64).sum::<u64>();
+    let mut axes: Vec<Vec<Motion>> = Vec::new();
+    for a in 0..K {
+        let f = 1.0 - a as f64 / 400.0;
+        let sign = if a % 2 == 0 { 1 } else { -1 };
+        let v1 = rate(0.95 * vh * f);
+        let t = 150_000 + 10_000 * a as u32;
+        let n = (v1 as u64 * t as u64 >> 33) as i32;
+        let cubic = |v0, v1, n| Motion::from(PolySegment::cubic(v0, v1, t, n).unwrap());
+        let s32 = sign as i32;
+        let moves: Vec<Vec<Motion>> = vec![
+            jerk_limited(sign * 700, 0.0, 0.0, 0.99 * vh * f, 2.0e6 * f, 4.0e8 * f, 1.5e6, 3.0e8, HZ, &half).unwrap(),
+            planner::trapezoid_by_rates(-sign * 400, (0.97 * vh * f) as u32, (1.5e6 * f) as u32, 2_000_000, HZ, &half).unwrap().into_iter().map(Motion::from).collect(),
+            vec![cubic(0, v1, s32 * n), cubic(v1, v1, s32 * 2 * n), cubic(v1, 0, s32 * n), Segment::dwell(40_000 + 1_000 * a as u32).into()],
+            fourth_order(-sign * 500, 0.97 * vh, 2.5e6, 6.0e8, 2.0e11, HZ, &half).unwrap(),
+            planner::trapezoid_by_rates(sign * 250, (0.9 * vh) as u32, 3_000_000, (1.0e6 * f) as u32, HZ, &half).unwrap().into_iter().map(Motion::from).collect(),
+            // From rest to half speed, then on from there to rest.
+            [
+                jerk_limited(sign * 300, 0.0, 0.5 * vh, 0.97 * vh, 1.0e6, 2.0e8, 1.0e6, 2.0e8, HZ, &half).unwrap(),
+                jerk_limited(sign * 300, 0.5 * vh, 0.0, 0.98 * vh * f, 1.0e6, 2.0e8, 2.0e6, 5.0e8, HZ, &half).unwrap(),
+            ]
+            .concat(),
+        ];
+        // Each axis opens with one of the trapezoid moves, then cycles through the list.
+        let mut ms: Vec<Motion> = moves[if a % 2 == 0 { 1 } else { 4 }].clone();
+        let mut k = a;
+        while span(&ms) < 5_200_000 {
+            ms.extend(moves[k % moves.len()].iter().copied());
+            k += 1;
+        }
+        assert!(ms.iter().all(|m| m.validate(&half).is_ok()), "axis {a}: every segment within half the S-curve rate");
+        let moving_traps = ms.iter().filter(|m| matches!(m, Motion::Trapezoid(s) if s.steps != 0)).count();
+        let polys = ms.iter().filter(|m| matches!(m, Motion::Poly(_))).count();
+        assert!(moving_traps >= 2 && polys >= 5, "axis {a}: a mix ({moving_traps} trapezoid, {polys} polynomial segments)");
+        axes.push(ms);
+    }
+    // Every axis reaches 93 % of the half rate: its shortest period is at most 3,440 ticks.
+    let limits = Limits::default();
+    let runs: Vec<AxisRun> = axes.iter().map(|ms| AxisRun::run_motions(ms, &limits)).collect();
+    for (a, run) in runs.iter().enumerate() {
+        let shortest = run.edge_ticks.windows(2).map(|w| w[1] - w[0]).min().unwrap();
+        assert!(shortest >= min_period as u64 && shortest as f64 <= min_period as f64 / 0.93, "axis {a}: shortest period {shortest}");
+    }
+    let polys: usize = axes.iter().flatten().filter(|m| matches!(m, Motion::Poly(_))).count();
+    let traps: usize = axes.iter().flatten().filter(|m| matches!(m, Motion::Trapezoid(_))).count();
+    // The pushes: the first P of each axis before START, then segment j once segment
+    // j − P + 1 has started (model time + 20,000 cycles for the release): at most
+    // P − 1 = QDEPTH − 3 waiting.
+    const P: usize = QDEPTH - 2;
+    let idle = |sel: u128| vec![0, 0, 0, 0, 0, 0, 0, 0, sel, 0, 0, 0, 0, 0, 0];
+    let push = |a: usize, m: &Motion| {
+        let [v0, t, steps, extra] = command_of(m);
+        vec![0, 1, a as u128, v0, t, steps, 0, 0, 0, 0, 0, 0, 0, 0, extra]
+    };
+    let feed: Vec<Vec<Motion>> = axes.iter().map(|ms| motion_feed(ms)).collect();
+    assert!(feed.iter().zip(&axes).all(|(f, ms)| f.len() == ms.len()));
+    let mut rows: std::collections::BTreeMap<u64, Vec<u128>> = std::collections::BTreeMap::new();
+    rows.insert(0, [vec![1], idle(0)[1..].to_vec()].concat());
+    let mut c = 3u64;
+    for (a, ms) in feed.iter().enumerate() {
+        for m in &ms[..P.min(ms.len())] {
+            c += 1;
+            rows.insert(c, push(a, m));
+        }
+    }
+    let mut go = idle(0);
+    go[6] = 1;
+    go[7] = (1u128 << K) - 1;
+    c += 1;
+    rows.insert(c, go);
+    let go_cycle = c;
+    let mut later: Vec<(u64, usize, usize)> = Vec::new();
+    for (a, ms) in axes.iter().enumerate() {
+        let starts: Vec<u64> = ms.iter().scan(0u64, |t, m| { let s = *t; *t += m.t_ticks() as u64; Some(s) }).collect();
+        for j in P..ms.len() {
+            later.push((go_cycle + 20_000 + starts[j + 1 - P], a, j));
+        }
+    }
+    later.sort();
+    let mut last = go_cycle;
+    for (want, a, j) in later {
+        let at = want.max(last + 2);
+        rows.insert(at, push(a, &feed[a][j]));
+        last = at;
+    }
+    let cycles = runs.iter().map(|r| r.end_tick).max().unwrap() + 40_000;
+    assert!(last + 10_000 < cycles - 2 * K as u64);
+    let pushes: Vec<u64> = rows.iter().filter(|(_, r)| r[1] == 1).map(|(&c, _)| c).collect();
+    for p in pushes {
+        rows.entry(p + 1).or_insert_with(|| idle(0));
+    }
+    rows.entry(go_cycle + 1).or_insert_with(|| idle(0));
+    for a in 0..K {
+        rows.insert(cycles - 2 * (K - a) as u64, idle(a as u128));
+    }
+    let ev: Vec<(u64, Vec<u128>)> = rows.into_iter().collect();
+    // The spec without the state trace (it would change every few cycles for 5 M cycles).
+    let mut sp = spec_poly::<K>();
+    sp.outputs.retain(|p| p.name != "fsm_state");
+    let name = "core_poly_stream_k16";
+    let got = run_sparse(Simulator::Verilator, &sim_dir(name, Simulator::Verilator), &generate_verilog(&uut_poly::<K>()), &sp, &ev, cycles).unwrap();
+    check_motion_columns::<K>(&axes, &got, cycles, name, [0, 2, 4, 5, 6, 7]);
+    let steps: usize = runs.iter().map(|r| r.edge_ticks.len()).sum();
+    println!("{name}: {cycles} cycles, {polys} polynomial and {traps} trapezoid segments, {steps} steps over {K} axes, no underrun");
+    assert!(polys > 10 * K && traps > 2 * K, "a mix: {polys} polynomial, {traps} trapezoid segments");
 }
 
 /// The controlled-stop core's ports: the core's, and `cstop_axes` and `decel`.

@@ -1895,7 +1895,9 @@ fn an_export_with_only_the_limits_has_only_their_pins_and_registers() {
 
 
 /// The S-curve option through the bus (`export --profiles trapezoid,scurve`, K = 2, in
-/// Verilator): axis 0 a seven-phase jerk-limited move out and back, axis 1 a trapezoid
+/// Verilator): axis 0 a seven-phase jerk-limited move out and back with a cubic
+/// between whose speed peaks above RMAX inside it though both its ends and its mean
+/// are below (rejected at the push: code 3), axis 1 a trapezoid
 /// move, cubics from rest to speed and back and a polynomial segment whose speed
 /// reverses inside it (rejected at the push: STATUS.ERROR with code 2, counted out of
 /// LEVEL: DONE_COUNT at the end counts the accepted ones, the segments around it
@@ -1915,8 +1917,13 @@ fn scurve_moves_through_the_bus_in_verilator() {
     let cubic = |v0, v1, t, n| Motion::from(PolySegment::cubic(v0, v1, t, n).unwrap());
     let bad = Motion::from(PolySegment::new(0, 0, -(40i64 << 32), 30_000, 5));
     assert_eq!(bad.validate(&limits).err().map(|e| e.code()), Some(2), "the bad segment reverses");
+    // From rest to rest: both ends at 0 and the mean speed n/T below RMAX, but the peak
+    // inside (1.5·n/T) above it: code 3.
+    let peak = Motion::from(PolySegment::cubic(0, 0, 30_000, 120).unwrap());
+    assert!(120 * ((1u64 << 32) / 30_000) < limits.max_rate() as u64, "mean speed below RMAX");
+    assert_eq!(peak.validate(&limits).err().map(|e| e.code()), Some(3), "the peak inside is too fast");
     let axes: Vec<Vec<Motion>> = vec![
-        [jl(300), jl(-300)].concat(),
+        [jl(300), vec![peak], jl(-300)].concat(),
         [
             tdm_stepper::model::planner::trapezoid_by_ticks(40, [40_000, 20_000, 40_000], &limits).unwrap().into_iter().map(Motion::from).collect::<Vec<_>>(),
             vec![cubic(0, v1, 60_000, 15), bad, cubic(v1, 0, 60_000, 15)],
@@ -1942,6 +1949,7 @@ fn scurve_moves_through_the_bus_in_verilator() {
     }
     let r_arm_after = b.read_reg("POLY_ARM", 0);
     let r_status = b.read_reg("STATUS", 1);
+    let r_status0 = b.read_reg("STATUS", 0);
     b.idle(200);
     b.write_reg("START", 0, 3);
     let end = axes.iter().map(|ms| AxisRun::run_motions(ms, &limits).end_tick).max().unwrap();
@@ -1956,6 +1964,8 @@ fn scurve_moves_through_the_bus_in_verilator() {
     let st = read16(&b, &t, r_status);
     assert_eq!(st >> 8 & 1, 1, "axis 1's STATUS.ERROR after the reversing segment");
     assert_eq!(st >> 12, 2, "ERROR_CODE 2 (would reverse)");
+    let st0 = read16(&b, &t, r_status0);
+    assert_eq!((st0 >> 8 & 1, st0 >> 12), (1, 3), "axis 0: ERROR with code 3 (a speed peak inside the segment above RMAX)");
     for (a, id) in done.into_iter().enumerate() {
         assert_eq!(read16(&b, &t, id) as usize, motion_count(&axes[a], &limits), "axis {a}: DONE_COUNT is the accepted segments");
     }

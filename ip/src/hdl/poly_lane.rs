@@ -13,8 +13,8 @@
 //! between, which Verilator would see as a loop through the lane's inputs.)
 //!
 //! **Requests** (one at a time, while `busy` is low; latency: [`PolyUnit`]'s):
-//! * `setup` sets up the queue head (`head`: v0, T, signed steps, and `head_extra`)
-//!   into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
+//! * `setup` sets up the queue head (`head`: v0, T, signed steps, and `head_extra`,
+//!   as they were in the cycle before: the lane registers them) into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
 //!   takes the other one);
 //! * `step` asks for the next period of axis `axis`'s current slot (`slot`).
 //!
@@ -68,6 +68,16 @@ pub struct PolyLane<const K: usize> {
     next_poly: DFF<Bits<K>>,
     req_setup: DFF<Bit>,
     pf_poly: DFF<Bit>,
+    /// The head's fields, registered every cycle: the unit's setup inputs start at
+    /// flip-flops, not at the queue RAM's unregistered read port (on ECP5 its 5.8 ns
+    /// clock-to-out then an adder chain into the setup made the K = 16 core's
+    /// critical path). The scheduler asks for a setup only in Y_SETUP, at least one
+    /// cycle after S_CHECK read the same head.
+    r_v0: DFF<Bits<32>>,
+    r_t: DFF<Bits<32>>,
+    r_n: DFF<Bits<32>>,
+    r_v1: DFF<Bits<32>>,
+    r_a: DFF<Bits<64>>,
     /// Axis `axis`'s bit, and `next_m`'s flag shifted down to bit 0.
     m_bit: Signal<Local, Bits<K>>,
     nx_sh: Signal<Local, Bits<K>>,
@@ -108,6 +118,11 @@ impl<const K: usize> Default for PolyLane<K> {
             next_poly: Default::default(),
             req_setup: Default::default(),
             pf_poly: Default::default(),
+            r_v0: Default::default(),
+            r_t: Default::default(),
+            r_n: Default::default(),
+            r_v1: Default::default(),
+            r_a: Default::default(),
             m_bit: Default::default(),
             nx_sh: Default::default(),
             nx_poly: Default::default(),
@@ -123,7 +138,7 @@ impl<const K: usize> Default for PolyLane<K> {
 impl<const K: usize> Logic for PolyLane<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, cur_poly, next_poly, req_setup, pf_poly);
+        dff_setup!(self, clock, cur_poly, next_poly, req_setup, pf_poly, r_v0, r_t, r_n, r_v1, r_a);
         // ---- the unit ---------------------------------------------------------
         // n = |steps| (a polynomial segment has n ≥ 1).
         self.h_steps.next = self.head.val().get_bits::<32>(64);
@@ -139,15 +154,20 @@ impl<const K: usize> Logic for PolyLane<K> {
             self.u_slot.next = 0.into();
         }
         self.unit.slot.next = self.u_slot.val();
-        self.unit.in_v0.next = self.head.val().get_bits::<32>(0);
-        self.unit.in_t.next = self.head.val().get_bits::<32>(32);
+        self.r_v0.d.next = self.head.val().get_bits::<32>(0);
+        self.r_t.d.next = self.head.val().get_bits::<32>(32);
         if self.h_steps.val().get_bit(31) {
-            self.unit.in_n.next = self.h_neg.val();
+            self.r_n.d.next = self.h_neg.val();
         } else {
-            self.unit.in_n.next = self.h_steps.val();
+            self.r_n.d.next = self.h_steps.val();
         }
-        self.unit.in_v1.next = self.head_extra.val().get_bits::<32>(0);
-        self.unit.in_a.next = self.head_extra.val().get_bits::<64>(32);
+        self.r_v1.d.next = self.head_extra.val().get_bits::<32>(0);
+        self.r_a.d.next = self.head_extra.val().get_bits::<64>(32);
+        self.unit.in_v0.next = self.r_v0.q.val();
+        self.unit.in_t.next = self.r_t.q.val();
+        self.unit.in_n.next = self.r_n.q.val();
+        self.unit.in_v1.next = self.r_v1.q.val();
+        self.unit.in_a.next = self.r_a.q.val();
         if self.setup.val() | self.step.val() {
             self.req_setup.d.next = self.setup.val();
         }

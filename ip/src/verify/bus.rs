@@ -92,8 +92,8 @@ macro_rules! drive_bus_pins {
 /// Runs bus `events` into a rust-hdl [`TdmStepper`] (connected with `connect_ports`):
 /// clk and bus_clk from `clocks`, the pins as [`system_spec`] lists them, the outputs
 /// of [`stepper_watch`] watched and `data_out` sampled, as the Verilator run does.
-pub fn run_stepper_rust_hdl<const K: usize, const R: usize, const D: usize, const Q: usize>(
-    u: &mut TdmStepper<K, R, D, Q>,
+pub fn run_stepper_rust_hdl<const K: usize, const R: usize, const D: usize, const Q: usize, const S: usize>(
+    u: &mut TdmStepper<K, R, D, Q, S>,
     clocks: &Clocks,
     events: &[BusEvent],
     cycles: u64,
