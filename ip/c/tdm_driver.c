@@ -1,4 +1,5 @@
 /* tdm_driver.c: the MCU driver of the tdm-stepper IP core. See tdm_driver.h. */
+#include <stddef.h>
 #include "tdm_driver.h"
 
 void tdm_open_mmio(tdm_dev *dev, volatile void *bank_base)
@@ -170,7 +171,13 @@ static void write_segment(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
     tdm_write(dev, TDM_STEPS_HI(axis), (uint16_t)(steps >> 16)); /* pushes */
 }
 
-int tdm_push(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
+/* A kind of segment for the push functions: its host-side check (0 or the core's
+ * code) and its write (0, or TDM_E_REFUSED when the core refused it). */
+typedef int (*check_fn)(const void *seg, uint32_t max_rate);
+typedef int (*write_fn)(tdm_dev *dev, unsigned axis, const void *seg);
+
+/* One segment: the axis, the check (no bus access), the room, the write. */
+static int push_one(tdm_dev *dev, unsigned axis, const void *seg, check_fn check, write_fn write)
 {
     int rc;
     if (axis >= dev->axes) {
@@ -179,18 +186,20 @@ int tdm_push(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
     if (seg == 0) {
         return TDM_E_ARG;
     }
-    rc = tdm_segment_check(seg, dev->max_rate);
+    rc = check(seg, dev->max_rate);
     if (rc != 0) {
         return rc;
     }
     if (tdm_queue_room(dev, axis) == 0u) {
         return TDM_E_FULL;
     }
-    write_segment(dev, axis, seg);
-    return 0;
+    return write(dev, axis, seg);
 }
 
-int tdm_push_some(tdm_dev *dev, unsigned axis, const tdm_segment *segs, unsigned count, unsigned *taken)
+/* As many of count segments of size bytes each as the queue has room for (LEVEL read
+ * once), in order, stopping at the first that fails its check or its write. */
+static int push_run(tdm_dev *dev, unsigned axis, const void *segs, size_t size, unsigned count, unsigned *taken,
+                    check_fn check, write_fn write)
 {
     unsigned room;
     unsigned i;
@@ -206,21 +215,51 @@ int tdm_push_some(tdm_dev *dev, unsigned axis, const tdm_segment *segs, unsigned
     }
     room = tdm_queue_room(dev, axis);
     for (i = 0; i < count && i < room; i++) {
-        int rc = tdm_segment_check(&segs[i], dev->max_rate);
+        const void *seg = (const unsigned char *)segs + i * size;
+        int rc = check(seg, dev->max_rate);
+        if (rc == 0) {
+            rc = write(dev, axis, seg);
+        }
         if (rc != 0) {
             return rc;
         }
-        write_segment(dev, axis, &segs[i]);
         *taken = i + 1u;
     }
     return 0;
 }
 
+static int check_trapezoid(const void *seg, uint32_t max_rate)
+{
+    return tdm_segment_check((const tdm_segment *)seg, max_rate);
+}
+
+static int write_trapezoid(tdm_dev *dev, unsigned axis, const void *seg)
+{
+    write_segment(dev, axis, (const tdm_segment *)seg);
+    return 0;
+}
+
+int tdm_push(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
+{
+    return push_one(dev, axis, seg, check_trapezoid, write_trapezoid);
+}
+
+int tdm_push_some(tdm_dev *dev, unsigned axis, const tdm_segment *segs, unsigned count, unsigned *taken)
+{
+    return push_run(dev, axis, segs, sizeof *segs, count, taken, check_trapezoid, write_trapezoid);
+}
+
 #if defined(TDM_POLY_ARM)
+static int check_poly(const void *seg, uint32_t max_rate)
+{
+    return tdm_poly_check((const tdm_poly_segment *)seg, max_rate);
+}
+
 /* The staging, the arm, the segment (its STEPS_HI write pushes it), then the arm read
  * back: 0 if the core took the push, TDM_E_REFUSED (arm cleared) if not. */
-static int write_poly(tdm_dev *dev, unsigned axis, const tdm_poly_segment *seg)
+static int write_poly(tdm_dev *dev, unsigned axis, const void *p)
 {
+    const tdm_poly_segment *seg = (const tdm_poly_segment *)p;
     tdm_segment head;
     uint64_t a = (uint64_t)seg->a_q32;
     head.v0_rate = seg->v0_rate;
@@ -243,49 +282,12 @@ static int write_poly(tdm_dev *dev, unsigned axis, const tdm_poly_segment *seg)
 
 int tdm_push_poly(tdm_dev *dev, unsigned axis, const tdm_poly_segment *seg)
 {
-    int rc;
-    if (axis >= dev->axes) {
-        return TDM_E_AXIS;
-    }
-    if (seg == 0) {
-        return TDM_E_ARG;
-    }
-    rc = tdm_poly_check(seg, dev->max_rate);
-    if (rc != 0) {
-        return rc;
-    }
-    if (tdm_queue_room(dev, axis) == 0u) {
-        return TDM_E_FULL;
-    }
-    return write_poly(dev, axis, seg);
+    return push_one(dev, axis, seg, check_poly, write_poly);
 }
 
 int tdm_push_poly_some(tdm_dev *dev, unsigned axis, const tdm_poly_segment *segs, unsigned count, unsigned *taken)
 {
-    unsigned room;
-    unsigned i;
-    if (taken == 0 || (segs == 0 && count != 0u)) {
-        return TDM_E_ARG;
-    }
-    *taken = 0u;
-    if (axis >= dev->axes) {
-        return TDM_E_AXIS;
-    }
-    if (count == 0u) {
-        return 0;
-    }
-    room = tdm_queue_room(dev, axis);
-    for (i = 0; i < count && i < room; i++) {
-        int rc = tdm_poly_check(&segs[i], dev->max_rate);
-        if (rc == 0) {
-            rc = write_poly(dev, axis, &segs[i]);
-        }
-        if (rc != 0) {
-            return rc;
-        }
-        *taken = i + 1u;
-    }
-    return 0;
+    return push_run(dev, axis, segs, sizeof *segs, count, taken, check_poly, write_poly);
 }
 #endif /* TDM_POLY_ARM */
 

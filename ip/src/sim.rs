@@ -437,13 +437,9 @@ pub struct Report {
 /// even if it underruns. The planned end, plus margin; when some period is shorter
 /// than 2·K·t_calc or some segment shorter than 2·K·t_setup (so that an underrun is
 /// possible), every step and every setup is allowed the shared unit's whole round.
-pub fn run_limit_ticks(runs: &[AxisRun], k: usize) -> u64 {
-    run_limit_ticks_for(runs, k, false)
-}
-
-/// [`run_limit_ticks`] for a core with (`scurve`) or without the S-curve option: with
-/// it, t_calc is `POLY_T_CALC` and the longest setup the polynomial one.
-pub fn run_limit_ticks_for(runs: &[AxisRun], k: usize, scurve: bool) -> u64 {
+/// With the S-curve option (`scurve`) t_calc is `POLY_T_CALC` and the longest setup
+/// the polynomial one.
+pub fn run_limit_ticks(runs: &[AxisRun], k: usize, scurve: bool) -> u64 {
     let (t_calc, t_setup) = if scurve {
         (export::POLY_T_CALC as u64, (crate::hdl::core::T_POLY_SETUP as u64).max(crate::hdl::core::t_setup(RADIX_BITS, true) as u64))
     } else {
@@ -580,7 +576,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
     b.idle(100);
     b.write_reg("START", 0, ((1u32 << axes.len()) - 1) as u16);
     let start_ps = b.now_ps();
-    let limit = run_limit_ticks_for(&runs, k, scurve);
+    let limit = run_limit_ticks(&runs, k, scurve);
     b.idle_until_ps(start_ps + limit * tick_ps);
     let reads: Vec<((ReadId, ReadId), ReadId)> = (0..axes.len()).map(|a| (b.read_position(a), b.read_reg("STATUS", a))).collect();
     let cycles = b.now_ps() / tick_ps + 100;
