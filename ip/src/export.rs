@@ -291,7 +291,7 @@ impl ExportOptions {
             clock_hz: self.clock_hz,
             queue_depth: QUEUE_DEPTH,
             fifo_depth: self.fifo_depth,
-            t_calc: if self.scurve { POLY_T_CALC } else { t_calc_sqrt(RADIX_BITS) },
+            t_calc: self.t_calc_cycles(),
             min_period: self.min_period_ticks() as u32,
             io: self.io,
             io_omit: if self.io { self.io_omit } else { 0 },
@@ -305,11 +305,32 @@ impl ExportOptions {
         self.min_period.map_or_else(|| self.sustainable_period_ticks(), u64::from)
     }
 
+    /// Cycles the shared unit plans per period on each axis: the square-root path's
+    /// t_calc, or [`POLY_T_CALC`] with the S-curve option.
+    pub fn t_calc_cycles(&self) -> usize {
+        if self.scurve {
+            POLY_T_CALC
+        } else {
+            t_calc_sqrt(RADIX_BITS)
+        }
+    }
+
+    /// The shared unit's longest segment setup, cycles: the decelerating trapezoid's,
+    /// or the polynomial one's with the S-curve option when it is longer.
+    pub fn longest_setup_cycles(&self) -> usize {
+        let trap = crate::hdl::core::t_setup(RADIX_BITS, true);
+        if self.scurve {
+            trap.max(crate::hdl::core::T_POLY_SETUP)
+        } else {
+            trap
+        }
+    }
+
     /// Shortest step period an axis sustains without underrun, in ticks: K·t_calc
     /// for the TDM core (the shared unit serves K axes), t_calc for the baseline,
     /// and never below the 2-tick minimum of the step generator.
     pub fn sustainable_period_ticks(&self) -> u64 {
-        let t = if self.scurve { POLY_T_CALC } else { t_calc_sqrt(RADIX_BITS) } as u64;
+        let t = self.t_calc_cycles() as u64;
         let k = match self.arch {
             Arch::Tdm => self.axes as u64,
             Arch::Baseline => 1,

@@ -440,11 +440,8 @@ pub struct Report {
 /// With the S-curve option (`scurve`) t_calc is `POLY_T_CALC` and the longest setup
 /// the polynomial one.
 pub fn run_limit_ticks(runs: &[AxisRun], k: usize, scurve: bool) -> u64 {
-    let (t_calc, t_setup) = if scurve {
-        (export::POLY_T_CALC as u64, (crate::hdl::core::T_POLY_SETUP as u64).max(crate::hdl::core::t_setup(RADIX_BITS, true) as u64))
-    } else {
-        (crate::hdl::core::t_calc_sqrt(RADIX_BITS) as u64, crate::hdl::core::t_setup(RADIX_BITS, true) as u64)
-    };
+    let o = export::ExportOptions { axes: k, scurve, ..Default::default() };
+    let (t_calc, t_setup) = (o.t_calc_cycles() as u64, o.longest_setup_cycles() as u64);
     let k = k as u64;
     let tight = runs.iter().any(|r| {
         r.edge_ticks.windows(2).any(|w| w[1] - w[0] < 2 * k * t_calc)

@@ -268,7 +268,7 @@ fn polynomial_pushes_three_ways() {
     let poly_cmd = |p: &PolySegment, axis: u32| {
         p.v0_rate as u128 | (p.t_ticks as u128) << 32 | (p.steps as u32 as u128) << 64 | (axis as u128) << 96 | 3 << 104
     };
-    let extra = |p: &PolySegment| p.v1_rate as u128 | (p.a_q32 as u64 as u128) << 32;
+    let extra = tdm_stepper::hdl::poly_lane::poly_fields;
     // Rows: reset, in_valid, in_data, in_v0, ext_code, in_extra.
     let mut rows: Vec<Vec<u128>> = vec![vec![1, 0, 0, 0, 0, 0], vec![0, 0, 0, 0, 0, 0]];
     // (row, latency, what comes out: out_valid, out_data, rej_valid, rej_axis, rej_code)

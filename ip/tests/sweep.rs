@@ -123,7 +123,7 @@ fn fmax_seeds_combine_into_medians() {
         log: format!("fmax_k8_s{seed}/pnr.log").into(),
         message: None,
     };
-    let p = combine_seeds(vec![run(3, 90.0, 70.0), run(1, 80.0, 75.0), run(2, 85.0, 60.0)]);
+    let p = combine_seeds(vec![run(3, 90.0, 70.0), run(1, 80.0, 75.0), run(2, 85.0, 60.0)], false);
     assert_eq!((p.fmax_clk_mhz, p.fmax_bus_clk_mhz), (Some(85.0), Some(70.0)));
     assert_eq!(p.seeds, vec![1, 2, 3]);
     assert_eq!(p.seed_clk_mhz, vec![80.0, 85.0, 90.0]);
@@ -132,11 +132,37 @@ fn fmax_seeds_combine_into_medians() {
     assert_eq!(p.log, std::path::PathBuf::from("fmax_k8_s2/pnr.log"));
     assert_eq!((p.seconds, p.tool_seconds), (30.0, Some(27.0)));
     assert!(p.max_step_rate_hz_at_fmax.unwrap() > 0.0);
+    // With the S-curve option an axis's rate is f / (K·POLY_T_CALC).
+    let ps = combine_seeds(vec![run(3, 90.0, 70.0), run(1, 80.0, 75.0), run(2, 85.0, 60.0)], true);
+    let want = 85e6 / (8 * tdm_stepper::export::POLY_T_CALC) as f64;
+    assert!((ps.max_step_rate_hz_at_fmax.unwrap() - want).abs() < 1e-6, "S-curve rate {:?}, want {want}", ps.max_step_rate_hz_at_fmax);
     let mut bad = run(2, 0.0, 0.0);
     bad.status = "failed".into();
     bad.fmax_clk_mhz = None;
-    let p = combine_seeds(vec![run(1, 80.0, 75.0), bad]);
+    let p = combine_seeds(vec![run(1, 80.0, 75.0), bad], false);
     assert_eq!((p.status.as_str(), p.fmax_clk_mhz), ("failed", None), "one failed run fails the point");
+}
+
+/// The capacity table: the square-root path's t_calc and the decelerating setup
+/// without the S-curve option, the option's per-period budget and the longer of the
+/// two setups with it.
+#[test]
+fn capacity_follows_the_profiles() {
+    use tdm_stepper::export::{ExportOptions, POLY_T_CALC, RADIX_BITS};
+    use tdm_stepper::hdl::core::{t_calc_sqrt, t_setup, T_POLY_SETUP};
+    use tdm_stepper::sweep::capacity;
+    for k in [2usize, 16] {
+        let c = capacity(k, Some(80.0), false);
+        assert_eq!(c.min_period_ticks, (k * t_calc_sqrt(RADIX_BITS)) as u64);
+        assert_eq!(c.t_setup_cycles, t_setup(RADIX_BITS, true));
+        assert!((c.max_step_rate_hz_at_fmax.unwrap() - 80e6 / (k * t_calc_sqrt(RADIX_BITS)) as f64).abs() < 1e-6);
+        let s = capacity(k, Some(80.0), true);
+        assert_eq!(s.min_period_ticks, (k * POLY_T_CALC) as u64);
+        assert_eq!(s.t_setup_cycles, T_POLY_SETUP.max(t_setup(RADIX_BITS, true)));
+        assert!((s.max_step_rate_hz_at_fmax.unwrap() - 80e6 / (k * POLY_T_CALC) as f64).abs() < 1e-6);
+        assert!((s.periods_per_s_at_50mhz - 50e6 / POLY_T_CALC as f64).abs() < 1e-6);
+        assert_eq!(s.min_period_ticks, ExportOptions { axes: k, scurve: true, ..Default::default() }.sustainable_period_ticks());
+    }
 }
 
 /// The nextpnr critical-path report is summarised right: delays, ends, blocks. The

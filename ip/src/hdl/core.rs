@@ -70,8 +70,8 @@
 //! **S-curve lane** (S = 1; the default S = 0 has none and costs nothing). A
 //! polynomial segment ([`crate::model::poly::PolySegment`]) is pushed with its fields
 //! in `cmd_extra` (v1, A', the flag) and queued like any other; the [`PolyLane`]
-//! keeps those fields beside the queue and every axis's polynomial flags. S_CHECK
-//! sends a polynomial head to `Y_SETUP`, which asks the lane's unit to set it up into
+//! keeps those fields beside the queue and every axis's polynomial flags. S_ISSUE_VT
+//! (the cycle after S_CHECK) sends a polynomial head to `Y_SETUP`, which asks the lane's unit to set it up into
 //! axis m's next slot ([`T_POLY_SETUP`] cycles in all); PICK asks it for the next
 //! period of a running polynomial segment ([`t_poly_step`]) and waits in `Y_WAIT`. The
 //! context holds such a segment as kind 1 (running); the periods go through the FIFO
@@ -137,9 +137,10 @@ pub const fn t_stop_form(r: usize) -> usize {
 }
 
 /// Cycles the scheduler spends on a polynomial segment's setup (S = 1), from S_CHECK
-/// to S_COMMIT_SETUP inclusive: S_CHECK, Y_SETUP, the unit's setup
-/// ([`UNIT_SETUP_CYCLES`]) and the commit. Measured by tests/hdl_core.rs.
-pub const T_POLY_SETUP: usize = UNIT_SETUP_CYCLES + 3;
+/// to S_COMMIT_SETUP inclusive: S_CHECK, S_ISSUE_VT (which branches on the lane's
+/// registered flag), Y_SETUP, the unit's setup ([`UNIT_SETUP_CYCLES`]) and the commit.
+/// Measured by tests/hdl_core.rs.
+pub const T_POLY_SETUP: usize = UNIT_SETUP_CYCLES + 4;
 
 /// Cycles from PICK to S_COMMIT_STEP inclusive for a polynomial period whose search
 /// takes `search` cycles ([`crate::model::poly::GallopStats::unit_cycles`]): PICK, the
@@ -238,7 +239,7 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     y_setup: Signal<Local, Bit>,
     y_step: Signal<Local, Bit>,
     y_slot: Signal<Local, Bit>,
-    y_head_poly: Signal<Local, Bit>,
+    y_head_go: Signal<Local, Bit>,
     y_pk_poly: Signal<Local, Bit>,
     y_busy: Signal<Local, Bit>,
     y_done: Signal<Local, Bit>,
@@ -512,7 +513,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             y_setup: Default::default(),
             y_step: Default::default(),
             y_slot: Default::default(),
-            y_head_poly: Default::default(),
+            y_head_go: Default::default(),
             y_pk_poly: Default::default(),
             y_busy: Default::default(),
             y_done: Default::default(),
@@ -818,7 +819,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
 
         // ---- the S-curve option's lane (S = 1): its outputs -----------------
         self.h_steps.next = self.queues.head.val().get_bits::<32>(64);
-        self.y_head_poly.next = false;
+        self.y_head_go.next = false;
         self.y_pk_poly.next = false;
         self.y_busy.next = false;
         self.y_done.next = false;
@@ -831,10 +832,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             self.xram[i].waddr.next = self.queues.ram_waddr.val();
             self.xram[i].wdata.next = self.cmd_extra.val();
             self.xram[i].raddr.next = self.queues.ram_raddr.val();
-            self.y_head_poly.next = self.xram[i].rdata.val().get_bit(96);
         }
         for i in 0..S {
             self.y_pk_poly.next = self.lanes[i].pk_poly.val();
+            self.y_head_go.next = self.lanes[i].head_go.val();
             self.y_busy.next = self.lanes[i].busy.val();
             self.y_done.next = self.lanes[i].done.val();
             self.y_was_setup.next = self.lanes[i].was_setup.val();
@@ -844,6 +845,10 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
 
         // ---- the scheduler --------------------------------------------------
         if self.st.q.val() == self.k_pick.val() {
+            // The lane's slot is axis m's in all of PICK, whatever PICK decides: the
+            // unit's read address (axis and slot) then does not wait for the decision
+            // (on ECP5 that path closed the K = 16 option core's `clk` at 77.4 MHz).
+            self.y_slot.next = self.view.pk_slot.val();
             self.w_kind.d.next = self.view.pk_kind.val();
             self.w_nd.d.next = self.view.pk_next_dwell.val();
             self.w_slot.d.next = self.view.pk_slot.val();
@@ -897,7 +902,6 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
                         self.advance.next = true;
                     } else {
                         self.y_step.next = true;
-                        self.y_slot.next = self.view.pk_slot.val();
                         self.st.d.next = self.k_ywait.val();
                     }
                 } else if self.view.pk_kind.val() == 1 {
@@ -921,13 +925,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
                 self.advance.next = true;
             }
         } else if self.st.q.val() == self.k_check.val() {
-            // The queue head into the setup's temporaries (SetupPath); a polynomial
-            // head with steps goes to the lane instead (one without is a dwell).
-            if self.y_head_poly.val() & (self.h_steps.val() != 0) & self.c_poly.val() {
-                self.st.d.next = self.k_ysetup.val();
-            } else {
-                self.st.d.next = self.k_issue_vt.val();
-            }
+            // The queue head into the setup's temporaries (SetupPath).
+            self.st.d.next = self.k_issue_vt.val();
         } else if (self.st.q.val() == self.k_ysetup.val()) & self.c_poly.val() {
             // The head (still read at axis m) into the lane's unit, for axis m's next
             // slot; the working copy takes its T, signed steps and sign, and the
@@ -965,12 +964,20 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             }
         } else if self.st.q.val() == self.k_issue_vt.val() {
             // v0·T goes into the multiplier; T²'s operands are T and T (op_b holds).
-            // T, the signed step count and its sign into the working copy.
+            // T, the signed step count and its sign into the working copy. A
+            // polynomial head with steps (the lane's registered `head_go`, so no state
+            // decision follows the queue RAMs' read ports) goes to the lane instead:
+            // Y_SETUP overwrites the working copy, and nothing else here has effect.
+            // A stop ramp (`cs_act`: from C_T, not S_CHECK) is never the queue's head.
             self.w_dwell.d.next = false;
             self.w_t.d.next = self.setup.t.val();
             self.w_n.d.next = self.setup.steps.val();
             self.w_rev.d.next = self.setup.steps.val().get_bit(31);
-            self.st.d.next = self.k_issue_tr.val();
+            if self.y_head_go.val() & !self.cs_act.q.val() & self.c_poly.val() {
+                self.st.d.next = self.k_ysetup.val();
+            } else {
+                self.st.d.next = self.k_issue_tr.val();
+            }
         } else if self.st.q.val() == self.k_issue_tr.val() {
             // T² goes in; w_n takes |steps| (0 exactly when the signed count is 0).
             self.w_n.d.next = self.h_n.val();

@@ -14,9 +14,16 @@
 //!
 //! **Requests** (one at a time, while `busy` is low; latency: [`PolyUnit`]'s):
 //! * `setup` sets up the queue head (`head`: v0, T, signed steps, and `head_extra`,
-//!   as they were in the cycle before: the lane registers them) into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
+//!   as they were in the cycle before, the steps two cycles before: the lane registers
+//!   them; the head must hold for those cycles) into axis `axis`'s next slot (`slot` is the axis's current slot; the unit
 //!   takes the other one);
 //! * `step` asks for the next period of axis `axis`'s current slot (`slot`).
+//!
+//! `head_go`: the head as it was in the cycle before is a polynomial segment with
+//! steps (one with steps 0 is a dwell, which the scheduler sets up as a trapezoid's).
+//! The scheduler branches on it in S_ISSUE_VT, the cycle after S_CHECK, so no state
+//! decision waits for the queue RAMs' read ports (on ECP5 that path closed the K = 16
+//! core's `clk` at 62.7 MHz).
 //!
 //! `done` pulses when the request is served; for a step `period` (ticks) and `last`
 //! (the segment's last step) hold until the next request, and `was_setup` says which
@@ -35,10 +42,23 @@
 
 use super::poly_unit::PolyUnit;
 use super::seg_queue::SEGMENT_BITS;
+use crate::model::poly::PolySegment;
 use rust_hdl::prelude::*;
 
 /// The polynomial fields of a queued segment: v1 (31..0), A' (95..32), the flag (96).
 pub const POLY_EXTRA_BITS: usize = 97;
+
+/// A polynomial segment's fields beside v0, T and the steps, as the push path carries
+/// them (`cmd_extra` less the flag): v1 in 31..0, A' (two's complement) in 95..32.
+pub fn poly_fields(p: &PolySegment) -> u128 {
+    p.v1_rate as u128 | (p.a_q32 as u64 as u128) << 32
+}
+
+/// The queued word of a polynomial segment ([`POLY_EXTRA_BITS`]): its fields and the
+/// flag.
+pub fn poly_extra(p: &PolySegment) -> u128 {
+    poly_fields(p) | 1 << 96
+}
 
 #[derive(LogicBlock)]
 pub struct PolyLane<const K: usize> {
@@ -58,6 +78,7 @@ pub struct PolyLane<const K: usize> {
     pub cut: Signal<In, Bit>,
     pub axis_reset: Signal<In, Bit>,
     pub pk_poly: Signal<Out, Bit>,
+    pub head_go: Signal<Out, Bit>,
     pub busy: Signal<Out, Bit>,
     pub done: Signal<Out, Bit>,
     pub was_setup: Signal<Out, Bit>,
@@ -72,12 +93,16 @@ pub struct PolyLane<const K: usize> {
     /// flip-flops, not at the queue RAM's unregistered read port (on ECP5 its 5.8 ns
     /// clock-to-out then an adder chain into the setup made the K = 16 core's
     /// critical path). The scheduler asks for a setup only in Y_SETUP, at least one
-    /// cycle after S_CHECK read the same head.
+    /// cycle after S_CHECK read the same head. |steps| takes two stages (`r_s`, the
+    /// signed count, then `r_n`): the negation's carry chain after the RAM's read port
+    /// was the K = 8 core's path; Y_SETUP comes two cycles after S_CHECK.
     r_v0: DFF<Bits<32>>,
+    r_s: DFF<Bits<32>>,
     r_t: DFF<Bits<32>>,
     r_n: DFF<Bits<32>>,
     r_v1: DFF<Bits<32>>,
     r_a: DFF<Bits<64>>,
+    r_go: DFF<Bit>,
     /// Axis `axis`'s bit, and `next_m`'s flag shifted down to bit 0.
     m_bit: Signal<Local, Bits<K>>,
     nx_sh: Signal<Local, Bits<K>>,
@@ -108,6 +133,7 @@ impl<const K: usize> Default for PolyLane<K> {
             cut: Default::default(),
             axis_reset: Default::default(),
             pk_poly: Default::default(),
+            head_go: Default::default(),
             busy: Default::default(),
             done: Default::default(),
             was_setup: Default::default(),
@@ -119,10 +145,12 @@ impl<const K: usize> Default for PolyLane<K> {
             req_setup: Default::default(),
             pf_poly: Default::default(),
             r_v0: Default::default(),
+            r_s: Default::default(),
             r_t: Default::default(),
             r_n: Default::default(),
             r_v1: Default::default(),
             r_a: Default::default(),
+            r_go: Default::default(),
             m_bit: Default::default(),
             nx_sh: Default::default(),
             nx_poly: Default::default(),
@@ -138,11 +166,11 @@ impl<const K: usize> Default for PolyLane<K> {
 impl<const K: usize> Logic for PolyLane<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, cur_poly, next_poly, req_setup, pf_poly, r_v0, r_t, r_n, r_v1, r_a);
+        dff_setup!(self, clock, cur_poly, next_poly, req_setup, pf_poly, r_v0, r_s, r_t, r_n, r_v1, r_a, r_go);
         // ---- the unit ---------------------------------------------------------
         // n = |steps| (a polynomial segment has n ≥ 1).
         self.h_steps.next = self.head.val().get_bits::<32>(64);
-        self.h_neg.next = (!self.h_steps.val()) + 1;
+        self.h_neg.next = (!self.r_s.q.val()) + 1;
         self.unit.clock.next = self.clock.val();
         self.unit.setup.next = self.setup.val();
         self.unit.step.next = self.step.val();
@@ -156,13 +184,16 @@ impl<const K: usize> Logic for PolyLane<K> {
         self.unit.slot.next = self.u_slot.val();
         self.r_v0.d.next = self.head.val().get_bits::<32>(0);
         self.r_t.d.next = self.head.val().get_bits::<32>(32);
-        if self.h_steps.val().get_bit(31) {
+        self.r_s.d.next = self.h_steps.val();
+        if self.r_s.q.val().get_bit(31) {
             self.r_n.d.next = self.h_neg.val();
         } else {
-            self.r_n.d.next = self.h_steps.val();
+            self.r_n.d.next = self.r_s.q.val();
         }
         self.r_v1.d.next = self.head_extra.val().get_bits::<32>(0);
         self.r_a.d.next = self.head_extra.val().get_bits::<64>(32);
+        self.r_go.d.next = self.head_extra.val().get_bit(96) & (self.h_steps.val() != 0);
+        self.head_go.next = self.r_go.q.val();
         self.unit.in_v0.next = self.r_v0.q.val();
         self.unit.in_t.next = self.r_t.q.val();
         self.unit.in_n.next = self.r_n.q.val();

@@ -13,9 +13,11 @@
 //! Latency: a write shows on `extra` and `arm` one bus clock after it commits (the
 //! register file reads them when a later STEPS_HI write commits). Ports: the bus
 //! (`wr`, `wr_addr`, `wr_data`, `rd_addr` → `rd_data`, combinational), `enable`,
-//! `pushed` → `arm`, `extra`. Checked through the bus on the exported core in
-//! tests/system.rs (read-back, the arm taken by its push, polynomial pushes reaching
-//! the core with their fields); no block-level three-way test of its own yet.
+//! `pushed` → `arm`, `extra`. Checked three ways in tests/hdl_regfile.rs
+//! (`poly_registers_read_back_and_the_arm_is_taken_by_one_push_three_ways`: a model
+//! of this contract, rust-hdl, Verilator and Icarus on random traffic) and through the
+//! bus on the exported core in tests/system.rs (polynomial pushes reaching the core
+//! with their fields).
 
 use super::regfile::c9;
 use crate::regs::ADDR_BITS;

@@ -11,7 +11,12 @@
 //! Per slot the RAM holds the five search words (W1..W4 and Q = ¬(R + S), the next
 //! step's remainder with S already added: 161 bits each) and one word of scalars: the
 //! last edge E_i (`prev`), T − 1 (`cap`), the steps left, the next start digit and T⁴
-//! (S = 2^36·T⁴). Memory per axis: 10 × 161 + 2 × 177 = 1,964 bits.
+//! (S = 2^36·T⁴). A slot's words start at a multiple of 8 (slot address · 8, three
+//! entries unused), so no adder stands between the request's axis and slot and the
+//! word RAM's read address (on ECP5 the ·5 adder was on the K = 2 core's critical
+//! path). Memory per axis: 16 × 161 + 2 × 177 = 2,930 bits, of which 10 × 161 + 2 ×
+//! 177 = 1,964 are used (in block RAM the depth costs nothing up to 512 entries, K =
+//! 16 is 256).
 //!
 //! Ports: while idle (`busy` low), pulse
 //! * `setup` with `axis`, `slot`, `in_v0`, `in_v1`, `in_a`, `in_t`, `in_n` (a valid
@@ -97,6 +102,10 @@ pub struct PolyUnit {
     b0: DFF<Bits<5>>,
     t4: DFF<Bits<97>>,
     fin: DFF<Bit>,
+    /// The next start digit, registered when the search ends (0 after a setup): the
+    /// scalar word's write takes it from a flip-flop, not through the period's
+    /// subtractor and the digit's priority chain (the K = 2 core's critical path).
+    nb: DFF<Bits<5>>,
     per: DFF<Bits<32>>,
     lst: DFF<Bit>,
     c_ones: Constant<Bits<W>>,
@@ -107,7 +116,7 @@ pub struct PolyUnit {
     k_go: Constant<Bits<3>>,
     k_run: Constant<Bits<3>>,
     k_store: Constant<Bits<3>>,
-    /// The request's slot address from the ports, and its first word's (·5).
+    /// The request's slot address from the ports, and its first word's (·8).
     in_sa: Signal<Local, Bits<8>>,
     in_wa: Signal<Local, Bits<8>>,
     /// The scalar word as read.
@@ -121,7 +130,6 @@ pub struct PolyUnit {
     /// The scalar word's fields that a step and a setup write differently.
     w_prev: Signal<Local, Bits<25>>,
     w_left: Signal<Local, Bits<25>>,
-    w_dig: Signal<Local, Bits<5>>,
     g_word: Signal<Local, Bits<W>>,
 }
 
@@ -146,7 +154,7 @@ impl PolyUnit {
             last: Default::default(),
             ps: Default::default(),
             srch: Default::default(),
-            words: BlockRam::new(10 * k),
+            words: BlockRam::new(16 * k),
             scalars: BlockRam::new(2 * k),
             st: Default::default(),
             cnt: Default::default(),
@@ -159,6 +167,7 @@ impl PolyUnit {
             b0: Default::default(),
             t4: Default::default(),
             fin: Default::default(),
+            nb: Default::default(),
             per: Default::default(),
             lst: Default::default(),
             c_ones: ones_at(W, 0),
@@ -179,7 +188,6 @@ impl PolyUnit {
             s_wide: Default::default(),
             w_prev: Default::default(),
             w_left: Default::default(),
-            w_dig: Default::default(),
             g_word: Default::default(),
         }
     }
@@ -188,14 +196,14 @@ impl PolyUnit {
 impl Logic for PolyUnit {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, st, cnt, sa, wa, is_setup, prev, cap, left, b0, t4, fin, per, lst);
+        dff_setup!(self, clock, st, cnt, sa, wa, is_setup, prev, cap, left, b0, t4, fin, nb, per, lst);
         self.ps.clock.next = self.clock.val();
         self.srch.clock.next = self.clock.val();
         self.words.clock.next = self.clock.val();
         self.scalars.clock.next = self.clock.val();
 
         self.in_sa.next = (bit_cast::<8, 4>(self.axis.val()) << 1) | bit_cast::<8, 1>(self.slot.val());
-        self.in_wa.next = (self.in_sa.val() << 2) + self.in_sa.val();
+        self.in_wa.next = self.in_sa.val() << 3;
         self.r_prev.next = self.scalars.rdata.val().get_bits::<25>(0);
         self.r_cap.next = self.scalars.rdata.val().get_bits::<25>(25);
         self.r_left.next = self.scalars.rdata.val().get_bits::<25>(50);
@@ -322,16 +330,14 @@ impl Logic for PolyUnit {
         // the digit of its period; after a setup base 0, n steps and digit 0.
         self.w_prev.next = self.srch.out_edge.val().get_bits::<25>(0);
         self.w_left.next = self.left.q.val() - 1;
-        self.w_dig.next = self.dig.val();
         if self.is_setup.q.val() {
             self.w_prev.next = 0.into();
             self.w_left.next = self.left.q.val();
-            self.w_dig.next = 0.into();
         }
         self.scalars.wdata.next = bit_cast::<SW, 25>(self.w_prev.val())
             | (bit_cast::<SW, 25>(self.cap.q.val()) << 25)
             | (bit_cast::<SW, 25>(self.w_left.val()) << 50)
-            | (bit_cast::<SW, 5>(self.w_dig.val()) << 75)
+            | (bit_cast::<SW, 5>(self.nb.q.val()) << 75)
             | (bit_cast::<SW, 97>(self.t4.q.val()) << 80);
         self.scalars.raddr.next = self.sa.q.val();
 
@@ -393,8 +399,10 @@ impl Logic for PolyUnit {
             self.st.d.next = self.k_run.val();
         } else if self.st.q.val() == self.k_run.val() {
             if self.srch.done.val() {
+                self.nb.d.next = 0.into();
                 if !self.is_setup.q.val() {
                     self.per.d.next = bit_cast::<32, 25>(self.d.val());
+                    self.nb.d.next = self.dig.val();
                     self.lst.d.next = false;
                 }
                 self.fin.d.next = true;

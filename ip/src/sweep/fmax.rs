@@ -70,8 +70,8 @@ pub fn median(v: &[f64]) -> Option<f64> {
 
 /// One point's runs (one per seed) as one point: each clock's median, the critical
 /// path of the run whose clk Fmax is nearest the median, and the first failure if any
-/// run failed.
-pub fn combine_seeds(mut runs: Vec<FmaxPoint>) -> FmaxPoint {
+/// run failed. `scurve`: the points have the S-curve option (their step rate).
+pub fn combine_seeds(mut runs: Vec<FmaxPoint>, scurve: bool) -> FmaxPoint {
     runs.sort_by_key(|r| r.seeds.first().copied().unwrap_or(0));
     if let Some(bad) = runs.iter().position(|r| r.status != "ok") {
         return runs.swap_remove(bad);
@@ -94,7 +94,7 @@ pub fn combine_seeds(mut runs: Vec<FmaxPoint>) -> FmaxPoint {
     let mut p = runs.swap_remove(mid);
     p.fmax_clk_mhz = clk;
     p.fmax_bus_clk_mhz = median(&buses);
-    p.max_step_rate_hz_at_fmax = clk.map(|c| max_step_rate_hz(p.axes, c * 1e6));
+    p.max_step_rate_hz_at_fmax = clk.map(|c| max_step_rate_hz(p.axes, c * 1e6, scurve));
     p.seeds = seeds;
     p.seed_clk_mhz = clks;
     p.seed_bus_clk_mhz = buses;
@@ -180,7 +180,7 @@ pub(super) fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &
             status: "ok".into(),
             fmax_clk_mhz: Some(clk),
             fmax_bus_clk_mhz: bus,
-            max_step_rate_hz_at_fmax: Some(max_step_rate_hz(axes, clk * 1e6)),
+            max_step_rate_hz_at_fmax: Some(max_step_rate_hz(axes, clk * 1e6, opts.scurve)),
             seeds: vec![seed],
             seed_clk_mhz: vec![clk],
             seed_bus_clk_mhz: bus.into_iter().collect(),

@@ -224,6 +224,8 @@ pub struct Sweep {
     pub io_groups: String,
     pub yosys: String,
     pub t_calc_cycles: usize,
+    /// The points were exported with the S-curve option (`--profiles trapezoid,scurve`).
+    pub scurve: bool,
     pub points: Vec<Point>,
     pub fmax: Vec<FmaxPoint>,
     pub breakdown: Vec<Breakdown>,
@@ -247,15 +249,18 @@ pub struct Capacity {
     pub setups_per_s_at_fmax: Option<f64>,
 }
 
-/// The [`Capacity`] of K axes, with the `clk` Fmax when it was measured.
-pub fn capacity(axes: usize, fmax_mhz: Option<f64>) -> Capacity {
-    let t_calc = crate::hdl::core::t_calc_sqrt(export::RADIX_BITS) as f64;
-    let t_setup = crate::hdl::core::t_setup(export::RADIX_BITS, true);
+/// The [`Capacity`] of K axes, with the `clk` Fmax when it was measured; with the
+/// S-curve option (`scurve`) t_calc is the option's per-period budget and t_setup the
+/// longest setup of either kind.
+pub fn capacity(axes: usize, fmax_mhz: Option<f64>, scurve: bool) -> Capacity {
+    let o = ExportOptions { axes, scurve, ..Default::default() };
+    let t_calc = o.t_calc_cycles() as f64;
+    let t_setup = o.longest_setup_cycles();
     Capacity {
         axes,
-        min_period_ticks: ExportOptions { axes, ..Default::default() }.sustainable_period_ticks(),
-        max_step_rate_hz_at_50mhz: max_step_rate_hz(axes, 50e6),
-        max_step_rate_hz_at_fmax: fmax_mhz.map(|f| max_step_rate_hz(axes, f * 1e6)),
+        min_period_ticks: o.sustainable_period_ticks(),
+        max_step_rate_hz_at_50mhz: max_step_rate_hz(axes, 50e6, scurve),
+        max_step_rate_hz_at_fmax: fmax_mhz.map(|f| max_step_rate_hz(axes, f * 1e6, scurve)),
         fmax_mhz,
         periods_per_s_at_50mhz: 50e6 / t_calc,
         periods_per_s_at_fmax: fmax_mhz.map(|f| f * 1e6 / t_calc),
@@ -265,9 +270,10 @@ pub fn capacity(axes: usize, fmax_mhz: Option<f64>) -> Capacity {
     }
 }
 
-/// f / (K·t_calc): the step rate an axis sustains without underrun (TDM).
-pub fn max_step_rate_hz(axes: usize, clock_hz: f64) -> f64 {
-    let o = ExportOptions { axes, ..Default::default() };
+/// f / (K·t_calc): the step rate an axis sustains without underrun (TDM), with or
+/// without the S-curve option.
+pub fn max_step_rate_hz(axes: usize, clock_hz: f64, scurve: bool) -> f64 {
+    let o = ExportOptions { axes, scurve, ..Default::default() };
     clock_hz / o.sustainable_period_ticks() as f64
 }
 
@@ -450,7 +456,7 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     let mut fmax: Vec<FmaxPoint> = opts
         .fmax_axes
         .iter()
-        .map(|&k| combine_seeds(runs.iter().filter(|r| r.axes == k).cloned().collect()))
+        .map(|&k| combine_seeds(runs.iter().filter(|r| r.axes == k).cloned().collect(), opts.scurve))
         .collect();
     fmax.sort_by_key(|p| p.axes);
     let mut breakdown = Arc::try_unwrap(breakdowns).unwrap().into_inner().unwrap();
@@ -464,8 +470,8 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     points.iter_mut().for_each(|p| rel(&mut p.log));
     fmax.iter_mut().for_each(|p| rel(&mut p.log));
     breakdown.iter_mut().for_each(|p| rel(&mut p.log));
-    let capacity = opts.axes.iter().map(|&k| capacity(k, fmax.iter().find(|f| f.axes == k).and_then(|f| f.fmax_clk_mhz))).collect();
-    let sweep = Sweep { io: opts.io, io_groups: if opts.io { export::io_group_names(crate::regs::IO_ALL & !opts.io_omit) } else { String::new() }, yosys, t_calc_cycles: export::ExportOptions::default().params().t_calc, points, fmax, breakdown, capacity };
+    let capacity = opts.axes.iter().map(|&k| capacity(k, fmax.iter().find(|f| f.axes == k).and_then(|f| f.fmax_clk_mhz), opts.scurve)).collect();
+    let sweep = Sweep { io: opts.io, io_groups: if opts.io { export::io_group_names(crate::regs::IO_ALL & !opts.io_omit) } else { String::new() }, yosys, t_calc_cycles: ExportOptions { scurve: opts.scurve, ..Default::default() }.t_calc_cycles(), scurve: opts.scurve, points, fmax, breakdown, capacity };
     let files = write_outputs(&sweep, &opts.out).map_err(|e| format!("cannot write into {}: {e}", opts.out.display()))?;
     Ok((sweep, files))
 }

@@ -119,6 +119,12 @@ pub fn markdown(s: &Sweep) -> String {
         m += &breakdown_markdown(&s.breakdown);
     }
     m += "## Axis capacity\n\nAn axis sustains periods down to K·t_calc ticks without underrun (measured by `tests/hdl_core.rs`, `underrun_exactly_when_k_t_calc_exceeds_the_period`). Over all axes the shared unit computes one period per t_calc cycles, and sets up one segment per t_setup cycles of the time the periods leave it (`t_setup_is_what_the_constant_says`; the decelerating setup, the longer one): at a load u = K·t_calc/Δ, about f·(1 − u)/t_setup segments per second. Fmax is the ECP5 `clk` Fmax above.\n\n";
+    if s.scurve {
+        m += &format!(
+            "These points have the S-curve option: t_calc is the option's per-period budget ({} cycles: a polynomial period's search, which the period FIFO averages; `sixteen_axes_stream_mixed_segments_at_half_the_scurve_rate` holds it), and t_setup the longer of the polynomial and the decelerating setup.\n\n",
+            s.t_calc_cycles
+        );
+    }
     let na = || "—".to_string();
     m += "| K | min period (ticks) | max steps/s per axis at 50 MHz | at Fmax | periods/s, all axes, at 50 MHz | at Fmax | t_setup (cycles) | segment setups/s, all axes, idle unit, at 50 MHz | at Fmax |\n|---|---|---|---|---|---|---|---|---|\n";
     for c in &s.capacity {
