@@ -79,6 +79,7 @@ pub mod context;
 pub mod context_ram;
 pub mod core;
 pub mod divider;
+pub mod enc_decoder;
 pub mod exmc;
 pub mod input_filter;
 pub mod io_regs;

@@ -92,10 +92,10 @@ pub struct PolyLane<const K: usize> {
     /// The head's fields, registered every cycle: the unit's setup inputs start at
     /// flip-flops, not at the queue RAM's unregistered read port (on ECP5 its 5.8 ns
     /// clock-to-out then an adder chain into the setup made the K = 16 core's
-    /// critical path). The scheduler asks for a setup only in Y_SETUP, at least one
-    /// cycle after S_CHECK read the same head. |steps| takes two stages (`r_s`, the
-    /// signed count, then `r_n`): the negation's carry chain after the RAM's read port
-    /// was the K = 8 core's path; Y_SETUP comes two cycles after S_CHECK.
+    /// critical path). The scheduler asks for a setup only in Y_SETUP, two cycles
+    /// after S_CHECK read the same head (S_ISSUE_VT lies between), which every field
+    /// needs: |steps| takes two stages (`r_s`, the signed count, then `r_n`), as the
+    /// negation's carry chain after the RAM's read port was the K = 8 core's path.
     r_v0: DFF<Bits<32>>,
     r_s: DFF<Bits<32>>,
     r_t: DFF<Bits<32>>,

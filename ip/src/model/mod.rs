@@ -17,6 +17,7 @@
 
 pub mod alternatives;
 pub mod axis;
+pub mod encoder;
 pub mod exact;
 pub mod guard;
 pub mod integer;

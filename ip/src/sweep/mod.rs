@@ -259,8 +259,8 @@ pub fn capacity(axes: usize, fmax_mhz: Option<f64>, scurve: bool) -> Capacity {
     Capacity {
         axes,
         min_period_ticks: o.sustainable_period_ticks(),
-        max_step_rate_hz_at_50mhz: max_step_rate_hz(axes, 50e6, scurve),
-        max_step_rate_hz_at_fmax: fmax_mhz.map(|f| max_step_rate_hz(axes, f * 1e6, scurve)),
+        max_step_rate_hz_at_50mhz: step_rate_hz(&o, 50e6),
+        max_step_rate_hz_at_fmax: fmax_mhz.map(|f| step_rate_hz(&o, f * 1e6)),
         fmax_mhz,
         periods_per_s_at_50mhz: 50e6 / t_calc,
         periods_per_s_at_fmax: fmax_mhz.map(|f| f * 1e6 / t_calc),
@@ -273,7 +273,10 @@ pub fn capacity(axes: usize, fmax_mhz: Option<f64>, scurve: bool) -> Capacity {
 /// f / (K·t_calc): the step rate an axis sustains without underrun (TDM), with or
 /// without the S-curve option.
 pub fn max_step_rate_hz(axes: usize, clock_hz: f64, scurve: bool) -> f64 {
-    let o = ExportOptions { axes, scurve, ..Default::default() };
+    step_rate_hz(&ExportOptions { axes, scurve, ..Default::default() }, clock_hz)
+}
+
+fn step_rate_hz(o: &ExportOptions, clock_hz: f64) -> f64 {
     clock_hz / o.sustainable_period_ticks() as f64
 }
 

@@ -1,0 +1,313 @@
+//! One axis's encoder decoder in `clk`: synchronisers, filters, 4× quadrature count,
+//! illegal transitions, the index and probe latches of the count, and the reciprocal
+//! velocity. It equals `model::encoder::EncoderModel` clock for clock
+//! (tests/hdl_encoder.rs, three ways); the model's module docs state the behaviour.
+//!
+//! Ports:
+//! * `a`, `b`, `z`: the encoder's pins (asynchronous).
+//! * `mode` (quasi-static, `EncConfig::word`): filter ticks 3..0 (0 = off), count
+//!   inverted 4, Z active low 5, index gated by A and B 6, the gate's A and B levels
+//!   8..7.
+//! * `arm` (one cycle): arm the clear of the count on the next index. `probe` (one
+//!   cycle): the probe latch's strobe (tie to 0 without the probe: its latch is
+//!   constant and synthesis removes it). `vel_tick`: the shared velocity prescaler's
+//!   tick. `reset`: synchronous; the synchronisers keep running and each filtered level
+//!   loads its synchronised pin.
+//! * Outputs, all flip-flops: `count`, `index_count`, `probe_count` (32 bits, signed,
+//!   wrapping), `illegal` (8 bits, wrapping), `index_tog` and `probe_tog` (flip at each
+//!   latch), `armed`, `period` and `age` (16 bits, saturating at 0xFFFF, which is
+//!   also their reset value), `last_dir` (1: the last counted edge went up) and the
+//!   filtered levels `lev_a`, `lev_b`, `lev_z`.
+//!
+//! Latency: a pin change sampled at clk edge e0 moves the count at edge e0 + 2 + filter
+//! (`model::encoder::pin_to_level_ticks`). One count per tick at most; the documented
+//! rate keeps `model::encoder::max_count_rate_ticks` ticks between edges.
+//!
+//! Cost: 9 flip-flops for the lines (synchroniser and level), 12 for the filters, 32
+//! for the count, 32 per latch, 8 for `illegal`, 32 for the velocity and 4 more.
+
+use rust_hdl::prelude::*;
+
+#[derive(LogicBlock)]
+pub struct EncDecoder {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub a: Signal<In, Bit>,
+    pub b: Signal<In, Bit>,
+    pub z: Signal<In, Bit>,
+    pub mode: Signal<In, Bits<9>>,
+    pub arm: Signal<In, Bit>,
+    pub probe: Signal<In, Bit>,
+    pub vel_tick: Signal<In, Bit>,
+    pub count: Signal<Out, Bits<32>>,
+    pub index_count: Signal<Out, Bits<32>>,
+    pub probe_count: Signal<Out, Bits<32>>,
+    pub illegal: Signal<Out, Bits<8>>,
+    pub index_tog: Signal<Out, Bit>,
+    pub probe_tog: Signal<Out, Bit>,
+    pub armed: Signal<Out, Bit>,
+    pub period: Signal<Out, Bits<16>>,
+    pub age: Signal<Out, Bits<16>>,
+    pub last_dir: Signal<Out, Bit>,
+    pub lev_a: Signal<Out, Bit>,
+    pub lev_b: Signal<Out, Bit>,
+    pub lev_z: Signal<Out, Bit>,
+    a1: DFF<Bit>,
+    a2: DFF<Bit>,
+    b1: DFF<Bit>,
+    b2: DFF<Bit>,
+    z1: DFF<Bit>,
+    z2: DFF<Bit>,
+    la: DFF<Bit>,
+    lb: DFF<Bit>,
+    lz: DFF<Bit>,
+    fa: DFF<Bits<4>>,
+    fb: DFF<Bits<4>>,
+    fz: DFF<Bits<4>>,
+    cnt: DFF<Bits<32>>,
+    idx: DFF<Bits<32>>,
+    prb: DFF<Bits<32>>,
+    ill: DFF<Bits<8>>,
+    itog: DFF<Bit>,
+    ptog: DFF<Bit>,
+    arm_q: DFF<Bit>,
+    per: DFF<Bits<16>>,
+    agec: DFF<Bits<16>>,
+    ldir: DFF<Bit>,
+    c_max: Constant<Bits<16>>,
+    c_ones: Constant<Bits<32>>,
+    inc: Signal<Local, Bits<32>>,
+    age_next: Signal<Local, Bits<16>>,
+    /// This tick: the filtered A, B, Z change; exactly one of A and B changed; the
+    /// move is up; the count after it; the index strobe.
+    ca: Signal<Local, Bit>,
+    cb: Signal<Local, Bit>,
+    cz: Signal<Local, Bit>,
+    counted: Signal<Local, Bit>,
+    up: Signal<Local, Bit>,
+    after: Signal<Local, Bits<32>>,
+    index: Signal<Local, Bit>,
+    q_before: Signal<Local, Bit>,
+    q_after: Signal<Local, Bit>,
+}
+
+impl Default for EncDecoder {
+    fn default() -> Self {
+        EncDecoder {
+            clock: Default::default(),
+            reset: Default::default(),
+            a: Default::default(),
+            b: Default::default(),
+            z: Default::default(),
+            mode: Default::default(),
+            arm: Default::default(),
+            probe: Default::default(),
+            vel_tick: Default::default(),
+            count: Default::default(),
+            index_count: Default::default(),
+            probe_count: Default::default(),
+            illegal: Default::default(),
+            index_tog: Default::default(),
+            probe_tog: Default::default(),
+            armed: Default::default(),
+            period: Default::default(),
+            age: Default::default(),
+            last_dir: Default::default(),
+            lev_a: Default::default(),
+            lev_b: Default::default(),
+            lev_z: Default::default(),
+            a1: Default::default(),
+            a2: Default::default(),
+            b1: Default::default(),
+            b2: Default::default(),
+            z1: Default::default(),
+            z2: Default::default(),
+            la: Default::default(),
+            lb: Default::default(),
+            lz: Default::default(),
+            fa: Default::default(),
+            fb: Default::default(),
+            fz: Default::default(),
+            cnt: Default::default(),
+            idx: Default::default(),
+            prb: Default::default(),
+            ill: Default::default(),
+            itog: Default::default(),
+            ptog: Default::default(),
+            arm_q: Default::default(),
+            per: Default::default(),
+            agec: Default::default(),
+            ldir: Default::default(),
+            c_max: Constant::new(0xFFFFu64.into()),
+            c_ones: Constant::new(0xFFFF_FFFFu64.into()),
+            inc: Default::default(),
+            age_next: Default::default(),
+            ca: Default::default(),
+            cb: Default::default(),
+            cz: Default::default(),
+            counted: Default::default(),
+            up: Default::default(),
+            after: Default::default(),
+            index: Default::default(),
+            q_before: Default::default(),
+            q_after: Default::default(),
+        }
+    }
+}
+
+impl EncDecoder {
+    /// Marks the inputs as driven from outside and connects the block (tests).
+    pub fn connect_ports(&mut self) {
+        self.clock.connect();
+        self.reset.connect();
+        self.a.connect();
+        self.b.connect();
+        self.z.connect();
+        self.mode.connect();
+        self.arm.connect();
+        self.probe.connect();
+        self.vel_tick.connect();
+        self.connect_all();
+    }
+}
+
+impl Logic for EncDecoder {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, itog, ptog, arm_q, per, agec, ldir);
+        self.a1.d.next = self.a.val();
+        self.a2.d.next = self.a1.q.val();
+        self.b1.d.next = self.b.val();
+        self.b2.d.next = self.b1.q.val();
+        self.z1.d.next = self.z.val();
+        self.z2.d.next = self.z1.q.val();
+
+        // The filters: a line changes once its synchronised pin has differed from the
+        // level at filter + 1 consecutive ticks.
+        self.ca.next = false;
+        self.fa.d.next = 0.into();
+        if self.a2.q.val() != self.la.q.val() {
+            if self.fa.q.val() >= self.mode.val().get_bits::<4>(0) {
+                self.ca.next = true;
+            } else {
+                self.fa.d.next = self.fa.q.val() + 1;
+            }
+        }
+        self.cb.next = false;
+        self.fb.d.next = 0.into();
+        if self.b2.q.val() != self.lb.q.val() {
+            if self.fb.q.val() >= self.mode.val().get_bits::<4>(0) {
+                self.cb.next = true;
+            } else {
+                self.fb.d.next = self.fb.q.val() + 1;
+            }
+        }
+        self.cz.next = false;
+        self.fz.d.next = 0.into();
+        if self.z2.q.val() != self.lz.q.val() {
+            if self.fz.q.val() >= self.mode.val().get_bits::<4>(0) {
+                self.cz.next = true;
+            } else {
+                self.fz.d.next = self.fz.q.val() + 1;
+            }
+        }
+        self.la.d.next = self.la.q.val() ^ self.ca.val();
+        self.lb.d.next = self.lb.q.val() ^ self.cb.val();
+        self.lz.d.next = self.lz.q.val() ^ self.cz.val();
+
+        // 4× decoding: A changing to B's level, or B away from A's, is up.
+        self.counted.next = self.ca.val() ^ self.cb.val();
+        self.up.next = self.la.q.val() ^ self.lb.q.val() ^ self.ca.val() ^ self.mode.val().get_bit(4);
+        // One adder: the count plus 0, 1 or −1.
+        self.inc.next = 0.into();
+        if self.counted.val() {
+            if self.up.val() {
+                self.inc.next = 1.into();
+            } else {
+                self.inc.next = self.c_ones.val();
+            }
+        }
+        self.after.next = self.cnt.q.val() + self.inc.val();
+        self.ill.d.next = self.ill.q.val();
+        if self.ca.val() & self.cb.val() {
+            self.ill.d.next = self.ill.q.val() + 1;
+        }
+
+        // The index: the tick at which Z at its active level (and A and B at the
+        // gate's levels) becomes true.
+        self.q_before.next = (self.lz.q.val() ^ self.mode.val().get_bit(5))
+            & (!self.mode.val().get_bit(6)
+                | ((self.la.q.val() == self.mode.val().get_bit(7)) & (self.lb.q.val() == self.mode.val().get_bit(8))));
+        self.q_after.next = (self.lz.q.val() ^ self.cz.val() ^ self.mode.val().get_bit(5))
+            & (!self.mode.val().get_bit(6)
+                | (((self.la.q.val() ^ self.ca.val()) == self.mode.val().get_bit(7))
+                    & ((self.lb.q.val() ^ self.cb.val()) == self.mode.val().get_bit(8))));
+        self.index.next = self.q_after.val() & !self.q_before.val();
+        self.cnt.d.next = self.after.val();
+        self.idx.d.next = self.idx.q.val();
+        self.itog.d.next = self.itog.q.val();
+        if self.index.val() {
+            self.idx.d.next = self.after.val();
+            self.itog.d.next = !self.itog.q.val();
+            if self.arm_q.q.val() {
+                self.cnt.d.next = 0.into();
+            }
+        }
+        self.arm_q.d.next = self.arm.val() | (self.arm_q.q.val() & !self.index.val());
+        self.prb.d.next = self.prb.q.val();
+        self.ptog.d.next = self.ptog.q.val();
+        if self.probe.val() {
+            self.prb.d.next = self.cnt.q.val();
+            self.ptog.d.next = !self.ptog.q.val();
+        }
+
+        // The velocity: ticks since the last counted edge, and between the last two.
+        self.per.d.next = self.per.q.val();
+        self.agec.d.next = self.agec.q.val();
+        self.ldir.d.next = self.ldir.q.val();
+        self.age_next.next = self.agec.q.val();
+        if self.vel_tick.val() & !self.agec.q.val().all() {
+            self.age_next.next = self.agec.q.val() + 1;
+        }
+        if self.counted.val() {
+            self.per.d.next = self.age_next.val();
+            self.agec.d.next = 0.into();
+            self.ldir.d.next = self.up.val();
+        } else {
+            self.agec.d.next = self.age_next.val();
+        }
+
+        if self.reset.val() {
+            self.la.d.next = self.a2.q.val();
+            self.lb.d.next = self.b2.q.val();
+            self.lz.d.next = self.z2.q.val();
+            self.fa.d.next = 0.into();
+            self.fb.d.next = 0.into();
+            self.fz.d.next = 0.into();
+            self.cnt.d.next = 0.into();
+            self.idx.d.next = 0.into();
+            self.prb.d.next = 0.into();
+            self.ill.d.next = 0.into();
+            self.itog.d.next = false;
+            self.ptog.d.next = false;
+            self.arm_q.d.next = false;
+            self.per.d.next = self.c_max.val();
+            self.agec.d.next = self.c_max.val();
+            self.ldir.d.next = false;
+        }
+
+        self.count.next = self.cnt.q.val();
+        self.index_count.next = self.idx.q.val();
+        self.probe_count.next = self.prb.q.val();
+        self.illegal.next = self.ill.q.val();
+        self.index_tog.next = self.itog.q.val();
+        self.probe_tog.next = self.ptog.q.val();
+        self.armed.next = self.arm_q.q.val();
+        self.period.next = self.per.q.val();
+        self.age.next = self.agec.q.val();
+        self.last_dir.next = self.ldir.q.val();
+        self.lev_a.next = self.la.q.val();
+        self.lev_b.next = self.lb.q.val();
+        self.lev_z.next = self.lz.q.val();
+    }
+}

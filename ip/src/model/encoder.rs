@@ -1,0 +1,340 @@
+//! Encoder feedback, clock by clock: the model of `hdl::enc_decoder` (plain Rust, no
+//! HDL). One incremental encoder per axis, with quadrature lines A and B and an index
+//! line Z.
+//!
+//! **Lines.** Each of A, B and Z goes through two synchroniser flip-flops and a digital
+//! filter: the filtered level takes a new value once the synchronised pin has differed
+//! from it at `filter + 1` consecutive clk ticks (`filter` = 0..=[`FILTER_MAX`], 0 =
+//! off). A pin change sampled at clk edge e0 reaches the filtered level at edge
+//! e0 + 2 + filter ([`pin_to_level_ticks`]); a pulse or bounce shorter than
+//! `filter + 1` ticks is ignored. A reset loads each filtered level from its
+//! synchronised pin (no count, no index on the way out of a reset).
+//!
+//! **Count** (4× decoding). At a tick where exactly one of the filtered A and B
+//! changes, the count (signed 32 bits, wrapping) moves by one: up when A changes to the
+//! level B has, or B changes away from A's (A leads B: 00 → 10 → 11 → 01 → 00), down
+//! the other way; `invert` swaps the two. A tick where both change is an **illegal
+//! transition**: the count keeps its value and `illegal` (8 bits, wrapping) counts it.
+//! With the filter off and the pins moving with the clock, one edge per tick is
+//! counted; a real encoder's pins are asynchronous, so the documented rate
+//! ([`max_count_rate_ticks`]) keeps two ticks between edges.
+//!
+//! **Index.** The index is qualified: the filtered Z at its active level (`z_low`: 0 =
+//! high, 1 = low) and, when `gate` is set, the filtered A and B equal to `gate_ab`
+//! (bit 0 A, bit 1 B). The index strobe is the tick at which the qualified index
+//! becomes true, so an index pulse whose edges fall a tick before or after the A or B
+//! edge it is gated with is taken at the same count either way (at the AB state's
+//! count, in both directions). At the strobe `index_count` takes the count after the
+//! tick (with the tick's move) and `index_tog` flips; if the clear is armed (`arm`, a
+//! command, self-clearing) the count becomes 0 instead, so the index is count 0 and the
+//! count before the clear was
+//! `index_count`. **Probe**: at a `probe` strobe (the machine
+//! I/O's probe latch) `probe_count` takes the count as it was before the tick and
+//! `probe_tog` flips.
+//!
+//! **Velocity.** `age` counts velocity ticks (`vel_tick`, one clk tick in
+//! `prescale + 1`, shared by the axes) since the last counted edge, saturating at
+//! [`VEL_MAX`]; at a counted edge `period` takes age + this tick's velocity tick
+//! (saturating) and `age` restarts at 0, and `last_dir` says which way it went. With a
+//! velocity tick every clk tick, `period` is the clk ticks between the last two
+//! counted edges. After reset both read [`VEL_MAX`] (no edge seen).
+
+/// The largest filter length, ticks (a 4-bit register field).
+pub const FILTER_MAX: u8 = 15;
+/// The velocity registers' saturation value (16 bits).
+pub const VEL_MAX: u16 = 0xFFFF;
+
+/// Clk edges from a pin change sampled at edge e0 to the filtered level: e0 + this.
+pub fn pin_to_level_ticks(filter: u8) -> u64 {
+    2 + filter as u64
+}
+
+/// The shortest spacing of A and B edges (clk ticks) the decoder counts without loss
+/// or an illegal transition, for asynchronous pins: each level must be seen at
+/// `filter + 1` ticks even when the synchroniser takes it a tick late, and two edges
+/// must never fall in one sample. The maximum count rate is `clk` / this.
+pub fn max_count_rate_ticks(filter: u8) -> u64 {
+    // A level held for 2·d ticks between its two edges (the other line's edge between)
+    // must survive a tick of sampling jitter at each end: 2d − 1 ≥ filter + 1 + 1.
+    (filter as u64 + 3).div_ceil(2).max(2)
+}
+
+/// One axis's configuration (quasi-static: it changes only while the core is reset).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EncConfig {
+    /// Filter length, ticks (0..=[`FILTER_MAX`], 0 = off).
+    pub filter: u8,
+    /// Count down when A leads B.
+    pub invert: bool,
+    /// Z is active low (else high).
+    pub z_low: bool,
+    /// The index is qualified by the filtered A and B equal to `gate_ab`.
+    pub gate: bool,
+    /// Bit 0: A's level, bit 1: B's, for `gate`.
+    pub gate_ab: u8,
+}
+
+impl EncConfig {
+    /// The configuration as the HDL's `mode` port: filter 3..0, invert 4,
+    /// z_low 5, gate 6, gate_ab 8..7.
+    pub fn word(&self) -> u16 {
+        (self.filter as u16 & 0xF)
+            | (self.invert as u16) << 4
+            | (self.z_low as u16) << 5
+            | (self.gate as u16) << 6
+            | (self.gate_ab as u16 & 3) << 7
+    }
+}
+
+/// The encoder's pins in one tick.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EncPins {
+    pub a: bool,
+    pub b: bool,
+    pub z: bool,
+}
+
+/// What the decoder shows (flip-flops, before the coming edge).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EncOutputs {
+    pub count: u32,
+    pub index_count: u32,
+    pub probe_count: u32,
+    pub illegal: u8,
+    pub index_tog: bool,
+    pub probe_tog: bool,
+    pub armed: bool,
+    pub period: u16,
+    pub age: u16,
+    pub last_dir: bool,
+    /// The filtered levels: bit 0 A, 1 B, 2 Z.
+    pub levels: u8,
+}
+
+/// One axis's decoder.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EncoderModel {
+    s1: u8,
+    s2: u8,
+    level: u8,
+    cnt: [u8; 3],
+    out: EncOutputs,
+}
+
+impl Default for EncoderModel {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl EncoderModel {
+    pub fn new() -> Self {
+        EncoderModel {
+            s1: 0,
+            s2: 0,
+            level: 0,
+            cnt: [0; 3],
+            out: EncOutputs { period: VEL_MAX, age: VEL_MAX, ..Default::default() },
+        }
+    }
+
+    pub fn outputs(&self) -> EncOutputs {
+        EncOutputs { levels: self.level, ..self.out }
+    }
+
+    /// One clk edge. `arm` arms the clear on the next index, `probe` is the probe
+    /// latch's strobe, `vel_tick` the velocity prescaler's tick; `reset` is
+    /// synchronous (the synchroniser keeps running).
+    pub fn clock(&mut self, cfg: &EncConfig, pins: EncPins, arm: bool, probe: bool, vel_tick: bool, reset: bool) {
+        let x = self.s2;
+        self.s2 = self.s1;
+        self.s1 = pins.a as u8 | (pins.b as u8) << 1 | (pins.z as u8) << 2;
+        if reset {
+            self.level = x;
+            self.cnt = [0; 3];
+            self.out = EncOutputs { period: VEL_MAX, age: VEL_MAX, ..Default::default() };
+            return;
+        }
+        let mut change = 0u8;
+        for i in 0..3 {
+            let bit = 1 << i;
+            if (x ^ self.level) & bit == 0 {
+                self.cnt[i] = 0;
+            } else if self.cnt[i] >= cfg.filter {
+                change |= bit;
+                self.cnt[i] = 0;
+            } else {
+                self.cnt[i] += 1;
+            }
+        }
+        let a = self.level & 1 != 0;
+        let b = self.level & 2 != 0;
+        let ca = change & 1 != 0;
+        let cb = change & 2 != 0;
+        let o = &mut self.out;
+        let counted = ca != cb;
+        let up = (if ca { a == b } else { a != b }) ^ cfg.invert;
+        let inc: u32 = if !counted {
+            0
+        } else if up {
+            1
+        } else {
+            u32::MAX
+        };
+        if ca && cb {
+            o.illegal = o.illegal.wrapping_add(1);
+        }
+        let after = o.count.wrapping_add(inc);
+        let qualified = |lev: u8| ((lev & 4 != 0) != cfg.z_low) && (!cfg.gate || lev & 3 == cfg.gate_ab & 3);
+        let index = qualified(self.level ^ change) && !qualified(self.level);
+        if probe {
+            o.probe_count = o.count;
+            o.probe_tog = !o.probe_tog;
+        }
+        o.count = after;
+        if index {
+            o.index_count = after;
+            o.index_tog = !o.index_tog;
+            if o.armed {
+                o.count = 0;
+            }
+        }
+        o.armed = arm || (o.armed && !index);
+        if counted {
+            o.period = o.age.saturating_add(vel_tick as u16);
+            o.age = 0;
+            o.last_dir = up;
+        } else if vel_tick {
+            o.age = o.age.saturating_add(1);
+        }
+        self.level ^= change;
+    }
+}
+
+/// A quadrature encoder for test benches: it follows a target position in counts,
+/// one edge at a time with at least `spacing` ticks between edges, with an index
+/// pulse (Z = 1) while the position modulo `counts_per_rev` is 0 (one count wide, A
+/// and B both 0 there).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QuadratureGen {
+    /// The position the lines show, counts.
+    pub pos: i64,
+    pub counts_per_rev: i64,
+    pub spacing: u64,
+    wait: u64,
+}
+
+impl QuadratureGen {
+    pub fn new(counts_per_rev: i64, spacing: u64) -> Self {
+        QuadratureGen { pos: 0, counts_per_rev, spacing, wait: 0 }
+    }
+
+    /// The lines for position `pos`: the Gray sequence 00, 10 (A), 11, 01 counting up.
+    pub fn lines(pos: i64, counts_per_rev: i64) -> EncPins {
+        let q = pos.rem_euclid(4);
+        EncPins { a: q == 1 || q == 2, b: q == 2 || q == 3, z: pos.rem_euclid(counts_per_rev) == 0 }
+    }
+
+    /// One tick toward `target`: an edge if one is due and the spacing allows.
+    pub fn tick(&mut self, target: i64) -> EncPins {
+        if self.wait > 0 {
+            self.wait -= 1;
+        }
+        if self.wait == 0 && target != self.pos {
+            self.pos += (target - self.pos).signum();
+            self.wait = self.spacing;
+        }
+        Self::lines(self.pos, self.counts_per_rev)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(cfg: &EncConfig, pins: &[EncPins]) -> EncoderModel {
+        let mut m = EncoderModel::new();
+        for _ in 0..3 {
+            m.clock(cfg, pins[0], false, false, true, true);
+        }
+        for &p in pins {
+            m.clock(cfg, p, false, false, true, false);
+        }
+        m
+    }
+
+    #[test]
+    fn counts_a_quadrature_walk_both_ways_and_its_period() {
+        for spacing in [1u64, 2, 5] {
+            let mut g = QuadratureGen::new(4000, spacing);
+            let mut pins = vec![QuadratureGen::lines(0, 4000)];
+            for t in 0..3000 {
+                pins.push(g.tick(if t < 1500 { 250 } else { -37 }));
+            }
+            pins.extend(std::iter::repeat(pins[pins.len() - 1]).take(5));
+            let m = run(&EncConfig::default(), &pins);
+            assert_eq!(m.outputs().count as i32, -37, "spacing {spacing}");
+            assert_eq!(m.outputs().illegal, 0);
+            assert_eq!(m.outputs().period as u64, spacing, "the last period is the spacing");
+            assert!(!m.outputs().last_dir);
+            let inv = run(&EncConfig { invert: true, ..Default::default() }, &pins);
+            assert_eq!(inv.outputs().count as i32, 37);
+        }
+    }
+
+    #[test]
+    fn both_lines_at_once_is_illegal_and_not_counted() {
+        let p = |a, b| EncPins { a, b, z: false };
+        let pins = [p(false, false), p(false, false), p(true, true), p(true, true), p(true, true), p(false, true), p(false, true), p(false, true)];
+        let m = run(&EncConfig::default(), &pins);
+        assert_eq!(m.outputs().illegal, 1);
+        // 11 → 01 is one count up.
+        assert_eq!(m.outputs().count, 1);
+    }
+
+    #[test]
+    fn the_filter_ignores_bounce_shorter_than_it() {
+        let cfg = EncConfig { filter: 3, ..Default::default() };
+        let p = |a| EncPins { a, b: false, z: false };
+        let mut pins = vec![p(false); 4];
+        pins.extend([p(true), p(true), p(true), p(false), p(true), p(false)]);
+        pins.extend(vec![p(false); 6]);
+        assert_eq!(run(&cfg, &pins).outputs().count, 0, "3-tick bounce under a 3-tick filter");
+        pins.extend(vec![p(true); 4]);
+        pins.extend(vec![p(true); 3]);
+        assert_eq!(run(&cfg, &pins).outputs().count, 1, "held 4 ticks");
+    }
+
+    #[test]
+    fn the_index_latches_and_the_armed_clear_counts_from_it() {
+        let cfg = EncConfig { gate: true, gate_ab: 0, ..Default::default() };
+        let mut g = QuadratureGen::new(16, 2);
+        let mut m = EncoderModel::new();
+        for _ in 0..3 {
+            m.clock(&cfg, g.tick(0), false, false, true, true);
+        }
+        m.clock(&cfg, g.tick(0), true, false, true, false);
+        assert!(m.outputs().armed);
+        let mut tog = m.outputs().index_tog;
+        let mut seen = vec![];
+        for _ in 0..200 {
+            m.clock(&cfg, g.tick(40), false, false, true, false);
+            if m.outputs().index_tog != tog {
+                tog = m.outputs().index_tog;
+                seen.push((m.outputs().index_count, m.outputs().count, m.outputs().armed));
+            }
+        }
+        // Z was high from reset at 0 (no edge); the indexes at 16 (armed: the count
+        // restarts there) and 32 (16 counts later).
+        assert_eq!(seen, vec![(16, 0, false), (16, 16, false)]);
+        assert_eq!(m.outputs().count, 40 - 16);
+    }
+
+    #[test]
+    fn the_rate_bound_keeps_two_ticks_and_grows_with_the_filter() {
+        assert_eq!(max_count_rate_ticks(0), 2);
+        assert_eq!(max_count_rate_ticks(1), 2);
+        assert_eq!(max_count_rate_ticks(3), 3);
+        assert_eq!(max_count_rate_ticks(15), 9);
+    }
+}

@@ -1,0 +1,344 @@
+//! Encoder feedback: the decoder three ways (rust-hdl, the exported Verilog in
+//! Verilator and Icarus, and `model::encoder`) on random traffic, then what the docs
+//! promise, on the model the three-way test holds the block to: an encoder following
+//! STEP/DIR at 4,000 counts against 3,200 steps per revolution through reversals,
+//! bounce and a stall and a slip; the index latch and its clear; the maximum count
+//! rate with asynchronous pins.
+
+mod common;
+
+use common::*;
+use rust_hdl::prelude::*;
+use tdm_stepper::hdl::enc_decoder::EncDecoder;
+use tdm_stepper::model::encoder::{max_count_rate_ticks, EncConfig, EncPins, EncoderModel, QuadratureGen, FILTER_MAX, VEL_MAX};
+use tdm_stepper::verify::{Port, TbSpec};
+
+fn decoder_uut() -> EncDecoder {
+    let mut u = EncDecoder::default();
+    u.connect_ports();
+    u
+}
+
+/// Input columns: reset, a, b, z, config, arm, probe, vel_tick.
+const IN_COLS: [(&str, usize); 8] =
+    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 9), ("arm", 1), ("probe", 1), ("vel_tick", 1)];
+const OUT_COLS: [(&str, usize); 13] = [
+    ("count", 32),
+    ("index_count", 32),
+    ("probe_count", 32),
+    ("illegal", 8),
+    ("index_tog", 1),
+    ("probe_tog", 1),
+    ("armed", 1),
+    ("period", 16),
+    ("age", 16),
+    ("last_dir", 1),
+    ("lev_a", 1),
+    ("lev_b", 1),
+    ("lev_z", 1),
+];
+
+fn model_outputs(m: &EncoderModel) -> Vec<u128> {
+    let o = m.outputs();
+    vec![
+        o.count as u128,
+        o.index_count as u128,
+        o.probe_count as u128,
+        o.illegal as u128,
+        o.index_tog as u128,
+        o.probe_tog as u128,
+        o.armed as u128,
+        o.period as u128,
+        o.age as u128,
+        o.last_dir as u128,
+        (o.levels & 1) as u128,
+        (o.levels >> 1 & 1) as u128,
+        (o.levels >> 2 & 1) as u128,
+    ]
+}
+
+fn config_of(word: u128) -> EncConfig {
+    let w = word as u16;
+    EncConfig {
+        filter: (w & 0xF) as u8,
+        invert: w >> 4 & 1 == 1,
+        z_low: w >> 5 & 1 == 1,
+        gate: w >> 6 & 1 == 1,
+        gate_ab: (w >> 7 & 3) as u8,
+    }
+}
+
+/// Random traffic: an encoder walking toward random targets (reversals), slips of two
+/// counts (both lines at once), bounce on A, random configurations changed under
+/// reset, arms, probes and a prescaled velocity tick.
+fn random_rows(seed: u64, phases: u64) -> Vec<Vec<u128>> {
+    let mut rng = Rng(seed);
+    let mut rows = Vec::new();
+    let mut g = QuadratureGen::new(12 + (rng.next() % 20) as i64, 1);
+    let mut target = 0i64;
+    for phase in 0..phases {
+        let cfg = EncConfig {
+            filter: match phase % 4 {
+                0 => 0,
+                1 => FILTER_MAX,
+                _ => (rng.next() % 6) as u8,
+            },
+            invert: rng.next() % 2 == 0,
+            z_low: rng.next() % 2 == 0,
+            gate: rng.next() % 2 == 0,
+            gate_ab: (rng.next() % 4) as u8,
+        };
+        g.spacing = 1 + rng.next() % (2 * cfg.filter as u64 + 4);
+        let every = 1 + rng.next() % 3;
+        let reset_rows = if phase == 0 { 4 } else { 1 + rng.next() % 2 };
+        for k in 0..400u64 {
+            if rng.next() % 60 == 0 {
+                target = g.pos + (rng.next() % 80) as i64 - 40;
+            }
+            if rng.next() % 150 == 0 {
+                g.pos -= 2; // a slip: both lines at once
+            }
+            let mut p = g.tick(target);
+            if rng.next() % 25 == 0 {
+                p.a = !p.a; // a one-tick glitch
+            }
+            rows.push(vec![
+                (k < reset_rows) as u128,
+                p.a as u128,
+                p.b as u128,
+                p.z as u128,
+                cfg.word() as u128,
+                (rng.next() % 90 == 0) as u128,
+                (rng.next() % 70 == 0) as u128,
+                (k % every == 0) as u128,
+            ]);
+        }
+    }
+    rows
+}
+
+#[test]
+fn decoder_equals_the_model_three_ways() {
+    let rows = random_rows(0xe4c0_de01, 24);
+    let mut m = EncoderModel::new();
+    let mut want = Vec::new();
+    let (mut counted, mut illegal, mut indexes, mut probes) = (0, 0u64, 0, 0);
+    for (r, row) in rows.iter().enumerate() {
+        let before = m.outputs();
+        // The synchroniser's flip-flops are undefined in Verilog until reset loads the levels.
+        want.push(model_outputs(&m).into_iter().map(|v| (r >= 3).then_some(v)).collect::<Vec<_>>());
+        let pins = EncPins { a: row[1] == 1, b: row[2] == 1, z: row[3] == 1 };
+        m.clock(&config_of(row[4]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[0] == 1);
+        let after = m.outputs();
+        if row[0] == 0 {
+            counted += (after.count != before.count) as u64;
+            illegal += (after.illegal != before.illegal) as u64;
+            indexes += (after.index_tog != before.index_tog) as u64;
+            probes += (after.probe_tog != before.probe_tog) as u64;
+        }
+    }
+    assert!(counted > 1200 && illegal > 20 && indexes > 40 && probes > 40, "stimulus too thin: {counted} counts, {illegal} illegal, {indexes} indexes, {probes} probes");
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: IN_COLS.iter().map(|(n, w)| Port::new(n, *w)).collect(),
+        outputs: OUT_COLS.iter().map(|(n, w)| Port::new(n, *w)).collect(),
+    };
+    three_ways(
+        "enc_decoder",
+        decoder_uut,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.a.next = r[1] == 1;
+            u.b.next = r[2] == 1;
+            u.z.next = r[3] == 1;
+            u.mode.next = (r[4] as u64).into();
+            u.arm.next = r[5] == 1;
+            u.probe.next = r[6] == 1;
+            u.vel_tick.next = r[7] == 1;
+        },
+        |u| {
+            vec![
+                u.count.val().to_u64() as u128,
+                u.index_count.val().to_u64() as u128,
+                u.probe_count.val().to_u64() as u128,
+                u.illegal.val().to_u64() as u128,
+                u.index_tog.val() as u128,
+                u.probe_tog.val() as u128,
+                u.armed.val() as u128,
+                u.period.val().to_u64() as u128,
+                u.age.val().to_u64() as u128,
+                u.last_dir.val() as u128,
+                u.lev_a.val() as u128,
+                u.lev_b.val() as u128,
+                u.lev_z.val() as u128,
+            ]
+        },
+        &spec,
+        &rows,
+        &want,
+    );
+}
+
+/// A line as an asynchronous pin: each change is seen by the synchroniser at its tick
+/// or one tick later, at random.
+struct Jitter {
+    seen: bool,
+    pending: Option<bool>,
+}
+
+impl Jitter {
+    fn new(level: bool) -> Self {
+        Jitter { seen: level, pending: None }
+    }
+    fn next(&mut self, ideal: bool, rng: &mut Rng) -> bool {
+        if let Some(v) = self.pending.take() {
+            self.seen = v;
+        }
+        if ideal != self.seen && self.pending.is_none() {
+            if rng.next() % 2 == 0 {
+                self.seen = ideal;
+            } else {
+                self.pending = Some(ideal);
+            }
+        }
+        self.seen
+    }
+}
+
+/// Runs the model decoder from reset on `pins`, returning it and its outputs per tick.
+fn decode(cfg: &EncConfig, pins: impl Iterator<Item = EncPins>) -> (EncoderModel, Vec<tdm_stepper::model::encoder::EncOutputs>) {
+    let mut m = EncoderModel::new();
+    for _ in 0..3 {
+        m.clock(cfg, QuadratureGen::lines(0, 1 << 20), false, false, true, true);
+    }
+    let mut outs = vec![];
+    for p in pins {
+        m.clock(cfg, p, false, false, true, false);
+        outs.push(m.outputs());
+    }
+    (m, outs)
+}
+
+#[test]
+fn no_count_is_lost_at_the_documented_rate_with_asynchronous_pins() {
+    let mut rng = Rng(0xe4c0_de02);
+    for filter in [0u8, 1, 3, 7, FILTER_MAX] {
+        let spacing = max_count_rate_ticks(filter);
+        let mut g = QuadratureGen::new(1 << 20, spacing);
+        let (mut ja, mut jb) = (Jitter::new(false), Jitter::new(false));
+        let mut pins = vec![];
+        for t in 0..60_000u64 {
+            let target = if t < 30_000 { 2_000 } else { -1_234 };
+            let p = g.tick(target);
+            pins.push(EncPins { a: ja.next(p.a, &mut rng), b: jb.next(p.b, &mut rng), z: false });
+        }
+        assert_eq!(g.pos, -1_234, "the walk reached its end (filter {filter})");
+        pins.extend(std::iter::repeat(*pins.last().unwrap()).take(40));
+        let (m, _) = decode(&EncConfig { filter, ..Default::default() }, pins.into_iter());
+        assert_eq!(m.outputs().count as i32, -1_234, "filter {filter}, an edge every {spacing} ticks: a count lost");
+        assert_eq!(m.outputs().illegal, 0, "filter {filter}: an illegal transition at the documented rate");
+    }
+    // The filter off counts at clk/2 (the target is clk/4).
+    assert_eq!(max_count_rate_ticks(0), 2);
+    // One tick faster than the bound, the filter loses edges (the bound is not loose).
+    let spacing = max_count_rate_ticks(7) - 1;
+    let mut g = QuadratureGen::new(1 << 20, spacing);
+    let (mut ja, mut jb) = (Jitter::new(false), Jitter::new(false));
+    let mut pins = vec![];
+    for _ in 0..20_000u64 {
+        let p = g.tick(3_000);
+        pins.push(EncPins { a: ja.next(p.a, &mut rng), b: jb.next(p.b, &mut rng), z: false });
+    }
+    let (m, _) = decode(&EncConfig { filter: 7, ..Default::default() }, pins.into_iter());
+    assert!(m.outputs().count != 3_000 || m.outputs().illegal != 0, "faster than the bound went unharmed");
+}
+
+const STEPS_REV: i64 = 3_200;
+const COUNTS_REV: i64 = 4_000;
+
+/// The pins of an encoder on a motor following STEP/DIR at 3,200 steps and 4,000
+/// counts per revolution (floor(steps · 5 / 4) counts, one edge at a time): moves with
+/// reversals, a step every 7 to 12 ticks, lines seen with a tick of jitter (`jitter`)
+/// and contact bounce on B shorter than `filter` (`bounce`) where B has held its
+/// level longer than the filter. Returns the pins, the
+/// final count, the passes through an index and the bounces.
+fn follow(filter: u8, jitter: bool, bounce: bool) -> (Vec<EncPins>, i64, usize, usize) {
+    let mut b_held = 0;
+    let mut rng = Rng(0xe4c0_de03);
+    let mut steps = 0i64;
+    let mut g = QuadratureGen::new(COUNTS_REV, max_count_rate_ticks(filter));
+    let (mut ja, mut jb) = (Jitter::new(false), Jitter::new(false));
+    let mut pins = vec![];
+    let (mut bounces, mut indexes) = (0, 0);
+    for &(delta, period) in &[(9_000i64, 7u64), (-2_500, 9), (6_400, 12), (-640, 8)] {
+        let goal = steps + delta;
+        while steps != goal {
+            steps += delta.signum();
+            for _ in 0..period {
+                let before = g.pos;
+                let p = g.tick((steps * COUNTS_REV).div_euclid(STEPS_REV));
+                if g.pos != before && g.pos.rem_euclid(COUNTS_REV) == 0 {
+                    indexes += 1;
+                }
+                let (a, b) = if jitter { (ja.next(p.a, &mut rng), jb.next(p.b, &mut rng)) } else { (p.a, p.b) };
+                if bounce && b_held > filter && rng.next() % 20 == 0 {
+                    // B bounces once the filter has taken its level (a bounce on an
+                    // edge would only delay the edge).
+                    bounces += 1;
+                    for _ in 0..filter {
+                        pins.push(EncPins { a, b: !b, z: p.z });
+                    }
+                }
+                b_held = if pins.last().is_some_and(|l: &EncPins| l.b == b) { b_held + 1 } else { 0 };
+                pins.push(EncPins { a, b, z: p.z });
+            }
+        }
+    }
+    let end = (steps * COUNTS_REV).div_euclid(STEPS_REV);
+    for _ in 0..40 {
+        pins.push(g.tick(end));
+    }
+    (pins, end, indexes, bounces)
+}
+
+#[test]
+fn an_encoder_following_step_dir_is_counted_exactly_through_bounce_stall_and_slip() {
+    let filter = 3u8;
+    let cfg = EncConfig { filter, gate: true, gate_ab: 0, ..Default::default() };
+    for (jitter, bounce) in [(false, false), (true, false), (false, true), (true, true)] {
+        let (pins, end, expected_indexes, bounces) = follow(filter, jitter, bounce);
+        assert!(!bounce || bounces > 50, "too little bounce: {bounces}");
+        let what = format!("jitter {jitter}, bounce {bounce}");
+        let (m, outs) = decode(&cfg, pins.clone().into_iter());
+        let o = m.outputs();
+        assert_eq!(o.count as i32 as i64, end, "{what}: the count equals the encoder's position");
+        assert_eq!(o.illegal, 0, "{what}: bounce shorter than the filter is no fault");
+        // Every index strobe latched a multiple of a revolution (the count is exact there).
+        let mut latched = vec![];
+        for w in outs.windows(2) {
+            if w[1].index_tog != w[0].index_tog {
+                latched.push(w[1].index_count as i32 as i64);
+            }
+        }
+        assert_eq!(latched.len(), expected_indexes, "{what}: one index per pass through a revolution's position 0");
+        assert!(latched.len() >= 4);
+        assert!(latched.iter().all(|c| c.rem_euclid(COUNTS_REV) == 0), "{what}: index latches {latched:?}");
+        if !(jitter && bounce) {
+            continue;
+        }
+        // A stall: steps go on, the counts stop; then a slip of two counts back (both
+        // lines at once): the count stays, the slip is counted illegal.
+        let mut stalled = pins.clone();
+        let hold = *stalled.last().unwrap();
+        stalled.extend(std::iter::repeat(hold).take(5_000));
+        let (m2, _) = decode(&cfg, stalled.clone().into_iter());
+        assert_eq!(m2.outputs().count as i32 as i64, end, "a stall leaves the count where the motor stopped");
+        assert_eq!(m2.outputs().age, o.age + 5_000, "age counts the ticks since the last edge");
+        stalled.extend(std::iter::repeat(QuadratureGen::lines(end - 2, COUNTS_REV)).take(20));
+        let (m3, _) = decode(&cfg, stalled.into_iter());
+        assert_eq!(m3.outputs().illegal, 1, "the slip is one illegal transition");
+        assert_eq!(m3.outputs().count as i32 as i64, end, "an illegal transition does not count");
+    }
+    assert_eq!(VEL_MAX, 0xFFFF);
+}
