@@ -10,7 +10,11 @@ mod common;
 use common::*;
 use rust_hdl::prelude::*;
 use tdm_stepper::hdl::enc_decoder::EncDecoder;
-use tdm_stepper::model::encoder::{max_count_rate_ticks, EncConfig, EncPins, EncoderModel, QuadratureGen, FILTER_MAX, VEL_MAX};
+use tdm_stepper::hdl::follow_err::{FollowErr, FOLLOW_ERR_LATENCY};
+use tdm_stepper::model::encoder::{
+    deviation, follow_refresh_ticks, max_count_rate_ticks, EncConfig, EncPins, EncoderModel, FollowErrModel, QuadratureGen, FILTER_MAX,
+    VEL_MAX,
+};
 use tdm_stepper::verify::{Port, TbSpec};
 
 fn decoder_uut() -> EncDecoder {
@@ -341,4 +345,175 @@ fn an_encoder_following_step_dir_is_counted_exactly_through_bounce_stall_and_sli
         assert_eq!(m3.outputs().count as i32 as i64, end, "an illegal transition does not count");
     }
     assert_eq!(VEL_MAX, 0xFFFF);
+}
+
+const FK: usize = 3;
+
+/// Per axis of the following-error stimulus: the step position, the encoder count, the
+/// ratio and the tolerance.
+#[derive(Clone, Copy)]
+struct FeAxis {
+    pos: i32,
+    count: i32,
+    ratio: u32,
+    tol: u16,
+}
+
+/// Random traffic for [`FollowErr`]: axes moving both ways through 0 with encoders
+/// that follow with small errors and sometimes jump, random ratios and tolerances
+/// (changed under reset), aligns and clears; rows as the block's inputs, each cycle's
+/// inputs those of the axis the model says the block takes (the `ax` it shows).
+fn follow_rows(seed: u64, cycles: usize) -> (Vec<Vec<u128>>, Vec<Vec<Option<u128>>>) {
+    let mut rng = Rng(seed);
+    let mut m = FollowErrModel::new(FK);
+    let mut axes = [FeAxis { pos: 0, count: 0, ratio: 0x1_4000, tol: 4 }; FK];
+    let (mut rows, mut want) = (vec![], vec![]);
+    let (mut fails, mut aligns) = (0, 0);
+    for cyc in 0..cycles {
+        let reset = cyc < 2 || rng.next() % 1500 == 0;
+        if reset {
+            for ax in axes.iter_mut() {
+                ax.ratio = match rng.next() % 4 {
+                    0 => 0x1_4000,
+                    1 => 1 + (rng.next() % 0xFFFF_FFFF) as u32,
+                    _ => (rng.next() % 0x8_0000) as u32 + 1,
+                };
+                ax.tol = match rng.next() % 3 {
+                    0 => 0,
+                    1 => (rng.next() % 8) as u16 + 1,
+                    _ => rng.next() as u16,
+                };
+            }
+        }
+        for ax in axes.iter_mut() {
+            if rng.next() % 3 == 0 {
+                ax.pos = ax.pos.wrapping_add((rng.next() % 3) as i32 - 1);
+            }
+            let exact = deviation(ax.pos, 0, ax.ratio, 0);
+            let r = rng.next() % 400;
+            ax.count = if r == 0 { ax.count.wrapping_add((rng.next() % 200) as i32 - 100) } else if r < 300 { exact.wrapping_add((rng.next() % 5) as i32 - 2) } else { ax.count };
+            if rng.next() % 5000 == 0 {
+                ax.pos = rng.next() as i32; // a jump across the range
+            }
+        }
+        let align = if rng.next() % 200 == 0 { 1u32 << (rng.next() % FK as u64) } else { 0 };
+        let clear = if rng.next() % 100 == 0 { (rng.next() % 8) as u32 } else { 0 };
+        let dev_axis = (rng.next() % FK as u64) as usize;
+        let a = axes[m.ax()];
+        want.push(vec![
+            (cyc >= 1).then_some(m.ax() as u128),
+            m.dev(dev_axis).map(|d| d as u128),
+            (cyc >= 1).then_some(m.fail() as u128),
+        ]);
+        rows.push(vec![reset as u128, a.pos as u32 as u128, a.count as u32 as u128, a.ratio as u128, a.tol as u128, align as u128, clear as u128, dev_axis as u128]);
+        let before = m.fail();
+        m.clock(a.pos as u32, a.count as u32, a.ratio, a.tol, align, clear, reset);
+        fails += (m.fail() & !before).count_ones();
+        aligns += align.count_ones();
+    }
+    assert!(fails > 30 && aligns > 30, "stimulus too thin: {fails} fails, {aligns} aligns");
+    (rows, want)
+}
+
+#[test]
+fn following_error_equals_the_model_three_ways() {
+    let (rows, want) = follow_rows(0xe4c0_de10, 40_000);
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("position", 32),
+            Port::new("count", 32),
+            Port::new("ratio", 32),
+            Port::new("tol", 16),
+            Port::new("align", FK),
+            Port::new("clear", FK),
+            Port::new("dev_axis", 4),
+        ],
+        outputs: vec![Port::new("ax", 4), Port::new("dev", 32), Port::new("fail", FK)],
+    };
+    three_ways(
+        "follow_err",
+        || {
+            let mut u = FollowErr::<FK>::default();
+            u.connect_ports();
+            u
+        },
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.position.next = (r[1] as u64).into();
+            u.count.next = (r[2] as u64).into();
+            u.ratio.next = (r[3] as u64).into();
+            u.tol.next = (r[4] as u64).into();
+            u.align.next = (r[5] as u64).into();
+            u.clear.next = (r[6] as u64).into();
+            u.dev_axis.next = (r[7] as u64).into();
+        },
+        |u| vec![u.ax.val().to_u64() as u128, u.dev.val().to_u64() as u128, u.fail.val().to_u64() as u128],
+        &spec,
+        &rows,
+        &want,
+    );
+}
+
+/// The documented refresh and latency: a count that crosses the tolerance at edge X
+/// sets ENC_FAIL by edge X + K + 4 and not before X; the deviation is the formula;
+/// an align makes it 0.
+#[test]
+fn enc_fail_comes_within_one_refresh_and_four_ticks_and_align_zeroes_the_deviation() {
+    let mut rng = Rng(0xe4c0_de11);
+    for k in [1usize, 3, 16] {
+        let refresh = follow_refresh_ticks(k);
+        assert_eq!(refresh, k as u64);
+        let mut worst = 0;
+        for trial in 0..40 {
+            let mut m = FollowErrModel::new(k);
+            let ratio = 0x1_4000u32; // 1.25 counts per step
+            let tol = 10u16;
+            let pos: Vec<i32> = (0..k).map(|_| (rng.next() % 20_000) as i32 - 10_000).collect();
+            let mut count: Vec<i32> = pos.iter().map(|&p| deviation(p, 0, ratio, 0) - 3).collect();
+            let victim = (rng.next() % k as u64) as usize;
+            let x = 40 + rng.next() % 50;
+            let mut rose = None;
+            for edge in 0..(x + 2 * k as u64 + 20) {
+                if edge == x {
+                    // The count steps past the tolerance (a slip).
+                    count[victim] -= tol as i32 + 1 - 3 + (trial % 3);
+                }
+                let a = m.ax();
+                m.clock(pos[a] as u32, count[a] as u32, ratio, tol, 0, 0, edge < 2);
+                if rose.is_none() && m.fail() != 0 {
+                    assert_eq!(m.fail(), 1 << victim, "K = {k}: only the slipped axis fails");
+                    rose = Some(edge);
+                }
+                if edge > x + 10 + k as u64 {
+                    // Every axis's deviation reads the formula.
+                    for b in 0..k {
+                        assert_eq!(m.dev(b).map(|d| d as i32), Some(deviation(pos[b], count[b], ratio, 0)));
+                    }
+                }
+            }
+            let rose = rose.expect("ENC_FAIL never came");
+            // The count register took its new value at edge x − 1 (the value the loop
+            // presents before edge x): that is the crossing.
+            let crossing = x - 1;
+            assert!(rose > crossing, "K = {k}: ENC_FAIL before the crossing");
+            let latency = rose - crossing;
+            assert!(latency <= refresh + FOLLOW_ERR_LATENCY, "K = {k}: ENC_FAIL {latency} ticks after the crossing");
+            worst = worst.max(latency);
+            // An align makes the deviation 0, and the flag stays until cleared.
+            let all = (1u32 << k) - 1;
+            for edge in 0..(3 * k as u64 + 10) {
+                let a = m.ax();
+                m.clock(pos[a] as u32, count[a] as u32, ratio, tol, if edge == 0 { all } else { 0 }, 0, false);
+            }
+            assert!((0..k).all(|b| m.dev(b) == Some(0)), "K = {k}: aligned");
+            assert_eq!(m.fail(), 1 << victim, "the flag is sticky");
+            let a = m.ax();
+            m.clock(pos[a] as u32, count[a] as u32, ratio, tol, 0, all, false);
+            assert_eq!(m.fail(), 0, "cleared");
+        }
+        assert_eq!(worst, refresh + FOLLOW_ERR_LATENCY, "K = {k}: the bound is reached, not loose");
+    }
 }

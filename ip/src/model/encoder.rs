@@ -248,6 +248,122 @@ impl QuadratureGen {
     }
 }
 
+/// One stage of [`FollowErrModel`]'s pipeline.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct FeStage {
+    ok: bool,
+    ax: usize,
+    /// An align takes this visit; the offset RAM is written 0 at it (first visit).
+    al: bool,
+    z: bool,
+    tol: u16,
+    pos: u32,
+    ratio: u32,
+    /// Stage 1: offset − count; 2, 3: less the sign correction; 4: the deviation.
+    v: u32,
+    prod: u64,
+}
+
+/// The following error of K axes by one shared multiplier, round robin: the model of
+/// `hdl::follow_err` (its module docs state the behaviour), clock for clock.
+/// `dev = ⌊position · ratio / 2^16⌋ + offset − count` mod 2^32 (ratio unsigned
+/// Q16.16), and a sticky fail flag per axis when |dev| > tol ≠ 0.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FollowErrModel {
+    k: usize,
+    ax: usize,
+    s: [FeStage; 4],
+    al: u32,
+    ov: u32,
+    fail: u32,
+    off_ram: [u32; 16],
+    dev_ram: [Option<u32>; 16],
+}
+
+/// Ticks between two visits of an axis by the following-error unit: K.
+pub fn follow_refresh_ticks(axes: usize) -> u64 {
+    axes as u64
+}
+
+/// The deviation of an axis at `position` steps with `count` counts, `ratio` counts per
+/// step (Q16.16) and `offset`, as the unit computes it (signed).
+pub fn deviation(position: i32, count: i32, ratio: u32, offset: u32) -> i32 {
+    let prod = ((position as i64 * ratio as i64) >> 16) as u32;
+    prod.wrapping_add(offset).wrapping_sub(count as u32) as i32
+}
+
+impl FollowErrModel {
+    pub fn new(k: usize) -> Self {
+        assert!((1..=16).contains(&k));
+        FollowErrModel { k, ax: 0, s: [FeStage::default(); 4], al: 0, ov: 0, fail: 0, off_ram: [0; 16], dev_ram: [None; 16] }
+    }
+
+    /// The axis whose inputs the next edge takes.
+    pub fn ax(&self) -> usize {
+        self.ax
+    }
+
+    pub fn fail(&self) -> u32 {
+        self.fail
+    }
+
+    /// Axis `a`'s last deviation (`None` before its first visit since power-up).
+    pub fn dev(&self, a: usize) -> Option<u32> {
+        self.dev_ram[a]
+    }
+
+    /// One clk edge with axis [`Self::ax`]'s inputs.
+    #[allow(clippy::too_many_arguments)]
+    pub fn clock(&mut self, position: u32, count: u32, ratio: u32, tol: u16, align: u32, clear: u32, reset: bool) {
+        let a = self.ax;
+        let oh0 = 1u32 << a;
+        let take = self.al & oh0 != 0;
+        let fresh = self.ov & oh0 == 0;
+        let off = if take || fresh { 0 } else { self.off_ram[a] };
+        let n1 = FeStage { ok: true, ax: a, al: take, z: fresh, tol, pos: position, ratio, v: off.wrapping_sub(count), prod: 0 };
+        let s1 = self.s[0];
+        let corr = if s1.pos >> 31 == 1 { (s1.ratio & 0xFFFF) << 16 } else { 0 };
+        let n2 = FeStage { v: s1.v.wrapping_sub(corr), prod: s1.pos as u64 * s1.ratio as u64, ..s1 };
+        let n3 = self.s[1];
+        let s3 = self.s[2];
+        let n4 = FeStage { v: ((s3.prod >> 16) as u32).wrapping_add(s3.v), ..s3 };
+        let s4 = self.s[3];
+        let oh4 = 1u32 << s4.ax;
+        if s4.ok {
+            self.dev_ram[s4.ax] = Some(if s4.al { 0 } else { s4.v });
+        }
+        let mut ov = self.ov;
+        if s4.ok && (s4.al || s4.z) {
+            self.off_ram[s4.ax] = if s4.al { s4.v.wrapping_neg() } else { 0 };
+            ov |= oh4;
+        }
+        let mag = if (s4.v as i32) < 0 { s4.v.wrapping_neg() } else { s4.v };
+        let over = s4.ok && !s4.al && s4.tol != 0 && mag > s4.tol as u32;
+        let mut fail = self.fail & !clear;
+        if over {
+            fail |= oh4;
+        }
+        let mut al = self.al | align;
+        if s4.ok && s4.al {
+            al = (self.al & !oh4) | align;
+        }
+        self.s = [n1, n2, n3, n4];
+        self.ax = if a + 1 == self.k { 0 } else { a + 1 };
+        self.al = al;
+        self.ov = ov;
+        self.fail = fail;
+        if reset {
+            self.ax = 0;
+            for st in &mut self.s {
+                st.ok = false;
+            }
+            self.al = 0;
+            self.ov = 0;
+            self.fail = 0;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
