@@ -9,10 +9,11 @@ mod common;
 
 use common::*;
 use rust_hdl::prelude::*;
+use tdm_stepper::hdl::enc_bank::EncoderBank;
 use tdm_stepper::hdl::enc_decoder::EncDecoder;
 use tdm_stepper::hdl::follow_err::{FollowErr, FOLLOW_ERR_LATENCY};
 use tdm_stepper::model::encoder::{
-    deviation, follow_refresh_ticks, max_count_rate_ticks, EncConfig, EncPins, EncoderModel, FollowErrModel, QuadratureGen, FILTER_MAX,
+    deviation, follow_refresh_ticks, BankInputs, EncoderBankModel, max_count_rate_ticks, EncConfig, EncPins, EncoderModel, FollowErrModel, QuadratureGen, FILTER_MAX,
     VEL_MAX,
 };
 use tdm_stepper::verify::{Port, TbSpec};
@@ -23,9 +24,9 @@ fn decoder_uut() -> EncDecoder {
     u
 }
 
-/// Input columns: reset, a, b, z, config, arm, probe, vel_tick.
-const IN_COLS: [(&str, usize); 8] =
-    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 9), ("arm", 1), ("probe", 1), ("vel_tick", 1)];
+/// Input columns: reset, a, b, z, mode, arm, probe, vel_tick, invert.
+const IN_COLS: [(&str, usize); 9] =
+    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 8), ("arm", 1), ("probe", 1), ("vel_tick", 1), ("invert", 1)];
 const OUT_COLS: [(&str, usize); 13] = [
     ("count", 32),
     ("index_count", 32),
@@ -61,15 +62,9 @@ fn model_outputs(m: &EncoderModel) -> Vec<u128> {
     ]
 }
 
-fn config_of(word: u128) -> EncConfig {
-    let w = word as u16;
-    EncConfig {
-        filter: (w & 0xF) as u8,
-        invert: w >> 4 & 1 == 1,
-        z_low: w >> 5 & 1 == 1,
-        gate: w >> 6 & 1 == 1,
-        gate_ab: (w >> 7 & 3) as u8,
-    }
+fn config_of(word: u128, invert: u128) -> EncConfig {
+    let w = word as u8;
+    EncConfig { filter: w & 0xF, invert: invert == 1, z_low: w >> 4 & 1 == 1, gate: w >> 5 & 1 == 1, gate_ab: w >> 6 & 3 }
 }
 
 /// Random traffic: an encoder walking toward random targets (reversals), slips of two
@@ -115,6 +110,7 @@ fn random_rows(seed: u64, phases: u64) -> Vec<Vec<u128>> {
                 (rng.next() % 90 == 0) as u128,
                 (rng.next() % 70 == 0) as u128,
                 (k % every == 0) as u128,
+                cfg.invert as u128,
             ]);
         }
     }
@@ -132,7 +128,7 @@ fn decoder_equals_the_model_three_ways() {
         // The synchroniser's flip-flops are undefined in Verilog until reset loads the levels.
         want.push(model_outputs(&m).into_iter().map(|v| (r >= 3).then_some(v)).collect::<Vec<_>>());
         let pins = EncPins { a: row[1] == 1, b: row[2] == 1, z: row[3] == 1 };
-        m.clock(&config_of(row[4]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[0] == 1);
+        m.clock(&config_of(row[4], row[8]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[0] == 1);
         let after = m.outputs();
         if row[0] == 0 {
             counted += (after.count != before.count) as u64;
@@ -160,6 +156,7 @@ fn decoder_equals_the_model_three_ways() {
             u.arm.next = r[5] == 1;
             u.probe.next = r[6] == 1;
             u.vel_tick.next = r[7] == 1;
+            u.invert.next = r[8] == 1;
         },
         |u| {
             vec![
@@ -516,4 +513,173 @@ fn enc_fail_comes_within_one_refresh_and_four_ticks_and_align_zeroes_the_deviati
         }
         assert_eq!(worst, refresh + FOLLOW_ERR_LATENCY, "K = {k}: the bound is reached, not loose");
     }
+}
+
+const BK: usize = 2;
+
+/// The bank three ways: two axes whose steps move both ways and whose encoders follow
+/// at 1.25 counts per step, stall now and then (ENC_FAIL) and slip; random modes,
+/// inverts, prescales, ratios and tolerances (under reset), commands and the probe;
+/// the word of a random axis each cycle.
+#[test]
+fn encoder_bank_equals_the_model_three_ways() {
+    let mut rng = Rng(0xe4c0_de20);
+    let mut m = EncoderBankModel::new(BK);
+    let mut gens: Vec<QuadratureGen> = (0..BK).map(|_| QuadratureGen::new(64, 2)).collect();
+    let mut pos = [0i32; BK];
+    let mut stalled = [false; BK];
+    let mut inp = BankInputs { ratio: 0x1_4000, tol: 6, ..Default::default() };
+    let mut ratios = [0x1_4000u32; BK];
+    let mut tols = [6u16; BK];
+    let (mut rows, mut want) = (vec![], vec![]);
+    let (mut fails, mut counts) = (0, 0);
+    for cyc in 0..24_000usize {
+        let reset = cyc < 4 || rng.next() % 3000 == 0;
+        if reset {
+            inp.mode = (rng.next() % 4) as u8 | ((rng.next() % 8) as u8) << 4 | (rng.next() as u8 & 0xC0);
+            inp.invert = if rng.next() % 4 == 0 { (rng.next() % 4) as u32 } else { 0 };
+            inp.vel_prescale = (rng.next() % 3) as u16;
+            for a in 0..BK {
+                ratios[a] = if rng.next() % 3 == 0 { (rng.next() % 0x4_0000) as u32 + 1 } else { 0x1_4000 };
+                tols[a] = [0, 3, 6, 200][(rng.next() % 4) as usize];
+                pos[a] = 0;
+                gens[a].pos = 0;
+            }
+        }
+        for a in 0..BK {
+            if rng.next() % 7 == 0 {
+                pos[a] += if (cyc / 2000) % 2 == a % 2 { 1 } else { -1 };
+            }
+            if rng.next() % 2500 == 0 {
+                stalled[a] = !stalled[a];
+            }
+            if rng.next() % 4000 == 0 {
+                gens[a].pos -= 2; // a slip
+            }
+        }
+        let mut a_bits = 0;
+        let mut b_bits = 0;
+        let mut z_bits = 0;
+        for a in 0..BK {
+            let target = if stalled[a] { gens[a].pos } else { (pos[a] as i64 * 5).div_euclid(4) };
+            gens[a].spacing = 2 + (inp.mode & 0xF) as u64;
+            let p = gens[a].tick(target);
+            a_bits |= (p.a as u32) << a;
+            b_bits |= (p.b as u32) << a;
+            z_bits |= (p.z as u32) << a;
+        }
+        inp.a = a_bits;
+        inp.b = b_bits;
+        inp.z = z_bits;
+        inp.arm = if rng.next() % 300 == 0 { (rng.next() % 4) as u32 } else { 0 };
+        inp.align = if rng.next() % 500 == 0 { (rng.next() % 4) as u32 } else { 0 };
+        inp.clear = if rng.next() % 200 == 0 { (rng.next() % 4) as u32 } else { 0 };
+        inp.probe = rng.next() % 400 == 0;
+        let pa = m.pos_axis();
+        inp.position = pos[pa] as u32;
+        inp.ratio = ratios[pa];
+        inp.tol = tols[pa];
+        let sel = (rng.next() % BK as u64) as usize;
+        let (lo, hi) = m.word(sel);
+        let ok = cyc >= 4;
+        want.push(vec![ok.then_some(pa as u128), lo.filter(|_| ok), ok.then_some(hi), ok.then_some(m.fe.fail() as u128)]);
+        rows.push(vec![
+            reset as u128,
+            inp.a as u128,
+            inp.b as u128,
+            inp.z as u128,
+            inp.mode as u128,
+            inp.invert as u128,
+            inp.vel_prescale as u128,
+            inp.arm as u128,
+            inp.align as u128,
+            inp.clear as u128,
+            inp.probe as u128,
+            inp.position as u128,
+            inp.ratio as u128,
+            inp.tol as u128,
+            sel as u128,
+        ]);
+        let before = (m.fe.fail(), m.dec[0].outputs().count);
+        m.clock(&inp, reset);
+        fails += (m.fe.fail() & !before.0).count_ones();
+        counts += (m.dec[0].outputs().count != before.1) as u32;
+    }
+    assert!(fails > 10 && counts > 2000, "stimulus too thin: {fails} fails, {counts} counts");
+    let cols: [(&str, usize); 15] = [
+        ("reset", 1),
+        ("enc_a", BK),
+        ("enc_b", BK),
+        ("enc_z", BK),
+        ("mode", 8),
+        ("invert", BK),
+        ("vel_prescale", 16),
+        ("arm", BK),
+        ("align", BK),
+        ("clear", BK),
+        ("probe", 1),
+        ("position", 32),
+        ("ratio", 32),
+        ("tol", 16),
+        ("sel", 8),
+    ];
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: cols.iter().map(|(n, w)| Port::new(n, *w)).collect(),
+        outputs: vec![Port::new("pos_axis", 4), Port::new("word_lo", 128), Port::new("word_hi", 48), Port::new("fail", BK)],
+    };
+    three_ways(
+        "enc_bank",
+        || {
+            let mut u = EncoderBank::<BK>::default();
+            u.connect_ports();
+            u
+        },
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.enc_a.next = (r[1] as u64).into();
+            u.enc_b.next = (r[2] as u64).into();
+            u.enc_z.next = (r[3] as u64).into();
+            u.mode.next = (r[4] as u64).into();
+            u.invert.next = (r[5] as u64).into();
+            u.vel_prescale.next = (r[6] as u64).into();
+            u.arm.next = (r[7] as u64).into();
+            u.align.next = (r[8] as u64).into();
+            u.clear.next = (r[9] as u64).into();
+            u.probe.next = r[10] == 1;
+            u.position.next = (r[11] as u64).into();
+            u.ratio.next = (r[12] as u64).into();
+            u.tol.next = (r[13] as u64).into();
+            u.sel.next = (r[14] as u64).into();
+        },
+        |u| {
+            vec![
+                u.pos_axis.val().to_u64() as u128,
+                bits_to_u128(u.word_lo.val()),
+                u.word_hi.val().to_u64() as u128,
+                u.fail.val().to_u64() as u128,
+            ]
+        },
+        &spec,
+        &rows,
+        &want,
+    );
+}
+/// The bank's Verilog at K = 1, 2, 8 and 16 for scripts/enc-bank-cost.sh (in the
+/// test's temporary folder); each generates and names its top module.
+#[test]
+fn encoder_bank_verilog_for_the_cost_script() {
+    fn dump<const K: usize>() {
+        let mut u = EncoderBank::<K>::default();
+        u.connect_ports();
+        let v = generate_verilog(&u);
+        assert!(v.contains("module top(") && v.contains("enc_a"), "K = {K}: no bank in the Verilog");
+        let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
+        std::fs::write(dir.join(format!("enc_bank_k{K}.v")), v).unwrap();
+    }
+    dump::<1>();
+    dump::<2>();
+    dump::<8>();
+    dump::<16>();
 }

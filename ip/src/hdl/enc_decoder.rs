@@ -5,9 +5,9 @@
 //!
 //! Ports:
 //! * `a`, `b`, `z`: the encoder's pins (asynchronous).
-//! * `mode` (quasi-static, `EncConfig::word`): filter ticks 3..0 (0 = off), count
-//!   inverted 4, Z active low 5, index gated by A and B 6, the gate's A and B levels
-//!   8..7.
+//! * `mode` (quasi-static, `EncConfig::word`, shared by the axes): filter ticks 3..0
+//!   (0 = off), Z active low 4, index gated by A and B 5, the gate's A and B levels
+//!   7..6; `invert` (quasi-static, the axis's own): count down when A leads B.
 //! * `arm` (one cycle): arm the clear of the count on the next index. `probe` (one
 //!   cycle): the probe latch's strobe (tie to 0 without the probe: its latch is
 //!   constant and synthesis removes it). `vel_tick`: the shared velocity prescaler's
@@ -35,7 +35,8 @@ pub struct EncDecoder {
     pub a: Signal<In, Bit>,
     pub b: Signal<In, Bit>,
     pub z: Signal<In, Bit>,
-    pub mode: Signal<In, Bits<9>>,
+    pub mode: Signal<In, Bits<8>>,
+    pub invert: Signal<In, Bit>,
     pub arm: Signal<In, Bit>,
     pub probe: Signal<In, Bit>,
     pub vel_tick: Signal<In, Bit>,
@@ -100,6 +101,7 @@ impl Default for EncDecoder {
             b: Default::default(),
             z: Default::default(),
             mode: Default::default(),
+            invert: Default::default(),
             arm: Default::default(),
             probe: Default::default(),
             vel_tick: Default::default(),
@@ -164,6 +166,7 @@ impl EncDecoder {
         self.b.connect();
         self.z.connect();
         self.mode.connect();
+        self.invert.connect();
         self.arm.connect();
         self.probe.connect();
         self.vel_tick.connect();
@@ -217,7 +220,7 @@ impl Logic for EncDecoder {
 
         // 4× decoding: A changing to B's level, or B away from A's, is up.
         self.counted.next = self.ca.val() ^ self.cb.val();
-        self.up.next = self.la.q.val() ^ self.lb.q.val() ^ self.ca.val() ^ self.mode.val().get_bit(4);
+        self.up.next = self.la.q.val() ^ self.lb.q.val() ^ self.ca.val() ^ self.invert.val();
         // One adder: the count plus 0, 1 or −1.
         self.inc.next = 0.into();
         if self.counted.val() {
@@ -235,13 +238,13 @@ impl Logic for EncDecoder {
 
         // The index: the tick at which Z at its active level (and A and B at the
         // gate's levels) becomes true.
-        self.q_before.next = (self.lz.q.val() ^ self.mode.val().get_bit(5))
-            & (!self.mode.val().get_bit(6)
-                | ((self.la.q.val() == self.mode.val().get_bit(7)) & (self.lb.q.val() == self.mode.val().get_bit(8))));
-        self.q_after.next = (self.lz.q.val() ^ self.cz.val() ^ self.mode.val().get_bit(5))
-            & (!self.mode.val().get_bit(6)
-                | (((self.la.q.val() ^ self.ca.val()) == self.mode.val().get_bit(7))
-                    & ((self.lb.q.val() ^ self.cb.val()) == self.mode.val().get_bit(8))));
+        self.q_before.next = (self.lz.q.val() ^ self.mode.val().get_bit(4))
+            & (!self.mode.val().get_bit(5)
+                | ((self.la.q.val() == self.mode.val().get_bit(6)) & (self.lb.q.val() == self.mode.val().get_bit(7))));
+        self.q_after.next = (self.lz.q.val() ^ self.cz.val() ^ self.mode.val().get_bit(4))
+            & (!self.mode.val().get_bit(5)
+                | (((self.la.q.val() ^ self.ca.val()) == self.mode.val().get_bit(6))
+                    & ((self.lb.q.val() ^ self.cb.val()) == self.mode.val().get_bit(7))));
         self.index.next = self.q_after.val() & !self.q_before.val();
         self.cnt.d.next = self.after.val();
         self.idx.d.next = self.idx.q.val();

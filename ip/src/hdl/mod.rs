@@ -79,6 +79,7 @@ pub mod context;
 pub mod context_ram;
 pub mod core;
 pub mod divider;
+pub mod enc_bank;
 pub mod enc_decoder;
 pub mod exmc;
 pub mod follow_err;

@@ -75,14 +75,10 @@ pub struct EncConfig {
 }
 
 impl EncConfig {
-    /// The configuration as the HDL's `mode` port: filter 3..0, invert 4,
-    /// z_low 5, gate 6, gate_ab 8..7.
-    pub fn word(&self) -> u16 {
-        (self.filter as u16 & 0xF)
-            | (self.invert as u16) << 4
-            | (self.z_low as u16) << 5
-            | (self.gate as u16) << 6
-            | (self.gate_ab as u16 & 3) << 7
+    /// The shared part of the configuration as the HDL's `mode` port: filter 3..0,
+    /// z_low 4, gate 5, gate_ab 7..6 (`invert` is a port of its own).
+    pub fn word(&self) -> u8 {
+        (self.filter & 0xF) | (self.z_low as u8) << 4 | (self.gate as u8) << 5 | (self.gate_ab & 3) << 6
     }
 }
 
@@ -361,6 +357,80 @@ impl FollowErrModel {
             self.ov = 0;
             self.fail = 0;
         }
+    }
+}
+
+/// The inputs of [`EncoderBankModel`] in one cycle (bit a = axis a).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BankInputs {
+    pub a: u32,
+    pub b: u32,
+    pub z: u32,
+    /// [`EncConfig::word`], shared.
+    pub mode: u8,
+    pub invert: u32,
+    pub vel_prescale: u16,
+    pub arm: u32,
+    pub align: u32,
+    pub clear: u32,
+    pub probe: bool,
+    /// For the axis [`EncoderBankModel::pos_axis`] names.
+    pub position: u32,
+    pub ratio: u32,
+    pub tol: u16,
+}
+
+/// K decoders, their velocity prescaler and the following-error unit: the model of
+/// `hdl::enc_bank`, clock for clock.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EncoderBankModel {
+    pub dec: Vec<EncoderModel>,
+    pub fe: FollowErrModel,
+    pre: u16,
+}
+
+impl EncoderBankModel {
+    pub fn new(k: usize) -> Self {
+        EncoderBankModel { dec: vec![EncoderModel::new(); k], fe: FollowErrModel::new(k), pre: 0 }
+    }
+
+    /// The configuration of axis `a` from the shared mode and its invert bit.
+    pub fn config(mode: u8, invert: bool) -> EncConfig {
+        EncConfig { filter: mode & 0xF, invert, z_low: mode >> 4 & 1 == 1, gate: mode >> 5 & 1 == 1, gate_ab: mode >> 6 & 3 }
+    }
+
+    pub fn pos_axis(&self) -> usize {
+        self.fe.ax()
+    }
+
+    /// Axis `sel`'s status word as (lo, hi) (`hdl::enc_bank`'s layout); the deviation is
+    /// `None` before the axis's first visit.
+    pub fn word(&self, sel: usize) -> (Option<u128>, u128) {
+        let o = self.dec[sel].outputs();
+        let lo = self.fe.dev(sel).map(|d| {
+            o.count as u128 | (o.index_count as u128) << 32 | (o.probe_count as u128) << 64 | (d as u128) << 96
+        });
+        let hi = o.period as u128
+            | (o.age as u128) << 16
+            | (o.illegal as u128) << 32
+            | (o.armed as u128) << 40
+            | (o.last_dir as u128) << 41
+            | ((o.levels & 7) as u128) << 42
+            | ((self.fe.fail() >> sel & 1) as u128) << 45
+            | (o.index_tog as u128) << 46
+            | (o.probe_tog as u128) << 47;
+        (lo, hi)
+    }
+
+    pub fn clock(&mut self, i: &BankInputs, reset: bool) {
+        let tick = self.pre >= i.vel_prescale;
+        let count = self.dec[self.fe.ax()].outputs().count;
+        self.fe.clock(i.position, count, i.ratio, i.tol, i.align, i.clear, reset);
+        for (a, d) in self.dec.iter_mut().enumerate() {
+            let pins = EncPins { a: i.a >> a & 1 == 1, b: i.b >> a & 1 == 1, z: i.z >> a & 1 == 1 };
+            d.clock(&Self::config(i.mode, i.invert >> a & 1 == 1), pins, i.arm >> a & 1 == 1, i.probe, tick, reset);
+        }
+        self.pre = if tick || reset { 0 } else { self.pre + 1 };
     }
 }
 

@@ -1,0 +1,249 @@
+//! The encoder feedback of K axes in `clk` (`export --encoder`): K [`EncDecoder`]s,
+//! the velocity prescaler they share, the [`FollowErr`] unit stepping round robin over
+//! them, and the status word of one axis for the crossing to the bus. It equals
+//! `model::encoder::EncoderBankModel` clock for clock (tests/hdl_encoder.rs, three
+//! ways).
+//!
+//! Ports:
+//! * pins `enc_a`, `enc_b`, `enc_z` (bit a = axis a; asynchronous);
+//! * quasi-static configuration: `mode` (every decoder's, `EncConfig::word`), `invert`
+//!   (bit a: count axis a down when A leads B), `vel_prescale` (a velocity tick every
+//!   `vel_prescale + 1` ticks);
+//! * one-cycle commands, bit a for axis a: `arm` (clear the count at the next index),
+//!   `align` (make the deviation 0), `clear` (clear ENC_FAIL); `probe`: the machine
+//!   I/O's probe strobe (0 without it);
+//! * the following error's inputs: `pos_axis` (a register) names the axis whose step
+//!   position the parent drives on `position` (the core's) and whose `ratio` and `tol`
+//!   it drives, combinationally, in the same cycle;
+//! * `sel` → `word_lo`, `word_hi` (the status word of [`ENC_WORD_BITS`] = {hi, lo},
+//!   a multiplexer of registers and the deviation RAM; `sel` < K): axis `sel`'s count
+//!   31..0, index latch 63..32, probe latch 95..64, deviation 127..96 (`word_lo`),
+//!   period 143..128, age 159..144, illegal transitions 167..160, and the flags armed
+//!   168, last direction 169, filtered A, B, Z 170..172, ENC_FAIL 173, index toggle
+//!   174, probe toggle 175 (`word_hi`, bit 128 of the word is its bit 0);
+//! * `fail` (bit a, a register): axis a's ENC_FAIL.
+//!
+//! Latency: the decoders' ([`super::enc_decoder`]); ENC_FAIL within K + 4 ticks of the
+//! crossing ([`super::follow_err::FOLLOW_ERR_LATENCY`]).
+
+use super::bit_insert::BitPick;
+use super::enc_decoder::EncDecoder;
+use super::follow_err::FollowErr;
+use rust_hdl::prelude::*;
+
+/// Width of an axis's status word (`word`).
+pub const ENC_WORD_BITS: usize = 176;
+
+#[derive(LogicBlock)]
+pub struct EncoderBank<const K: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub enc_a: Signal<In, Bits<K>>,
+    pub enc_b: Signal<In, Bits<K>>,
+    pub enc_z: Signal<In, Bits<K>>,
+    pub mode: Signal<In, Bits<8>>,
+    pub invert: Signal<In, Bits<K>>,
+    pub vel_prescale: Signal<In, Bits<16>>,
+    pub arm: Signal<In, Bits<K>>,
+    pub align: Signal<In, Bits<K>>,
+    pub clear: Signal<In, Bits<K>>,
+    pub probe: Signal<In, Bit>,
+    pub pos_axis: Signal<Out, Bits<4>>,
+    pub position: Signal<In, Bits<32>>,
+    pub ratio: Signal<In, Bits<32>>,
+    pub tol: Signal<In, Bits<16>>,
+    pub sel: Signal<In, Bits<8>>,
+    pub word_lo: Signal<Out, Bits<128>>,
+    pub word_hi: Signal<Out, Bits<48>>,
+    pub fail: Signal<Out, Bits<K>>,
+    dec: [EncDecoder; K],
+    a_pick: [BitPick<K>; K],
+    b_pick: [BitPick<K>; K],
+    z_pick: [BitPick<K>; K],
+    inv_pick: [BitPick<K>; K],
+    arm_pick: [BitPick<K>; K],
+    fe: FollowErr<K>,
+    pre: DFF<Bits<16>>,
+    c_one: Constant<Bits<K>>,
+    tick: Signal<Local, Bit>,
+    /// Axis `sel`'s fields (the multiplexer), then the word built from them.
+    w_count: Signal<Local, Bits<32>>,
+    w_index: Signal<Local, Bits<32>>,
+    w_probe: Signal<Local, Bits<32>>,
+    w_period: Signal<Local, Bits<16>>,
+    w_age: Signal<Local, Bits<16>>,
+    w_ill: Signal<Local, Bits<8>>,
+    w_armed: Signal<Local, Bit>,
+    w_dir: Signal<Local, Bit>,
+    w_la: Signal<Local, Bit>,
+    w_lb: Signal<Local, Bit>,
+    w_lz: Signal<Local, Bit>,
+    w_fail: Signal<Local, Bit>,
+    w_itog: Signal<Local, Bit>,
+    w_ptog: Signal<Local, Bit>,
+}
+
+impl<const K: usize> Default for EncoderBank<K> {
+    fn default() -> Self {
+        EncoderBank {
+            clock: Default::default(),
+            reset: Default::default(),
+            enc_a: Default::default(),
+            enc_b: Default::default(),
+            enc_z: Default::default(),
+            mode: Default::default(),
+            invert: Default::default(),
+            vel_prescale: Default::default(),
+            arm: Default::default(),
+            align: Default::default(),
+            clear: Default::default(),
+            probe: Default::default(),
+            pos_axis: Default::default(),
+            position: Default::default(),
+            ratio: Default::default(),
+            tol: Default::default(),
+            sel: Default::default(),
+            word_lo: Default::default(),
+            word_hi: Default::default(),
+            fail: Default::default(),
+            dec: std::array::from_fn(|_| Default::default()),
+            a_pick: std::array::from_fn(BitPick::new),
+            b_pick: std::array::from_fn(BitPick::new),
+            z_pick: std::array::from_fn(BitPick::new),
+            inv_pick: std::array::from_fn(BitPick::new),
+            arm_pick: std::array::from_fn(BitPick::new),
+            fe: Default::default(),
+            pre: Default::default(),
+            c_one: Constant::new(1.into()),
+            tick: Default::default(),
+            w_count: Default::default(),
+            w_index: Default::default(),
+            w_probe: Default::default(),
+            w_period: Default::default(),
+            w_age: Default::default(),
+            w_ill: Default::default(),
+            w_armed: Default::default(),
+            w_dir: Default::default(),
+            w_la: Default::default(),
+            w_lb: Default::default(),
+            w_lz: Default::default(),
+            w_fail: Default::default(),
+            w_itog: Default::default(),
+            w_ptog: Default::default(),
+        }
+    }
+}
+
+impl<const K: usize> EncoderBank<K> {
+    /// Marks the inputs as driven from outside and connects the block (tests).
+    pub fn connect_ports(&mut self) {
+        self.clock.connect();
+        self.reset.connect();
+        self.enc_a.connect();
+        self.enc_b.connect();
+        self.enc_z.connect();
+        self.mode.connect();
+        self.invert.connect();
+        self.vel_prescale.connect();
+        self.arm.connect();
+        self.align.connect();
+        self.clear.connect();
+        self.probe.connect();
+        self.position.connect();
+        self.ratio.connect();
+        self.tol.connect();
+        self.sel.connect();
+        self.connect_all();
+    }
+}
+
+impl<const K: usize> Logic for EncoderBank<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, pre);
+        // The velocity ticks, shared.
+        self.tick.next = self.pre.q.val() >= self.vel_prescale.val();
+        if self.tick.val() | self.reset.val() {
+            self.pre.d.next = 0.into();
+        } else {
+            self.pre.d.next = self.pre.q.val() + 1;
+        }
+
+        self.fe.clock.next = self.clock.val();
+        self.fe.reset.next = self.reset.val();
+        self.fe.position.next = self.position.val();
+        self.fe.ratio.next = self.ratio.val();
+        self.fe.tol.next = self.tol.val();
+        self.fe.align.next = self.align.val();
+        self.fe.clear.next = self.clear.val();
+        self.fe.dev_axis.next = self.sel.val().get_bits::<4>(0);
+        self.pos_axis.next = self.fe.ax.val();
+        self.fail.next = self.fe.fail.val();
+        self.fe.count.next = 0.into();
+
+        self.w_count.next = 0.into();
+        self.w_index.next = 0.into();
+        self.w_probe.next = 0.into();
+        self.w_period.next = 0.into();
+        self.w_age.next = 0.into();
+        self.w_ill.next = 0.into();
+        self.w_armed.next = false;
+        self.w_dir.next = false;
+        self.w_la.next = false;
+        self.w_lb.next = false;
+        self.w_lz.next = false;
+        self.w_itog.next = false;
+        self.w_ptog.next = false;
+        for i in 0..K {
+            self.a_pick[i].bus.next = self.enc_a.val();
+            self.b_pick[i].bus.next = self.enc_b.val();
+            self.z_pick[i].bus.next = self.enc_z.val();
+            self.inv_pick[i].bus.next = self.invert.val();
+            self.arm_pick[i].bus.next = self.arm.val();
+            self.dec[i].clock.next = self.clock.val();
+            self.dec[i].reset.next = self.reset.val();
+            self.dec[i].a.next = self.a_pick[i].value.val();
+            self.dec[i].b.next = self.b_pick[i].value.val();
+            self.dec[i].z.next = self.z_pick[i].value.val();
+            self.dec[i].mode.next = self.mode.val();
+            self.dec[i].invert.next = self.inv_pick[i].value.val();
+            self.dec[i].arm.next = self.arm_pick[i].value.val();
+            self.dec[i].probe.next = self.probe.val();
+            self.dec[i].vel_tick.next = self.tick.val();
+            if self.fe.ax.val().index() == i {
+                self.fe.count.next = self.dec[i].count.val();
+            }
+            if self.sel.val().index() == i {
+                self.w_count.next = self.dec[i].count.val();
+                self.w_index.next = self.dec[i].index_count.val();
+                self.w_probe.next = self.dec[i].probe_count.val();
+                self.w_period.next = self.dec[i].period.val();
+                self.w_age.next = self.dec[i].age.val();
+                self.w_ill.next = self.dec[i].illegal.val();
+                self.w_armed.next = self.dec[i].armed.val();
+                self.w_dir.next = self.dec[i].last_dir.val();
+                self.w_la.next = self.dec[i].lev_a.val();
+                self.w_lb.next = self.dec[i].lev_b.val();
+                self.w_lz.next = self.dec[i].lev_z.val();
+                self.w_itog.next = self.dec[i].index_tog.val();
+                self.w_ptog.next = self.dec[i].probe_tog.val();
+            }
+        }
+        self.w_fail.next = (self.fe.fail.val() & (self.c_one.val() << self.sel.val())).any();
+        self.word_lo.next = bit_cast::<128, 32>(self.w_count.val())
+            | (bit_cast::<128, 32>(self.w_index.val()) << 32)
+            | (bit_cast::<128, 32>(self.w_probe.val()) << 64)
+            | (bit_cast::<128, 32>(self.fe.dev.val()) << 96);
+        self.word_hi.next = bit_cast::<48, 16>(self.w_period.val())
+            | (bit_cast::<48, 16>(self.w_age.val()) << 16)
+            | (bit_cast::<48, 8>(self.w_ill.val()) << 32)
+            | (bit_cast::<48, 1>(self.w_armed.val().into()) << 40)
+            | (bit_cast::<48, 1>(self.w_dir.val().into()) << 41)
+            | (bit_cast::<48, 1>(self.w_la.val().into()) << 42)
+            | (bit_cast::<48, 1>(self.w_lb.val().into()) << 43)
+            | (bit_cast::<48, 1>(self.w_lz.val().into()) << 44)
+            | (bit_cast::<48, 1>(self.w_fail.val().into()) << 45)
+            | (bit_cast::<48, 1>(self.w_itog.val().into()) << 46)
+            | (bit_cast::<48, 1>(self.w_ptog.val().into()) << 47);
+    }
+}
