@@ -280,6 +280,46 @@ fn release_of(rises: &[u64], edge_ticks: &[u64], what: &str) -> Option<i64> {
     Some(l0)
 }
 
+/// The columns of a controlled-stop trace one window's check reads (per cycle, bit a
+/// = axis a): BUSY, sel_position and UNDERRUN.
+struct StopTrace<'a> {
+    busy: &'a [u128],
+    pos: &'a [u128],
+    under: &'a [u128],
+}
+
+/// One window of a controlled-stop test: axis `ax` ran `run` from cycle `from`, a stop
+/// came at `stop`, and by `end` it rests. Its rising edges (from `r1`) are the run's
+/// until the stop, then the model's cut and ramp (`stop_cut_matching` over the entries
+/// the FIFO could hold); at `end` it is at rest, `position` (the sum over the windows so
+/// far, updated here) is its position, and it never underran. Returns the edges seen,
+/// those emitted by the stop, the entries they took, the cut and the cut run.
+#[allow(clippy::too_many_arguments)]
+fn check_stop_window(
+    what: &str,
+    run: &AxisRun,
+    r1: &[u64],
+    (from, stop, end): (u64, u64, u64),
+    ax: usize,
+    decel: u32,
+    t: &StopTrace,
+    position: &mut i64,
+) -> (Vec<u64>, usize, usize, usize, AxisRun) {
+    let limits = Limits::default();
+    let rises: Vec<u64> = r1.iter().copied().filter(|&x| x > from && x < end).collect();
+    release_of(&rises[..2], &run.edge_ticks[..2], what).unwrap();
+    let emitted = rises.iter().filter(|&&x| x <= stop).count();
+    let e0 = entries_for_edges(run, emitted);
+    let (cut, m) = stop_cut_matching(run, &rises, e0..=(e0 + DEPTH + 3).min(run.fifo.len()), decel, &limits)
+        .unwrap_or_else(|| panic!("{what}: no cut after {e0}..{} FIFO entries gives the {} edges seen (the move has {})", e0 + DEPTH + 3, rises.len(), run.edge_ticks.len()));
+    eprintln!("{what}: stop after {emitted} edges, cut after {cut} entries (+{}), ramp {:?}, {} edges", cut - e0, m.accepted.first(), rises.len());
+    *position += m.position;
+    assert_eq!(t.busy[end as usize - 1] >> ax & 1, 0, "{what}: the axis at rest");
+    assert_eq!(t.pos[end as usize - 1] as u32 as i32 as i64, *position, "{what}: position = edges emitted");
+    assert!((from..end).all(|x| t.under[x as usize] >> ax & 1 == 0), "{what}: an underrun");
+    (rises, emitted, e0, cut, m)
+}
+
 fn check_against_model<const K: usize>(axes: &[Vec<Segment>], trace: &[Change], cycles: u64, what: &str) {
     let axes: Vec<Vec<Motion>> = axes.iter().map(|a| a.iter().map(|&s| s.into()).collect()).collect();
     check_motions::<K>(&axes, trace, cycles, what)
@@ -1181,22 +1221,13 @@ fn controlled_stop_ramps_down_from_polynomial_segments() {
     release_of(&r0, &run0.edge_ticks, "axis 0").unwrap();
     let code = |name: &str| gray(STATES.iter().position(|s| *s == name).unwrap()) as u128;
     let r1 = rises_of(&step, ax);
+    let t = StopTrace { busy: &busy, pos: &pos, under: &under };
     let mut position = 0i64;
     let mut quiet = 0;
     for (what, from, stop, end) in &windows {
-        let rises: Vec<u64> = r1.iter().copied().filter(|&x| x > *from && x < *end).collect();
-        release_of(&rises[..2], &run.edge_ticks[..2], what).unwrap();
-        let emitted = rises.iter().filter(|&&x| x <= *stop).count();
-        let e0 = entries_for_edges(&run, emitted);
-        let (cut, m) = stop_cut_matching(&run, &rises, e0..=(e0 + DEPTH + 3).min(run.fifo.len()), decel, &limits)
-            .unwrap_or_else(|| panic!("{what}: no cut after {e0}..{} FIFO entries gives the {} edges seen (the move has {n})", e0 + DEPTH + 3, rises.len()));
-        eprintln!("{what}: stop after {emitted} edges, cut after {cut} entries (+{}), ramp {:?}, {} edges", cut - e0, m.accepted.first(), rises.len());
+        let (rises, _, _, _, m) = check_stop_window(what, &run, &r1, (*from, *stop, *end), ax, decel, &t, &mut position);
         assert_eq!(m.accepted.len(), 1, "{what}: a stop ramp was formed");
         assert!(rises.len() != n || m.position != run.position, "{what}: the stop changed nothing");
-        position += m.position;
-        assert_eq!(busy[*end as usize - 1] >> ax & 1, 0, "{what}: the axis at rest");
-        assert_eq!(pos[*end as usize - 1] as u32 as i32 as i64, position, "{what}: position = edges emitted");
-        assert!((*from..*end).all(|x| under[x as usize] >> ax & 1 == 0), "{what}: an underrun");
         // With axis 0 at rest, the lane set up no segment after the stop (axis 1's
         // queue was dropped).
         if (*stop..*end).all(|x| busy[x as usize] & 1 == 0) {
@@ -1319,15 +1350,10 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     }
     let r1 = rises_of(&step, ax);
     let st = |name: &str| gray(STATES.iter().position(|s| *s == name).unwrap()) as u128;
+    let t = StopTrace { busy: &busy, pos: &pos, under: &under };
     let mut position = 0i64;
     for (what, run, from, stop, end) in &windows {
-        let rises: Vec<u64> = r1.iter().copied().filter(|&x| x > *from && x < *end).collect();
-        release_of(&rises[..2], &run.edge_ticks[..2], what).unwrap();
-        let emitted = rises.iter().filter(|&&x| x <= *stop).count();
-        let e0 = entries_for_edges(run, emitted);
-        let (cut, m) = stop_cut_matching(run, &rises, e0..=(e0 + DEPTH + 3).min(run.fifo.len()), decel, &limits)
-            .unwrap_or_else(|| panic!("{what}: no cut after {e0}..{} FIFO entries gives the {} edges seen (the move has {})", e0 + DEPTH + 3, rises.len(), run.edge_ticks.len()));
-        eprintln!("{what}: stop after {emitted} edges, cut after {cut} entries (+{}), ramp {:?}, {} edges", cut - e0, m.accepted.first(), rises.len());
+        let (rises, emitted, e0, cut, m) = check_stop_window(what, run, &r1, (*from, *stop, *end), ax, decel, &t, &mut position);
         if *what == "in a dwell" {
             // At rest in the dwell: stopped as the hard stop does, with no edge after it.
             assert_eq!((m.accepted.len(), rises.len(), cut), (0, emitted, e0 + 1), "{what}: the axis stays at rest");
@@ -1335,10 +1361,6 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
             assert_eq!(m.accepted.len(), 1, "{what}: a stop ramp was formed");
             assert!(rises.len() < run.edge_ticks.len() || m.position != run.position, "{what}: the stop changed nothing");
         }
-        position += m.position;
-        assert_eq!(busy[*end as usize - 1] >> ax & 1, 0, "{what}: the axis at rest");
-        assert_eq!(pos[*end as usize - 1] as u32 as i32 as i64, position, "{what}: position = edges emitted");
-        assert!((*from..*end).all(|x| under[x as usize] >> ax & 1 == 0), "{what}: an underrun");
         // The ramp's formation: the first C_V0 after the stop, to the commit that follows.
         if let Some(v0) = (*stop..*end).find(|&x| fsm[x as usize] == st("C_V0")) {
             let commit = (v0..*end).find(|&x| fsm[x as usize] == st("S_COMMIT_SETUP")).unwrap();
