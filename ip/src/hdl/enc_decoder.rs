@@ -15,9 +15,16 @@
 //!   loads its synchronised pin.
 //! * Outputs, all flip-flops: `count`, `index_count`, `probe_count` (32 bits, signed,
 //!   wrapping), `illegal` (8 bits, wrapping), `index_tog` and `probe_tog` (flip at each
-//!   latch), `armed`, `period` and `age` (16 bits, saturating at 0xFFFF, which is
-//!   also their reset value), `last_dir` (1: the last counted edge went up) and the
-//!   filtered levels `lev_a`, `lev_b`, `lev_z`.
+//!   latch), `armed`, `clearing` (the armed clear was taken: the count restarts from
+//!   0 at this tick), `period` and `age` (16 bits, saturating at 0xFFFF, 0 after
+//!   reset), `last_dir` (1: the last counted edge went up) and the filtered levels
+//!   `lev_a`, `lev_b`, `lev_z`.
+//!
+//! Two choices keep the logic per bit to the adders: the armed clear takes effect a
+//! tick after the index, as a zero operand of the count's adder (a clear in the
+//! strobe's own tick put a multiplexer with the whole index condition on every bit:
+//! about 75 LUT), and the velocity registers reset to 0, so the restart at an edge and
+//! the reset are one synchronous reset.
 //!
 //! Latency: a pin change sampled at clk edge e0 moves the count at edge e0 + 2 + filter
 //! (`model::encoder::pin_to_level_ticks`). One count per tick at most; the documented
@@ -47,6 +54,7 @@ pub struct EncDecoder {
     pub index_tog: Signal<Out, Bit>,
     pub probe_tog: Signal<Out, Bit>,
     pub armed: Signal<Out, Bit>,
+    pub clearing: Signal<Out, Bit>,
     pub period: Signal<Out, Bits<16>>,
     pub age: Signal<Out, Bits<16>>,
     pub last_dir: Signal<Out, Bit>,
@@ -72,10 +80,10 @@ pub struct EncDecoder {
     itog: DFF<Bit>,
     ptog: DFF<Bit>,
     arm_q: DFF<Bit>,
+    clr_q: DFF<Bit>,
     per: DFF<Bits<16>>,
     agec: DFF<Bits<16>>,
     ldir: DFF<Bit>,
-    c_max: Constant<Bits<16>>,
     c_ones: Constant<Bits<32>>,
     inc: Signal<Local, Bits<32>>,
     age_next: Signal<Local, Bits<16>>,
@@ -87,6 +95,7 @@ pub struct EncDecoder {
     counted: Signal<Local, Bit>,
     up: Signal<Local, Bit>,
     after: Signal<Local, Bits<32>>,
+    base: Signal<Local, Bits<32>>,
     index: Signal<Local, Bit>,
     q_before: Signal<Local, Bit>,
     q_after: Signal<Local, Bit>,
@@ -112,6 +121,7 @@ impl Default for EncDecoder {
             index_tog: Default::default(),
             probe_tog: Default::default(),
             armed: Default::default(),
+            clearing: Default::default(),
             period: Default::default(),
             age: Default::default(),
             last_dir: Default::default(),
@@ -137,10 +147,10 @@ impl Default for EncDecoder {
             itog: Default::default(),
             ptog: Default::default(),
             arm_q: Default::default(),
+            clr_q: Default::default(),
             per: Default::default(),
             agec: Default::default(),
             ldir: Default::default(),
-            c_max: Constant::new(0xFFFFu64.into()),
             c_ones: Constant::new(0xFFFF_FFFFu64.into()),
             inc: Default::default(),
             age_next: Default::default(),
@@ -150,6 +160,7 @@ impl Default for EncDecoder {
             counted: Default::default(),
             up: Default::default(),
             after: Default::default(),
+            base: Default::default(),
             index: Default::default(),
             q_before: Default::default(),
             q_after: Default::default(),
@@ -177,7 +188,7 @@ impl EncDecoder {
 impl Logic for EncDecoder {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, itog, ptog, arm_q, per, agec, ldir);
+        dff_setup!(self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, itog, ptog, arm_q, clr_q, per, agec, ldir);
         self.a1.d.next = self.a.val();
         self.a2.d.next = self.a1.q.val();
         self.b1.d.next = self.b.val();
@@ -230,7 +241,11 @@ impl Logic for EncDecoder {
                 self.inc.next = self.c_ones.val();
             }
         }
-        self.after.next = self.cnt.q.val() + self.inc.val();
+        self.base.next = self.cnt.q.val();
+        if self.clr_q.q.val() {
+            self.base.next = 0.into();
+        }
+        self.after.next = self.base.val() + self.inc.val();
         self.ill.d.next = self.ill.q.val();
         if self.ca.val() & self.cb.val() {
             self.ill.d.next = self.ill.q.val() + 1;
@@ -252,10 +267,8 @@ impl Logic for EncDecoder {
         if self.index.val() {
             self.idx.d.next = self.after.val();
             self.itog.d.next = !self.itog.q.val();
-            if self.arm_q.q.val() {
-                self.cnt.d.next = 0.into();
-            }
         }
+        self.clr_q.d.next = self.index.val() & self.arm_q.q.val();
         self.arm_q.d.next = self.arm.val() | (self.arm_q.q.val() & !self.index.val());
         self.prb.d.next = self.prb.q.val();
         self.ptog.d.next = self.ptog.q.val();
@@ -294,8 +307,9 @@ impl Logic for EncDecoder {
             self.itog.d.next = false;
             self.ptog.d.next = false;
             self.arm_q.d.next = false;
-            self.per.d.next = self.c_max.val();
-            self.agec.d.next = self.c_max.val();
+            self.per.d.next = 0.into();
+            self.agec.d.next = 0.into();
+            self.clr_q.d.next = false;
             self.ldir.d.next = false;
         }
 
@@ -306,6 +320,7 @@ impl Logic for EncDecoder {
         self.index_tog.next = self.itog.q.val();
         self.probe_tog.next = self.ptog.q.val();
         self.armed.next = self.arm_q.q.val();
+        self.clearing.next = self.clr_q.q.val();
         self.period.next = self.per.q.val();
         self.age.next = self.agec.q.val();
         self.last_dir.next = self.ldir.q.val();

@@ -26,18 +26,21 @@
 //! edge it is gated with is taken at the same count either way (at the AB state's
 //! count, in both directions). At the strobe `index_count` takes the count after the
 //! tick (with the tick's move) and `index_tog` flips; if the clear is armed (`arm`, a
-//! command, self-clearing) the count becomes 0 instead, so the index is count 0 and the
-//! count before the clear was
-//! `index_count`. **Probe**: at a `probe` strobe (the machine
+//! command, self-clearing) the count restarts at the index: at the strobe it still
+//! takes `index_count`, and from the next tick it counts from 0 (that tick's move
+//! added to 0), so it is always the count since the index, a tick late. (The clear
+//! folds into the count adder's operand: a clear in the strobe's own tick cost a
+//! multiplexer on every bit.) **Probe**: at a `probe` strobe (the machine
 //! I/O's probe latch) `probe_count` takes the count as it was before the tick and
 //! `probe_tog` flips.
 //!
 //! **Velocity.** `age` counts velocity ticks (`vel_tick`, one clk tick in
-//! `prescale + 1`, shared by the axes) since the last counted edge, saturating at
-//! [`VEL_MAX`]; at a counted edge `period` takes age + this tick's velocity tick
-//! (saturating) and `age` restarts at 0, and `last_dir` says which way it went. With a
-//! velocity tick every clk tick, `period` is the clk ticks between the last two
-//! counted edges. After reset both read [`VEL_MAX`] (no edge seen).
+//! `prescale + 1`, shared by the axes) since the last counted edge (or the reset),
+//! saturating at [`VEL_MAX`]; at a counted edge `period` takes age + this tick's
+//! velocity tick (saturating) and `age` restarts at 0, and `last_dir` says which way it
+//! went. With a velocity tick every clk tick, `period` is the clk ticks between the
+//! last two counted edges. After reset both read 0, and the first edge's period counts
+//! from the reset.
 
 /// The largest filter length, ticks (a 4-bit register field).
 pub const FILTER_MAX: u8 = 15;
@@ -100,6 +103,8 @@ pub struct EncOutputs {
     pub index_tog: bool,
     pub probe_tog: bool,
     pub armed: bool,
+    /// The armed clear was taken at the last tick: the count restarts at this one.
+    pub clearing: bool,
     pub period: u16,
     pub age: u16,
     pub last_dir: bool,
@@ -130,7 +135,7 @@ impl EncoderModel {
             s2: 0,
             level: 0,
             cnt: [0; 3],
-            out: EncOutputs { period: VEL_MAX, age: VEL_MAX, ..Default::default() },
+            out: EncOutputs::default(),
         }
     }
 
@@ -148,7 +153,7 @@ impl EncoderModel {
         if reset {
             self.level = x;
             self.cnt = [0; 3];
-            self.out = EncOutputs { period: VEL_MAX, age: VEL_MAX, ..Default::default() };
+            self.out = EncOutputs::default();
             return;
         }
         let mut change = 0u8;
@@ -180,7 +185,7 @@ impl EncoderModel {
         if ca && cb {
             o.illegal = o.illegal.wrapping_add(1);
         }
-        let after = o.count.wrapping_add(inc);
+        let after = if o.clearing { 0 } else { o.count }.wrapping_add(inc);
         let qualified = |lev: u8| ((lev & 4 != 0) != cfg.z_low) && (!cfg.gate || lev & 3 == cfg.gate_ab & 3);
         let index = qualified(self.level ^ change) && !qualified(self.level);
         if probe {
@@ -188,12 +193,10 @@ impl EncoderModel {
             o.probe_tog = !o.probe_tog;
         }
         o.count = after;
+        o.clearing = index && o.armed;
         if index {
             o.index_count = after;
             o.index_tog = !o.index_tog;
-            if o.armed {
-                o.count = 0;
-            }
         }
         o.armed = arm || (o.armed && !index);
         if counted {
@@ -511,8 +514,8 @@ mod tests {
             }
         }
         // Z was high from reset at 0 (no edge); the indexes at 16 (armed: the count
-        // restarts there) and 32 (16 counts later).
-        assert_eq!(seen, vec![(16, 0, false), (16, 16, false)]);
+        // restarts there, a tick later) and 32 (16 counts later).
+        assert_eq!(seen, vec![(16, 16, false), (16, 16, false)]);
         assert_eq!(m.outputs().count, 40 - 16);
     }
 
