@@ -31,7 +31,7 @@ use super::enc_decoder::EncDecoder;
 use super::follow_err::FollowErr;
 use rust_hdl::prelude::*;
 
-/// Width of an axis's status word (`word`).
+/// Width of an axis's status word ({`word_hi`, `word_lo`}).
 pub const ENC_WORD_BITS: usize = 176;
 
 #[derive(LogicBlock)]

@@ -229,7 +229,7 @@ impl Logic for EncDecoder {
         self.lb.d.next = self.lb.q.val() ^ self.cb.val();
         self.lz.d.next = self.lz.q.val() ^ self.cz.val();
 
-        // 4× decoding: A changing to B's level, or B away from A's, is up.
+        // 4× decoding: A changing away from B's level, or B changing to A's, is up.
         self.counted.next = self.ca.val() ^ self.cb.val();
         self.up.next = self.la.q.val() ^ self.lb.q.val() ^ self.ca.val() ^ self.invert.val();
         // One adder: the count plus 0, 1 or −1.

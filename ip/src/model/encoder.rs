@@ -11,8 +11,8 @@
 //! synchronised pin (no count, no index on the way out of a reset).
 //!
 //! **Count** (4× decoding). At a tick where exactly one of the filtered A and B
-//! changes, the count (signed 32 bits, wrapping) moves by one: up when A changes to the
-//! level B has, or B changes away from A's (A leads B: 00 → 10 → 11 → 01 → 00), down
+//! changes, the count (signed 32 bits, wrapping) moves by one: up when A changes away
+//! from the level B has, or B changes to A's (A leads B: 00 → 10 → 11 → 01 → 00), down
 //! the other way; `invert` swaps the two. A tick where both change is an **illegal
 //! transition**: the count keeps its value and `illegal` (8 bits, wrapping) counts it.
 //! With the filter off and the pins moving with the clock, one edge per tick is
