@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The encoder option's clk-side block alone (EncoderBank: K decoders, the velocity
-# prescaler, the following-error unit and the status word's multiplexer), while the
+# prescaler, the extension and the following-error unit), while the
 # option is not yet in an exported core: xc7 cells from yosys synth_xilinx -flatten
 # at K = 1, 2, 8 and 16, and the slope per axis. Every port is a pin, so nothing is
 # removed: the probe latch is counted (a core without the probe ties it off).
@@ -22,5 +22,7 @@ for k in 1 2 8 16; do
     ram=$(awk '$1 == "RAM32M" { print $2 }' "$work/stat$k.txt")
     echo "K = $k: ${lut[$k]} LUT, ${ff[$k]} FF, ${dsp:-0} DSP48E1, ${ram:-0} RAM32M"
 done
+yosys -q -p "read_verilog target/tmp/enc_decoder.v; synth_xilinx -flatten -top top; tee -o $work/dec.txt stat" >/dev/null
+echo "the decoder alone: $(awk '$1 ~ /^LUT[1-6]$/ { s += $2 } END { print s }' "$work/dec.txt") LUT, $(awk '$1 ~ /^FD/ { s += $2 } END { print s }' "$work/dec.txt") FF"
 echo "per axis, K = 2 to 8:  $(( (lut[8] - lut[2]) / 6 )) LUT, $(( (ff[8] - ff[2]) / 6 )) FF"
 echo "per axis, K = 8 to 16: $(( (lut[16] - lut[8]) / 8 )) LUT, $(( (ff[16] - ff[8]) / 8 )) FF"

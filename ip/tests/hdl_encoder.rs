@@ -24,16 +24,19 @@ fn decoder_uut() -> EncDecoder {
     u
 }
 
-/// Input columns: reset, a, b, z, mode, arm, probe, vel_tick, invert.
-const IN_COLS: [(&str, usize); 9] =
-    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 8), ("arm", 1), ("probe", 1), ("vel_tick", 1), ("invert", 1)];
-const OUT_COLS: [(&str, usize); 14] = [
-    ("count", 32),
-    ("index_count", 32),
-    ("probe_count", 32),
+/// Input columns: reset, a, b, z, mode, arm, probe, vel_tick, invert, ack.
+const IN_COLS: [(&str, usize); 10] =
+    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 8), ("arm", 1), ("probe", 1), ("vel_tick", 1), ("invert", 1), ("ack", 1)];
+const OUT_COLS: [(&str, usize); 17] = [
+    ("count", 8),
+    ("index_count", 8),
+    ("probe_count", 8),
     ("illegal", 8),
-    ("index_tog", 1),
-    ("probe_tog", 1),
+    ("cnew", 1),
+    ("inew", 1),
+    ("iafter", 1),
+    ("pnew", 1),
+    ("pafter", 1),
     ("armed", 1),
     ("clearing", 1),
     ("period", 16),
@@ -44,15 +47,19 @@ const OUT_COLS: [(&str, usize); 14] = [
     ("lev_z", 1),
 ];
 
+/// The narrow view the HDL decoder shows.
 fn model_outputs(m: &EncoderModel) -> Vec<u128> {
-    let o = m.outputs();
+    let o = m.outputs().narrow();
     vec![
         o.count as u128,
         o.index_count as u128,
         o.probe_count as u128,
         o.illegal as u128,
-        o.index_tog as u128,
-        o.probe_tog as u128,
+        o.cnew as u128,
+        o.inew as u128,
+        o.iafter as u128,
+        o.pnew as u128,
+        o.pafter as u128,
         o.armed as u128,
         o.clearing as u128,
         o.period as u128,
@@ -71,7 +78,7 @@ fn config_of(word: u128, invert: u128) -> EncConfig {
 
 /// Random traffic: an encoder walking toward random targets (reversals), slips of two
 /// counts (both lines at once), bounce on A, random configurations changed under
-/// reset, arms, probes and a prescaled velocity tick.
+/// reset, arms, probes, a prescaled velocity tick and visits every few ticks.
 fn random_rows(seed: u64, phases: u64) -> Vec<Vec<u128>> {
     let mut rng = Rng(seed);
     let mut rows = Vec::new();
@@ -91,6 +98,7 @@ fn random_rows(seed: u64, phases: u64) -> Vec<Vec<u128>> {
         };
         g.spacing = 1 + rng.next() % (2 * cfg.filter as u64 + 4);
         let every = 1 + rng.next() % 3;
+        let visit = 1 + rng.next() % 40;
         let reset_rows = if phase == 0 { 4 } else { 1 + rng.next() % 2 };
         for k in 0..400u64 {
             if rng.next() % 60 == 0 {
@@ -113,6 +121,7 @@ fn random_rows(seed: u64, phases: u64) -> Vec<Vec<u128>> {
                 (rng.next() % 70 == 0) as u128,
                 (k % every == 0) as u128,
                 cfg.invert as u128,
+                (k % visit == 0) as u128,
             ]);
         }
     }
@@ -124,22 +133,26 @@ fn decoder_equals_the_model_three_ways() {
     let rows = random_rows(0xe4c0_de01, 24);
     let mut m = EncoderModel::new();
     let mut want = Vec::new();
-    let (mut counted, mut illegal, mut indexes, mut probes) = (0, 0u64, 0, 0);
+    let (mut counted, mut illegal, mut indexes, mut probes, mut after_clear) = (0, 0u64, 0, 0, 0);
     for (r, row) in rows.iter().enumerate() {
         let before = m.outputs();
         // The synchroniser's flip-flops are undefined in Verilog until reset loads the levels.
         want.push(model_outputs(&m).into_iter().map(|v| (r >= 3).then_some(v)).collect::<Vec<_>>());
         let pins = EncPins { a: row[1] == 1, b: row[2] == 1, z: row[3] == 1 };
-        m.clock(&config_of(row[4], row[8]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[0] == 1);
+        m.clock_visit(&config_of(row[4], row[8]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[9] == 1, row[0] == 1);
         let after = m.outputs();
         if row[0] == 0 {
             counted += (after.count != before.count) as u64;
             illegal += (after.illegal != before.illegal) as u64;
             indexes += (after.index_tog != before.index_tog) as u64;
             probes += (after.probe_tog != before.probe_tog) as u64;
+            after_clear += ((after.iafter && !before.iafter) || (after.pafter && !before.pafter)) as u64;
         }
     }
-    assert!(counted > 1200 && illegal > 20 && indexes > 40 && probes > 40, "stimulus too thin: {counted} counts, {illegal} illegal, {indexes} indexes, {probes} probes");
+    assert!(
+        counted > 1200 && illegal > 20 && indexes > 40 && probes > 40 && after_clear > 5,
+        "stimulus too thin: {counted} counts, {illegal} illegal, {indexes} indexes, {probes} probes, {after_clear} latches after a clear"
+    );
     let spec = TbSpec {
         clock: "clock".into(),
         inputs: IN_COLS.iter().map(|(n, w)| Port::new(n, *w)).collect(),
@@ -159,6 +172,7 @@ fn decoder_equals_the_model_three_ways() {
             u.probe.next = r[6] == 1;
             u.vel_tick.next = r[7] == 1;
             u.invert.next = r[8] == 1;
+            u.ack.next = r[9] == 1;
         },
         |u| {
             vec![
@@ -166,8 +180,11 @@ fn decoder_equals_the_model_three_ways() {
                 u.index_count.val().to_u64() as u128,
                 u.probe_count.val().to_u64() as u128,
                 u.illegal.val().to_u64() as u128,
-                u.index_tog.val() as u128,
-                u.probe_tog.val() as u128,
+                u.cnew.val() as u128,
+                u.inew.val() as u128,
+                u.iafter.val() as u128,
+                u.pnew.val() as u128,
+                u.pafter.val() as u128,
                 u.armed.val() as u128,
                 u.clearing.val() as u128,
                 u.period.val().to_u64() as u128,
@@ -353,6 +370,17 @@ fn an_encoder_following_step_dir_is_counted_exactly_through_bounce_stall_and_sli
 
 const FK: usize = 3;
 
+/// One edge of the following-error model as the bank drives it: axis `ax`'s position
+/// now, and the count `taken` of the axis taken at the last edge (`ax1`); `count` is
+/// axis `ax`'s count now, kept for the next edge.
+#[allow(clippy::too_many_arguments)]
+fn fe_clock(m: &mut FollowErrModel, taken: &mut u32, position: u32, count: u32, ratio: u32, tol: u16, align: u32, clear: u32, reset: bool) -> u32 {
+    let c1 = *taken;
+    *taken = count;
+    m.clock(position, c1, ratio, tol, align, clear, reset);
+    c1
+}
+
 /// Per axis of the following-error stimulus: the step position, the encoder count, the
 /// ratio and the tolerance.
 #[derive(Clone, Copy)]
@@ -373,6 +401,7 @@ fn follow_rows(seed: u64, cycles: usize) -> (Vec<Vec<u128>>, Vec<Vec<Option<u128
     let mut axes = [FeAxis { pos: 0, count: 0, ratio: 0x1_4000, tol: 4 }; FK];
     let (mut rows, mut want) = (vec![], vec![]);
     let (mut fails, mut aligns) = (0, 0);
+    let mut taken = 0u32;
     for cyc in 0..cycles {
         let reset = cyc < 2 || rng.next() % 1500 == 0;
         if reset {
@@ -406,12 +435,13 @@ fn follow_rows(seed: u64, cycles: usize) -> (Vec<Vec<u128>>, Vec<Vec<Option<u128
         let a = axes[m.ax()];
         want.push(vec![
             (cyc >= 1).then_some(m.ax() as u128),
+            (cyc >= 1).then_some(m.ax1() as u128),
             m.dev(dev_axis).map(|d| d as u128),
             (cyc >= 1).then_some(m.fail() as u128),
         ]);
-        rows.push(vec![reset as u128, a.pos as u32 as u128, a.count as u32 as u128, a.ratio as u128, a.tol as u128, align as u128, clear as u128, dev_axis as u128]);
         let before = m.fail();
-        m.clock(a.pos as u32, a.count as u32, a.ratio, a.tol, align, clear, reset);
+        let c1 = fe_clock(&mut m, &mut taken, a.pos as u32, a.count as u32, a.ratio, a.tol, align, clear, reset);
+        rows.push(vec![reset as u128, a.pos as u32 as u128, c1 as u128, a.ratio as u128, a.tol as u128, align as u128, clear as u128, dev_axis as u128]);
         fails += (m.fail() & !before).count_ones();
         aligns += align.count_ones();
     }
@@ -434,7 +464,7 @@ fn following_error_equals_the_model_three_ways() {
             Port::new("clear", FK),
             Port::new("dev_axis", 4),
         ],
-        outputs: vec![Port::new("ax", 4), Port::new("dev", 32), Port::new("fail", FK)],
+        outputs: vec![Port::new("ax", 4), Port::new("ax1", 4), Port::new("dev", 32), Port::new("fail", FK)],
     };
     three_ways(
         "follow_err",
@@ -454,7 +484,7 @@ fn following_error_equals_the_model_three_ways() {
             u.clear.next = (r[6] as u64).into();
             u.dev_axis.next = (r[7] as u64).into();
         },
-        |u| vec![u.ax.val().to_u64() as u128, u.dev.val().to_u64() as u128, u.fail.val().to_u64() as u128],
+        |u| vec![u.ax.val().to_u64() as u128, u.ax1.val().to_u64() as u128, u.dev.val().to_u64() as u128, u.fail.val().to_u64() as u128],
         &spec,
         &rows,
         &want,
@@ -480,13 +510,14 @@ fn enc_fail_comes_within_one_refresh_and_four_ticks_and_align_zeroes_the_deviati
             let victim = (rng.next() % k as u64) as usize;
             let x = 40 + rng.next() % 50;
             let mut rose = None;
+            let mut taken = 0u32;
             for edge in 0..(x + 2 * k as u64 + 20) {
                 if edge == x {
                     // The count steps past the tolerance (a slip).
                     count[victim] -= tol as i32 + 1 - 3 + (trial % 3);
                 }
                 let a = m.ax();
-                m.clock(pos[a] as u32, count[a] as u32, ratio, tol, 0, 0, edge < 2);
+                fe_clock(&mut m, &mut taken, pos[a] as u32, count[a] as u32, ratio, tol, 0, 0, edge < 2);
                 if rose.is_none() && m.fail() != 0 {
                     assert_eq!(m.fail(), 1 << victim, "K = {k}: only the slipped axis fails");
                     rose = Some(edge);
@@ -510,12 +541,12 @@ fn enc_fail_comes_within_one_refresh_and_four_ticks_and_align_zeroes_the_deviati
             let all = (1u32 << k) - 1;
             for edge in 0..(3 * k as u64 + 10) {
                 let a = m.ax();
-                m.clock(pos[a] as u32, count[a] as u32, ratio, tol, if edge == 0 { all } else { 0 }, 0, false);
+                fe_clock(&mut m, &mut taken, pos[a] as u32, count[a] as u32, ratio, tol, if edge == 0 { all } else { 0 }, 0, false);
             }
             assert!((0..k).all(|b| m.dev(b) == Some(0)), "K = {k}: aligned");
             assert_eq!(m.fail(), 1 << victim, "the flag is sticky");
             let a = m.ax();
-            m.clock(pos[a] as u32, count[a] as u32, ratio, tol, 0, all, false);
+            fe_clock(&mut m, &mut taken, pos[a] as u32, count[a] as u32, ratio, tol, 0, all, false);
             assert_eq!(m.fail(), 0, "cleared");
         }
         assert_eq!(worst, refresh + FOLLOW_ERR_LATENCY, "K = {k}: the bound is reached, not loose");
@@ -589,7 +620,7 @@ fn encoder_bank_equals_the_model_three_ways() {
         let sel = (rng.next() % BK as u64) as usize;
         let (lo, hi) = m.word(sel);
         let ok = cyc >= 4;
-        want.push(vec![ok.then_some(pa as u128), lo.filter(|_| ok), ok.then_some(hi), ok.then_some(m.fe.fail() as u128)]);
+        want.push(vec![ok.then_some(pa as u128), lo.filter(|_| ok), hi.filter(|_| ok), ok.then_some(m.fe.fail() as u128)]);
         rows.push(vec![
             reset as u128,
             inp.a as u128,
@@ -633,7 +664,7 @@ fn encoder_bank_equals_the_model_three_ways() {
     let spec = TbSpec {
         clock: "clock".into(),
         inputs: cols.iter().map(|(n, w)| Port::new(n, *w)).collect(),
-        outputs: vec![Port::new("pos_axis", 4), Port::new("word_lo", 128), Port::new("word_hi", 48), Port::new("fail", BK)],
+        outputs: vec![Port::new("pos_axis", 4), Port::new("word_lo", 128), Port::new("word_hi", 49), Port::new("fail", BK)],
     };
     three_ways(
         "enc_bank",
@@ -673,8 +704,9 @@ fn encoder_bank_equals_the_model_three_ways() {
         &want,
     );
 }
-/// The bank's Verilog at K = 1, 2, 8 and 16 for scripts/enc-bank-cost.sh (in the
-/// test's temporary folder); each generates and names its top module.
+/// The bank's Verilog at K = 1, 2, 8 and 16 and the decoder's for
+/// scripts/enc-bank-cost.sh (in the test's temporary folder); each generates and
+/// names its top module.
 #[test]
 fn encoder_bank_verilog_for_the_cost_script() {
     fn dump<const K: usize>() {
@@ -685,6 +717,9 @@ fn encoder_bank_verilog_for_the_cost_script() {
         let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"));
         std::fs::write(dir.join(format!("enc_bank_k{K}.v")), v).unwrap();
     }
+    let v = generate_verilog(&decoder_uut());
+    assert!(v.contains("module top(") && v.contains("index_count"), "no decoder in the Verilog");
+    std::fs::write(std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("enc_decoder.v"), v).unwrap();
     dump::<1>();
     dump::<2>();
     dump::<8>();

@@ -1,6 +1,8 @@
-//! The encoder feedback of K axes in `clk` (`export --encoder`): K [`EncDecoder`]s,
-//! the velocity prescaler they share, the [`FollowErr`] unit stepping round robin over
-//! them, and the status word of one axis for the crossing to the bus. It equals
+//! The encoder feedback of K axes in `clk` (`export --encoder`): K narrow
+//! [`EncDecoder`]s, the velocity prescaler they share, the [`EncExtend`] and
+//! [`FollowErr`] units stepping round robin over them together (the extension visits
+//! axis `fe.ax` and hands its 32-bit count to the following error's next stage), and
+//! the status word of one axis for the crossing to the bus. It equals
 //! `model::encoder::EncoderBankModel` clock for clock (tests/hdl_encoder.rs, three
 //! ways).
 //!
@@ -16,23 +18,28 @@
 //!   position the parent drives on `position` (the core's) and whose `ratio` and `tol`
 //!   it drives, combinationally, in the same cycle;
 //! * `sel` → `word_lo`, `word_hi` (the status word of [`ENC_WORD_BITS`] = {hi, lo},
-//!   a multiplexer of registers and the deviation RAM; `sel` < K): axis `sel`'s count
-//!   31..0, index latch 63..32, probe latch 95..64, deviation 127..96 (`word_lo`),
-//!   period 143..128, age 159..144, illegal transitions 167..160, and the flags armed
-//!   168, last direction 169, filtered A, B, Z 170..172, ENC_FAIL 173, index toggle
-//!   174, probe toggle 175 (`word_hi`, bit 128 of the word is its bit 0);
+//!   read from the extension's and the deviation's LUT RAMs; `sel` < K): axis `sel`'s
+//!   count 31..0, index latch 63..32, probe latch 95..64, deviation 127..96
+//!   (`word_lo`), period 143..128, age 159..144, illegal transitions 167..160, and the
+//!   flags armed 168, last direction 169, filtered A, B, Z 170..172, ENC_FAIL 173,
+//!   index toggle 174, probe toggle 175 (each flips when a new latch is written),
+//!   valid 176 (`word_hi`, bit 128 of the word is its bit 0). All but ENC_FAIL are as
+//!   the extension's last visit of the axis saw them, at most K ticks old; before the
+//!   axis's first visit since reset (K ticks), valid is 0 and the rest undefined;
 //! * `fail` (bit a, a register): axis a's ENC_FAIL.
 //!
-//! Latency: the decoders' ([`super::enc_decoder`]); ENC_FAIL within K + 4 ticks of the
+//! Latency: the decoders' ([`super::enc_decoder`]); the word at most K ticks old (the
+//! extension's last visit); ENC_FAIL within K + 4 ticks of the
 //! crossing ([`super::follow_err::FOLLOW_ERR_LATENCY`]).
 
 use super::bit_insert::BitPick;
 use super::enc_decoder::EncDecoder;
+use super::enc_extend::{EncExtend, LIVE_BITS};
 use super::follow_err::FollowErr;
 use rust_hdl::prelude::*;
 
 /// Width of an axis's status word ({`word_hi`, `word_lo`}).
-pub const ENC_WORD_BITS: usize = 176;
+pub const ENC_WORD_BITS: usize = 177;
 
 #[derive(LogicBlock)]
 pub struct EncoderBank<const K: usize> {
@@ -54,7 +61,7 @@ pub struct EncoderBank<const K: usize> {
     pub tol: Signal<In, Bits<16>>,
     pub sel: Signal<In, Bits<8>>,
     pub word_lo: Signal<Out, Bits<128>>,
-    pub word_hi: Signal<Out, Bits<48>>,
+    pub word_hi: Signal<Out, Bits<49>>,
     pub fail: Signal<Out, Bits<K>>,
     dec: [EncDecoder; K],
     a_pick: [BitPick<K>; K],
@@ -62,25 +69,29 @@ pub struct EncoderBank<const K: usize> {
     z_pick: [BitPick<K>; K],
     inv_pick: [BitPick<K>; K],
     arm_pick: [BitPick<K>; K],
+    ext: EncExtend<K>,
     fe: FollowErr<K>,
     pre: DFF<Bits<16>>,
     c_one: Constant<Bits<K>>,
     tick: Signal<Local, Bit>,
-    /// Axis `sel`'s fields (the multiplexer), then the word built from them.
-    w_count: Signal<Local, Bits<32>>,
-    w_index: Signal<Local, Bits<32>>,
-    w_probe: Signal<Local, Bits<32>>,
-    w_period: Signal<Local, Bits<16>>,
-    w_age: Signal<Local, Bits<16>>,
-    w_ill: Signal<Local, Bits<8>>,
-    w_armed: Signal<Local, Bit>,
-    w_dir: Signal<Local, Bit>,
-    w_la: Signal<Local, Bit>,
-    w_lb: Signal<Local, Bit>,
-    w_lz: Signal<Local, Bit>,
+    /// The visited axis's decoder outputs (the multiplexer).
+    v_count: Signal<Local, Bits<8>>,
+    v_index: Signal<Local, Bits<8>>,
+    v_probe: Signal<Local, Bits<8>>,
+    v_period: Signal<Local, Bits<16>>,
+    v_age: Signal<Local, Bits<16>>,
+    v_ill: Signal<Local, Bits<8>>,
+    v_cnew: Signal<Local, Bit>,
+    v_inew: Signal<Local, Bit>,
+    v_iafter: Signal<Local, Bit>,
+    v_pnew: Signal<Local, Bit>,
+    v_pafter: Signal<Local, Bit>,
+    v_armed: Signal<Local, Bit>,
+    v_dir: Signal<Local, Bit>,
+    v_la: Signal<Local, Bit>,
+    v_lb: Signal<Local, Bit>,
+    v_lz: Signal<Local, Bit>,
     w_fail: Signal<Local, Bit>,
-    w_itog: Signal<Local, Bit>,
-    w_ptog: Signal<Local, Bit>,
 }
 
 impl<const K: usize> Default for EncoderBank<K> {
@@ -112,24 +123,28 @@ impl<const K: usize> Default for EncoderBank<K> {
             z_pick: std::array::from_fn(BitPick::new),
             inv_pick: std::array::from_fn(BitPick::new),
             arm_pick: std::array::from_fn(BitPick::new),
+            ext: Default::default(),
             fe: Default::default(),
             pre: Default::default(),
             c_one: Constant::new(1.into()),
             tick: Default::default(),
-            w_count: Default::default(),
-            w_index: Default::default(),
-            w_probe: Default::default(),
-            w_period: Default::default(),
-            w_age: Default::default(),
-            w_ill: Default::default(),
-            w_armed: Default::default(),
-            w_dir: Default::default(),
-            w_la: Default::default(),
-            w_lb: Default::default(),
-            w_lz: Default::default(),
+            v_count: Default::default(),
+            v_index: Default::default(),
+            v_probe: Default::default(),
+            v_period: Default::default(),
+            v_age: Default::default(),
+            v_ill: Default::default(),
+            v_cnew: Default::default(),
+            v_inew: Default::default(),
+            v_iafter: Default::default(),
+            v_pnew: Default::default(),
+            v_pafter: Default::default(),
+            v_armed: Default::default(),
+            v_dir: Default::default(),
+            v_la: Default::default(),
+            v_lb: Default::default(),
+            v_lz: Default::default(),
             w_fail: Default::default(),
-            w_itog: Default::default(),
-            w_ptog: Default::default(),
         }
     }
 }
@@ -179,21 +194,25 @@ impl<const K: usize> Logic for EncoderBank<K> {
         self.fe.dev_axis.next = self.sel.val().get_bits::<4>(0);
         self.pos_axis.next = self.fe.ax.val();
         self.fail.next = self.fe.fail.val();
-        self.fe.count.next = 0.into();
+        self.fe.count.next = self.ext.count1.val();
 
-        self.w_count.next = 0.into();
-        self.w_index.next = 0.into();
-        self.w_probe.next = 0.into();
-        self.w_period.next = 0.into();
-        self.w_age.next = 0.into();
-        self.w_ill.next = 0.into();
-        self.w_armed.next = false;
-        self.w_dir.next = false;
-        self.w_la.next = false;
-        self.w_lb.next = false;
-        self.w_lz.next = false;
-        self.w_itog.next = false;
-        self.w_ptog.next = false;
+        // The visited axis's outputs, to the extension, which acknowledges them.
+        self.v_count.next = 0.into();
+        self.v_index.next = 0.into();
+        self.v_probe.next = 0.into();
+        self.v_period.next = 0.into();
+        self.v_age.next = 0.into();
+        self.v_ill.next = 0.into();
+        self.v_cnew.next = false;
+        self.v_inew.next = false;
+        self.v_iafter.next = false;
+        self.v_pnew.next = false;
+        self.v_pafter.next = false;
+        self.v_armed.next = false;
+        self.v_dir.next = false;
+        self.v_la.next = false;
+        self.v_lb.next = false;
+        self.v_lz.next = false;
         for i in 0..K {
             self.a_pick[i].bus.next = self.enc_a.val();
             self.b_pick[i].bus.next = self.enc_b.val();
@@ -210,40 +229,58 @@ impl<const K: usize> Logic for EncoderBank<K> {
             self.dec[i].arm.next = self.arm_pick[i].value.val();
             self.dec[i].probe.next = self.probe.val();
             self.dec[i].vel_tick.next = self.tick.val();
+            self.dec[i].ack.next = false;
             if self.fe.ax.val().index() == i {
-                self.fe.count.next = self.dec[i].count.val();
-            }
-            if self.sel.val().index() == i {
-                self.w_count.next = self.dec[i].count.val();
-                self.w_index.next = self.dec[i].index_count.val();
-                self.w_probe.next = self.dec[i].probe_count.val();
-                self.w_period.next = self.dec[i].period.val();
-                self.w_age.next = self.dec[i].age.val();
-                self.w_ill.next = self.dec[i].illegal.val();
-                self.w_armed.next = self.dec[i].armed.val();
-                self.w_dir.next = self.dec[i].last_dir.val();
-                self.w_la.next = self.dec[i].lev_a.val();
-                self.w_lb.next = self.dec[i].lev_b.val();
-                self.w_lz.next = self.dec[i].lev_z.val();
-                self.w_itog.next = self.dec[i].index_tog.val();
-                self.w_ptog.next = self.dec[i].probe_tog.val();
+                self.dec[i].ack.next = true;
+                self.v_count.next = self.dec[i].count.val();
+                self.v_index.next = self.dec[i].index_count.val();
+                self.v_probe.next = self.dec[i].probe_count.val();
+                self.v_period.next = self.dec[i].period.val();
+                self.v_age.next = self.dec[i].age.val();
+                self.v_ill.next = self.dec[i].illegal.val();
+                self.v_cnew.next = self.dec[i].cnew.val();
+                self.v_inew.next = self.dec[i].inew.val();
+                self.v_iafter.next = self.dec[i].iafter.val();
+                self.v_pnew.next = self.dec[i].pnew.val();
+                self.v_pafter.next = self.dec[i].pafter.val();
+                self.v_armed.next = self.dec[i].armed.val();
+                self.v_dir.next = self.dec[i].last_dir.val();
+                self.v_la.next = self.dec[i].lev_a.val();
+                self.v_lb.next = self.dec[i].lev_b.val();
+                self.v_lz.next = self.dec[i].lev_z.val();
             }
         }
+        self.ext.clock.next = self.clock.val();
+        self.ext.reset.next = self.reset.val();
+        self.ext.ax.next = self.fe.ax.val();
+        self.ext.count.next = self.v_count.val();
+        self.ext.index_count.next = self.v_index.val();
+        self.ext.probe_count.next = self.v_probe.val();
+        self.ext.cnew.next = self.v_cnew.val();
+        self.ext.inew.next = self.v_inew.val();
+        self.ext.iafter.next = self.v_iafter.val();
+        self.ext.pnew.next = self.v_pnew.val();
+        self.ext.pafter.next = self.v_pafter.val();
+        self.ext.live.next = bit_cast::<LIVE_BITS, 16>(self.v_period.val())
+            | (bit_cast::<LIVE_BITS, 16>(self.v_age.val()) << 16)
+            | (bit_cast::<LIVE_BITS, 8>(self.v_ill.val()) << 32)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_armed.val().into()) << 40)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_dir.val().into()) << 41)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_la.val().into()) << 42)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_lb.val().into()) << 43)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_lz.val().into()) << 44);
+
+        // Axis `sel`'s word, from memory.
+        self.ext.sel.next = self.sel.val().get_bits::<4>(0);
         self.w_fail.next = (self.fe.fail.val() & (self.c_one.val() << self.sel.val())).any();
-        self.word_lo.next = bit_cast::<128, 32>(self.w_count.val())
-            | (bit_cast::<128, 32>(self.w_index.val()) << 32)
-            | (bit_cast::<128, 32>(self.w_probe.val()) << 64)
+        self.word_lo.next = bit_cast::<128, 32>(self.ext.s_count.val())
+            | (bit_cast::<128, 32>(self.ext.s_index.val()) << 32)
+            | (bit_cast::<128, 32>(self.ext.s_probe.val()) << 64)
             | (bit_cast::<128, 32>(self.fe.dev.val()) << 96);
-        self.word_hi.next = bit_cast::<48, 16>(self.w_period.val())
-            | (bit_cast::<48, 16>(self.w_age.val()) << 16)
-            | (bit_cast::<48, 8>(self.w_ill.val()) << 32)
-            | (bit_cast::<48, 1>(self.w_armed.val().into()) << 40)
-            | (bit_cast::<48, 1>(self.w_dir.val().into()) << 41)
-            | (bit_cast::<48, 1>(self.w_la.val().into()) << 42)
-            | (bit_cast::<48, 1>(self.w_lb.val().into()) << 43)
-            | (bit_cast::<48, 1>(self.w_lz.val().into()) << 44)
-            | (bit_cast::<48, 1>(self.w_fail.val().into()) << 45)
-            | (bit_cast::<48, 1>(self.w_itog.val().into()) << 46)
-            | (bit_cast::<48, 1>(self.w_ptog.val().into()) << 47);
+        self.word_hi.next = bit_cast::<49, LIVE_BITS>(self.ext.s_live.val())
+            | (bit_cast::<49, 1>(self.w_fail.val().into()) << 45)
+            | (bit_cast::<49, 1>(self.ext.s_itog.val().into()) << 46)
+            | (bit_cast::<49, 1>(self.ext.s_ptog.val().into()) << 47)
+            | (bit_cast::<49, 1>(self.ext.s_valid.val().into()) << 48);
     }
 }

@@ -1,6 +1,9 @@
 //! One axis's encoder decoder in `clk`: synchronisers, filters, 4× quadrature count,
 //! illegal transitions, the index and probe latches of the count, and the reciprocal
-//! velocity. It equals `model::encoder::EncoderModel` clock for clock
+//! velocity. The count and its latches are narrow (`model::encoder::NARROW_BITS` = 8
+//! bits): the shared extension ([`super::enc_extend::EncExtend`]) visits the axis every
+//! K ticks and carries them to 32 bits. It equals the narrow view of
+//! `model::encoder::EncoderModel` (`EncOutputs::narrow`) clock for clock
 //! (tests/hdl_encoder.rs, three ways); the model's module docs state the behaviour.
 //!
 //! Ports:
@@ -11,14 +14,15 @@
 //! * `arm` (one cycle): arm the clear of the count on the next index. `probe` (one
 //!   cycle): the probe latch's strobe (tie to 0 without the probe: its latch is
 //!   constant and synthesis removes it). `vel_tick`: the shared velocity prescaler's
-//!   tick. `reset`: synchronous; the synchronisers keep running and each filtered level
-//!   loads its synchronised pin.
-//! * Outputs, all flip-flops: `count`, `index_count`, `probe_count` (32 bits, signed,
-//!   wrapping), `illegal` (8 bits, wrapping), `index_tog` and `probe_tog` (flip at each
-//!   latch), `armed`, `clearing` (the armed clear was taken: the count restarts from
-//!   0 at this tick), `period` and `age` (16 bits, saturating at 0xFFFF, 0 after
-//!   reset), `last_dir` (1: the last counted edge went up) and the filtered levels
-//!   `lev_a`, `lev_b`, `lev_z`.
+//!   tick. `ack` (one cycle): the extension visits the axis in this cycle (it reads
+//!   the outputs); the visit flags restart. `reset`: synchronous; the synchronisers
+//!   keep running and each filtered level loads its synchronised pin.
+//! * Outputs, all flip-flops: `count`, `index_count`, `probe_count` (8 bits,
+//!   wrapping), `illegal` (8 bits, wrapping), the visit flags `cnew`, `inew`,
+//!   `iafter`, `pnew`, `pafter` (`EncoderModel::clock_visit`), `armed`, `clearing`
+//!   (the armed clear was taken: the count restarts from 0 at this tick), `period`
+//!   and `age` (16 bits, saturating at 0xFFFF, 0 after reset), `last_dir` (1: the
+//!   last counted edge went up) and the filtered levels `lev_a`, `lev_b`, `lev_z`.
 //!
 //! Two choices keep the logic per bit to the adders: the armed clear takes effect a
 //! tick after the index, as a zero operand of the count's adder (a clear in the
@@ -30,8 +34,8 @@
 //! (`model::encoder::pin_to_level_ticks`). One count per tick at most; the documented
 //! rate keeps `model::encoder::max_count_rate_ticks` ticks between edges.
 //!
-//! Cost: 9 flip-flops for the lines (synchroniser and level), 12 for the filters, 32
-//! for the count, 32 per latch, 8 for `illegal`, 32 for the velocity and 4 more.
+//! Cost: 9 flip-flops for the lines (synchroniser and level), 12 for the filters, 8
+//! for the count, 8 per latch, 8 for `illegal`, 32 for the velocity and 8 more.
 
 use rust_hdl::prelude::*;
 
@@ -47,12 +51,16 @@ pub struct EncDecoder {
     pub arm: Signal<In, Bit>,
     pub probe: Signal<In, Bit>,
     pub vel_tick: Signal<In, Bit>,
-    pub count: Signal<Out, Bits<32>>,
-    pub index_count: Signal<Out, Bits<32>>,
-    pub probe_count: Signal<Out, Bits<32>>,
+    pub ack: Signal<In, Bit>,
+    pub count: Signal<Out, Bits<8>>,
+    pub index_count: Signal<Out, Bits<8>>,
+    pub probe_count: Signal<Out, Bits<8>>,
     pub illegal: Signal<Out, Bits<8>>,
-    pub index_tog: Signal<Out, Bit>,
-    pub probe_tog: Signal<Out, Bit>,
+    pub cnew: Signal<Out, Bit>,
+    pub inew: Signal<Out, Bit>,
+    pub iafter: Signal<Out, Bit>,
+    pub pnew: Signal<Out, Bit>,
+    pub pafter: Signal<Out, Bit>,
     pub armed: Signal<Out, Bit>,
     pub clearing: Signal<Out, Bit>,
     pub period: Signal<Out, Bits<16>>,
@@ -73,19 +81,24 @@ pub struct EncDecoder {
     fa: DFF<Bits<4>>,
     fb: DFF<Bits<4>>,
     fz: DFF<Bits<4>>,
-    cnt: DFF<Bits<32>>,
-    idx: DFF<Bits<32>>,
-    prb: DFF<Bits<32>>,
+    cnt: DFF<Bits<8>>,
+    idx: DFF<Bits<8>>,
+    prb: DFF<Bits<8>>,
     ill: DFF<Bits<8>>,
-    itog: DFF<Bit>,
-    ptog: DFF<Bit>,
+    cnew_q: DFF<Bit>,
+    inew_q: DFF<Bit>,
+    iafter_q: DFF<Bit>,
+    pnew_q: DFF<Bit>,
+    pafter_q: DFF<Bit>,
     arm_q: DFF<Bit>,
     clr_q: DFF<Bit>,
     per: DFF<Bits<16>>,
     agec: DFF<Bits<16>>,
     ldir: DFF<Bit>,
-    c_ones: Constant<Bits<32>>,
-    inc: Signal<Local, Bits<32>>,
+    c_ones: Constant<Bits<8>>,
+    inc: Signal<Local, Bits<8>>,
+    /// A clear the visit has not read.
+    cl_old: Signal<Local, Bit>,
     age_next: Signal<Local, Bits<16>>,
     /// This tick: the filtered A, B, Z change; exactly one of A and B changed; the
     /// move is up; the count after it; the index strobe.
@@ -94,8 +107,8 @@ pub struct EncDecoder {
     cz: Signal<Local, Bit>,
     counted: Signal<Local, Bit>,
     up: Signal<Local, Bit>,
-    after: Signal<Local, Bits<32>>,
-    base: Signal<Local, Bits<32>>,
+    after: Signal<Local, Bits<8>>,
+    base: Signal<Local, Bits<8>>,
     index: Signal<Local, Bit>,
     q_before: Signal<Local, Bit>,
     q_after: Signal<Local, Bit>,
@@ -114,12 +127,16 @@ impl Default for EncDecoder {
             arm: Default::default(),
             probe: Default::default(),
             vel_tick: Default::default(),
+            ack: Default::default(),
             count: Default::default(),
             index_count: Default::default(),
             probe_count: Default::default(),
             illegal: Default::default(),
-            index_tog: Default::default(),
-            probe_tog: Default::default(),
+            cnew: Default::default(),
+            inew: Default::default(),
+            iafter: Default::default(),
+            pnew: Default::default(),
+            pafter: Default::default(),
             armed: Default::default(),
             clearing: Default::default(),
             period: Default::default(),
@@ -144,15 +161,19 @@ impl Default for EncDecoder {
             idx: Default::default(),
             prb: Default::default(),
             ill: Default::default(),
-            itog: Default::default(),
-            ptog: Default::default(),
+            cnew_q: Default::default(),
+            inew_q: Default::default(),
+            iafter_q: Default::default(),
+            pnew_q: Default::default(),
+            pafter_q: Default::default(),
             arm_q: Default::default(),
             clr_q: Default::default(),
             per: Default::default(),
             agec: Default::default(),
             ldir: Default::default(),
-            c_ones: Constant::new(0xFFFF_FFFFu64.into()),
+            c_ones: Constant::new(0xFFu64.into()),
             inc: Default::default(),
+            cl_old: Default::default(),
             age_next: Default::default(),
             ca: Default::default(),
             cb: Default::default(),
@@ -181,6 +202,7 @@ impl EncDecoder {
         self.arm.connect();
         self.probe.connect();
         self.vel_tick.connect();
+        self.ack.connect();
         self.connect_all();
     }
 }
@@ -188,7 +210,10 @@ impl EncDecoder {
 impl Logic for EncDecoder {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, itog, ptog, arm_q, clr_q, per, agec, ldir);
+        dff_setup!(
+            self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, cnew_q, inew_q, iafter_q, pnew_q,
+            pafter_q, arm_q, clr_q, per, agec, ldir
+        );
         self.a1.d.next = self.a.val();
         self.a2.d.next = self.a1.q.val();
         self.b1.d.next = self.b.val();
@@ -262,19 +287,26 @@ impl Logic for EncDecoder {
                     & ((self.lb.q.val() ^ self.cb.val()) == self.mode.val().get_bit(7))));
         self.index.next = self.q_after.val() & !self.q_before.val();
         self.cnt.d.next = self.after.val();
+        // The visit flags: what happened since the visit (an event in its own cycle
+        // is the next visit's). A clear in this cycle follows an index in the last,
+        // so no index comes with it.
+        self.cl_old.next = self.cnew_q.q.val() & !self.ack.val();
+        self.cnew_q.d.next = self.clr_q.q.val() | self.cl_old.val();
+        self.inew_q.d.next = self.index.val() | (self.inew_q.q.val() & !self.ack.val());
+        self.pnew_q.d.next = self.probe.val() | (self.pnew_q.q.val() & !self.ack.val());
         self.idx.d.next = self.idx.q.val();
-        self.itog.d.next = self.itog.q.val();
+        self.iafter_q.d.next = self.iafter_q.q.val() & !self.ack.val();
         if self.index.val() {
             self.idx.d.next = self.after.val();
-            self.itog.d.next = !self.itog.q.val();
+            self.iafter_q.d.next = self.cl_old.val();
         }
         self.clr_q.d.next = self.index.val() & self.arm_q.q.val();
         self.arm_q.d.next = self.arm.val() | (self.arm_q.q.val() & !self.index.val());
         self.prb.d.next = self.prb.q.val();
-        self.ptog.d.next = self.ptog.q.val();
+        self.pafter_q.d.next = self.pafter_q.q.val() & !self.ack.val();
         if self.probe.val() {
             self.prb.d.next = self.cnt.q.val();
-            self.ptog.d.next = !self.ptog.q.val();
+            self.pafter_q.d.next = self.cl_old.val();
         }
 
         // The velocity: ticks since the last counted edge, and between the last two.
@@ -304,8 +336,11 @@ impl Logic for EncDecoder {
             self.idx.d.next = 0.into();
             self.prb.d.next = 0.into();
             self.ill.d.next = 0.into();
-            self.itog.d.next = false;
-            self.ptog.d.next = false;
+            self.cnew_q.d.next = false;
+            self.inew_q.d.next = false;
+            self.iafter_q.d.next = false;
+            self.pnew_q.d.next = false;
+            self.pafter_q.d.next = false;
             self.arm_q.d.next = false;
             self.per.d.next = 0.into();
             self.agec.d.next = 0.into();
@@ -317,8 +352,11 @@ impl Logic for EncDecoder {
         self.index_count.next = self.idx.q.val();
         self.probe_count.next = self.prb.q.val();
         self.illegal.next = self.ill.q.val();
-        self.index_tog.next = self.itog.q.val();
-        self.probe_tog.next = self.ptog.q.val();
+        self.cnew.next = self.cnew_q.q.val();
+        self.inew.next = self.inew_q.q.val();
+        self.iafter.next = self.iafter_q.q.val();
+        self.pnew.next = self.pnew_q.q.val();
+        self.pafter.next = self.pafter_q.q.val();
         self.armed.next = self.arm_q.q.val();
         self.clearing.next = self.clr_q.q.val();
         self.period.next = self.per.q.val();

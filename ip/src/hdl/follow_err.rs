@@ -7,9 +7,11 @@
 //! Ports:
 //! * `ax` (a register): the axis whose inputs the block takes this cycle: 0, 1, …,
 //!   K − 1, 0, … from reset. The parent drives `position` (the core's step position of
-//!   axis `ax`), `count` (its encoder count), `ratio` (its counts per step, unsigned
-//!   Q16.16) and `tol` (its tolerance, counts; 0 = no check) combinationally from
-//!   registers or static memory.
+//!   axis `ax`), `ratio` (its counts per step, unsigned Q16.16) and `tol` (its
+//!   tolerance, counts; 0 = no check) combinationally from registers or static memory.
+//!   `ax1` (a register): the axis `ax` named a cycle earlier; the parent drives `count`
+//!   with its encoder count as it was in that cycle (the extension's register,
+//!   [`super::enc_extend::EncExtend`]'s `count1`).
 //! * `align`, `clear` (bit a, one cycle each): align axis a (its offset becomes the
 //!   value that makes its deviation 0 at its next visit; until that visit's write its
 //!   deviation reads 0 and cannot fail), clear its ENC_FAIL flag.
@@ -20,9 +22,10 @@
 //!
 //! Pipeline (one axis per cycle): stage 0 (`ax` = a) reads the inputs and the offset
 //! (0 while an align is pending, and from reset until the axis's first visit writes
-//! 0 into the offset RAM, which has no reset), stage 1 registers them and `offset − count`, the
-//! multiplier ([`MulReg`], two stages) forms position · ratio (the position as
-//! unsigned; stage 2 subtracts ratio · 2^16 for a negative one), stage 4 registers
+//! 0 into the offset RAM, which has no reset), stage 1 registers them, takes the count
+//! and forms `offset − count` and the sign correction ratio · 2^16 (for a negative
+//! position: the multiplier, [`MulReg`], two stages, takes the position as unsigned),
+//! stage 2 subtracts the correction, stage 3 adds the product, stage 4 registers
 //! `dev`, and the edge after it writes `dev` and, for an align, the offset, and sets
 //! `fail`. **Refresh**: each axis's inputs are taken every K ticks; **latency**: a
 //! count or position that crosses the tolerance at clk edge X sets `fail` at an edge
@@ -45,6 +48,7 @@ pub struct FollowErr<const K: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub ax: Signal<Out, Bits<4>>,
+    pub ax1: Signal<Out, Bits<4>>,
     pub position: Signal<In, Bits<32>>,
     pub count: Signal<In, Bits<32>>,
     pub ratio: Signal<In, Bits<32>>,
@@ -57,13 +61,14 @@ pub struct FollowErr<const K: usize> {
     axq: DFF<Bits<4>>,
     s1_pos: DFF<Bits<32>>,
     s1_ratio: DFF<Bits<32>>,
-    s1_u: DFF<Bits<32>>,
+    s1_off: DFF<Bits<32>>,
     s1_tol: DFF<Bits<16>>,
     s1_ax: DFF<Bits<4>>,
     s1_al: DFF<Bit>,
     s1_z: DFF<Bit>,
     s1_ok: DFF<Bit>,
     s2_v: DFF<Bits<32>>,
+    s2_corr: DFF<Bits<16>>,
     s2_tol: DFF<Bits<16>>,
     s2_ax: DFF<Bits<4>>,
     s2_al: DFF<Bit>,
@@ -107,6 +112,7 @@ impl<const K: usize> Default for FollowErr<K> {
             clock: Default::default(),
             reset: Default::default(),
             ax: Default::default(),
+            ax1: Default::default(),
             position: Default::default(),
             count: Default::default(),
             ratio: Default::default(),
@@ -119,13 +125,14 @@ impl<const K: usize> Default for FollowErr<K> {
             axq: Default::default(),
             s1_pos: Default::default(),
             s1_ratio: Default::default(),
-            s1_u: Default::default(),
+            s1_off: Default::default(),
             s1_tol: Default::default(),
             s1_ax: Default::default(),
             s1_al: Default::default(),
             s1_z: Default::default(),
             s1_ok: Default::default(),
             s2_v: Default::default(),
+            s2_corr: Default::default(),
             s2_tol: Default::default(),
             s2_ax: Default::default(),
             s2_al: Default::default(),
@@ -183,7 +190,7 @@ impl<const K: usize> Logic for FollowErr<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, axq, s1_pos, s1_ratio, s1_u, s1_tol, s1_ax, s1_al, s1_z, s1_ok, s2_v, s2_tol, s2_ax, s2_al, s2_z,
+            self, clock, axq, s1_pos, s1_ratio, s1_off, s1_tol, s1_ax, s1_al, s1_z, s1_ok, s2_v, s2_corr, s2_tol, s2_ax, s2_al, s2_z,
             s2_ok, s3_v, s3_tol, s3_ax, s3_al, s3_z, s3_ok, s4_dev, s4_tol, s4_ax, s4_al, s4_z, s4_ok, al_q, ov_q, fail_q
         );
         self.mul.clock.next = self.clock.val();
@@ -207,7 +214,7 @@ impl<const K: usize> Logic for FollowErr<K> {
         }
         self.s1_pos.d.next = self.position.val();
         self.s1_ratio.d.next = self.ratio.val();
-        self.s1_u.d.next = self.off.val() - self.count.val();
+        self.s1_off.d.next = self.off.val();
         self.s1_tol.d.next = self.tol.val();
         self.s1_ax.d.next = self.axq.q.val();
         self.s1_al.d.next = self.take.val();
@@ -216,19 +223,21 @@ impl<const K: usize> Logic for FollowErr<K> {
 
         // Stages 1 to 3: the product, and offset − count less ratio·2^16 for a
         // negative position (the multiplier takes the position as unsigned).
+        self.ax1.next = self.s1_ax.q.val();
         self.mul.a.next = self.s1_pos.q.val();
         self.mul.b.next = self.s1_ratio.q.val();
-        self.corr.next = 0.into();
+        self.s2_corr.d.next = 0.into();
         if self.s1_pos.q.val().get_bit(31) {
-            self.corr.next = bit_cast::<32, 16>(self.s1_ratio.q.val().get_bits::<16>(0)) << 16;
+            self.s2_corr.d.next = self.s1_ratio.q.val().get_bits::<16>(0);
         }
-        self.s2_v.d.next = self.s1_u.q.val() - self.corr.val();
+        self.s2_v.d.next = self.s1_off.q.val() - self.count.val();
+        self.corr.next = bit_cast::<32, 16>(self.s2_corr.q.val()) << 16;
         self.s2_tol.d.next = self.s1_tol.q.val();
         self.s2_ax.d.next = self.s1_ax.q.val();
         self.s2_al.d.next = self.s1_al.q.val();
         self.s2_z.d.next = self.s1_z.q.val();
         self.s2_ok.d.next = self.s1_ok.q.val();
-        self.s3_v.d.next = self.s2_v.q.val();
+        self.s3_v.d.next = self.s2_v.q.val() - self.corr.val();
         self.s3_tol.d.next = self.s2_tol.q.val();
         self.s3_ax.d.next = self.s2_ax.q.val();
         self.s3_al.d.next = self.s2_al.q.val();

@@ -81,6 +81,7 @@ pub mod core;
 pub mod divider;
 pub mod enc_bank;
 pub mod enc_decoder;
+pub mod enc_extend;
 pub mod exmc;
 pub mod follow_err;
 pub mod input_filter;

@@ -41,6 +41,13 @@
 //! went. With a velocity tick every clk tick, `period` is the clk ticks between the
 //! last two counted edges. After reset both read 0, and the first edge's period counts
 //! from the reset.
+//!
+//! **Narrow counts, shared extension.** The HDL decoder keeps the count and its
+//! latches [`NARROW_BITS`] wide ([`EncOutputs::narrow`]), with visit flags
+//! ([`EncoderModel::clock_visit`]); [`ExtendModel`], round robin with the
+//! following-error unit, carries them to 32 bits in memory. A count moves at most
+//! once a tick and each axis is visited every K ≤ 16 ticks, so the extension is
+//! exact (the unit test below checks it at every visit).
 
 /// The largest filter length, ticks (a 4-bit register field).
 pub const FILTER_MAX: u8 = 15;
@@ -110,6 +117,29 @@ pub struct EncOutputs {
     pub last_dir: bool,
     /// The filtered levels: bit 0 A, 1 B, 2 Z.
     pub levels: u8,
+    /// The visit flags (see [`EncoderModel::clock_visit`]): since the last visit, a
+    /// clear restarted the count (`cnew`), an index latched (`inew`; `iafter`: after
+    /// such a clear, so `index_count` counts from it), a probe latched (`pnew`,
+    /// `pafter`).
+    pub cnew: bool,
+    pub inew: bool,
+    pub iafter: bool,
+    pub pnew: bool,
+    pub pafter: bool,
+}
+
+/// The bits of the count and its latches the HDL decoder keeps per axis: the shared
+/// extension ([`ExtendModel`]) visits each axis every K ≤ 16 ticks, and a count moves
+/// at most one per tick, so 8 bits hold every change between two visits.
+pub const NARROW_BITS: u32 = 8;
+
+impl EncOutputs {
+    /// The narrow view the HDL decoder shows: the count and the latches modulo
+    /// 2^[`NARROW_BITS`], the rest as is.
+    pub fn narrow(&self) -> EncOutputs {
+        let m = (1u32 << NARROW_BITS) - 1;
+        EncOutputs { count: self.count & m, index_count: self.index_count & m, probe_count: self.probe_count & m, ..*self }
+    }
 }
 
 /// One axis's decoder.
@@ -145,8 +175,20 @@ impl EncoderModel {
 
     /// One clk edge. `arm` arms the clear on the next index, `probe` is the probe
     /// latch's strobe, `vel_tick` the velocity prescaler's tick; `reset` is
-    /// synchronous (the synchroniser keeps running).
+    /// synchronous (the synchroniser keeps running). No visit (see
+    /// [`Self::clock_visit`]).
     pub fn clock(&mut self, cfg: &EncConfig, pins: EncPins, arm: bool, probe: bool, vel_tick: bool, reset: bool) {
+        self.clock_visit(cfg, pins, arm, probe, vel_tick, false, reset);
+    }
+
+    /// One clk edge, `ack` when the extension visits the axis in this cycle (it reads
+    /// the outputs as they are before the edge). The visit flags collect what happened
+    /// since the last visit: `cnew` a clear (the count counts from 0 since it), `inew`
+    /// an index (the last one's count in `index_count`; `iafter`: it came with or
+    /// after such a clear, so it counts from the clear), `pnew` and `pafter` the same
+    /// for the probe. An event in the visit's own cycle is the next visit's.
+    #[allow(clippy::too_many_arguments)]
+    pub fn clock_visit(&mut self, cfg: &EncConfig, pins: EncPins, arm: bool, probe: bool, vel_tick: bool, ack: bool, reset: bool) {
         let x = self.s2;
         self.s2 = self.s1;
         self.s1 = pins.a as u8 | (pins.b as u8) << 1 | (pins.z as u8) << 2;
@@ -188,10 +230,25 @@ impl EncoderModel {
         let after = if o.clearing { 0 } else { o.count }.wrapping_add(inc);
         let qualified = |lev: u8| ((lev & 4 != 0) != cfg.z_low) && (!cfg.gate || lev & 3 == cfg.gate_ab & 3);
         let index = qualified(self.level ^ change) && !qualified(self.level);
+        // A clear the visit has not read: the count (before and after this tick)
+        // counts from it. (A clear in this cycle follows an index at the last one, so
+        // no index comes in this one: the qualified index was already true.)
+        let cl_old = o.cnew && !ack;
         if probe {
             o.probe_count = o.count;
             o.probe_tog = !o.probe_tog;
+            o.pafter = cl_old;
+        } else if ack {
+            o.pafter = false;
         }
+        o.pnew = probe || (o.pnew && !ack);
+        if index {
+            o.iafter = cl_old;
+        } else if ack {
+            o.iafter = false;
+        }
+        o.inew = index || (o.inew && !ack);
+        o.cnew = o.clearing || cl_old;
         o.count = after;
         o.clearing = index && o.armed;
         if index {
@@ -258,8 +315,10 @@ struct FeStage {
     tol: u16,
     pos: u32,
     ratio: u32,
-    /// Stage 1: offset − count; 2, 3: less the sign correction; 4: the deviation.
+    /// Stage 1: the offset; 2: less the count; 3: less the sign correction (`corr`,
+    /// formed at stage 1); 4: the deviation.
     v: u32,
+    corr: u32,
     prod: u64,
 }
 
@@ -311,7 +370,14 @@ impl FollowErrModel {
         self.dev_ram[a]
     }
 
-    /// One clk edge with axis [`Self::ax`]'s inputs.
+    /// The axis whose count the next edge takes (the one [`Self::ax`] named a cycle
+    /// earlier).
+    pub fn ax1(&self) -> usize {
+        self.s[0].ax
+    }
+
+    /// One clk edge with axis [`Self::ax`]'s position, ratio and tolerance and axis
+    /// [`Self::ax1`]'s count (as it was when axis `ax1`'s other inputs were taken).
     #[allow(clippy::too_many_arguments)]
     pub fn clock(&mut self, position: u32, count: u32, ratio: u32, tol: u16, align: u32, clear: u32, reset: bool) {
         let a = self.ax;
@@ -319,11 +385,12 @@ impl FollowErrModel {
         let take = self.al & oh0 != 0;
         let fresh = self.ov & oh0 == 0;
         let off = if take || fresh { 0 } else { self.off_ram[a] };
-        let n1 = FeStage { ok: true, ax: a, al: take, z: fresh, tol, pos: position, ratio, v: off.wrapping_sub(count), prod: 0 };
+        let n1 = FeStage { ok: true, ax: a, al: take, z: fresh, tol, pos: position, ratio, v: off, corr: 0, prod: 0 };
         let s1 = self.s[0];
         let corr = if s1.pos >> 31 == 1 { (s1.ratio & 0xFFFF) << 16 } else { 0 };
-        let n2 = FeStage { v: s1.v.wrapping_sub(corr), prod: s1.pos as u64 * s1.ratio as u64, ..s1 };
-        let n3 = self.s[1];
+        let n2 = FeStage { v: s1.v.wrapping_sub(count), corr, prod: s1.pos as u64 * s1.ratio as u64, ..s1 };
+        let s2 = self.s[1];
+        let n3 = FeStage { v: s2.v.wrapping_sub(s2.corr), ..s2 };
         let s3 = self.s[2];
         let n4 = FeStage { v: ((s3.prod >> 16) as u32).wrapping_add(s3.v), ..s3 };
         let s4 = self.s[3];
@@ -363,6 +430,85 @@ impl FollowErrModel {
     }
 }
 
+/// The bits of an axis's `live` word in [`ExtendModel`]: period 15..0, age 31..16,
+/// illegal 39..32, armed 40, last direction 41, filtered A, B, Z 44..42.
+pub const LIVE_BITS: u32 = 45;
+
+/// The live part of a decoder's outputs as [`ExtendModel`] stores it.
+pub fn live_word(o: &EncOutputs) -> u64 {
+    o.period as u64
+        | (o.age as u64) << 16
+        | (o.illegal as u64) << 32
+        | (o.armed as u64) << 40
+        | (o.last_dir as u64) << 41
+        | ((o.levels & 7) as u64) << 42
+}
+
+/// Sign-extends a narrow difference.
+fn sext_narrow(d: u32) -> u32 {
+    let sh = 32 - NARROW_BITS;
+    (((d << sh) as i32) >> sh) as u32
+}
+
+/// The extension of the narrow counts to 32 bits: the model of `hdl::enc_extend`,
+/// clock for clock. Each cycle it visits the axis the following-error unit takes
+/// (round robin, every K ticks) and, from that axis's narrow outputs (as they are
+/// before the edge) and its last count in memory, writes its 32-bit count, its index
+/// and probe latches (when new) and its live word, and registers the count for the
+/// following-error unit's next stage. Exact while the count moves less than 2^7
+/// between two visits (at most K ≤ 16 moves: one per tick).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ExtendModel {
+    /// Axis a has been visited since reset (its memory words are written).
+    pub valid: u32,
+    /// Flip when the axis's index or probe latch is written with a new latch.
+    pub itog: u32,
+    pub ptog: u32,
+    pub cnt: [u32; 16],
+    pub idx: [u32; 16],
+    pub prb: [u32; 16],
+    pub live: [u64; 16],
+    /// The count of the axis visited at the last edge.
+    pub count1: u32,
+}
+
+impl Default for ExtendModel {
+    fn default() -> Self {
+        ExtendModel { valid: 0, itog: 0, ptog: 0, cnt: [0; 16], idx: [0; 16], prb: [0; 16], live: [0; 16], count1: 0 }
+    }
+}
+
+impl ExtendModel {
+    /// One clk edge visiting axis `ax`, whose decoder shows `o` (its narrow view).
+    pub fn clock(&mut self, ax: usize, o: &EncOutputs, reset: bool) {
+        let m = (1u32 << NARROW_BITS) - 1;
+        let valid = self.valid >> ax & 1 == 1;
+        let old = if valid { self.cnt[ax] } else { 0 };
+        let ext = |lo: u32, from_clear: bool| {
+            let base = if from_clear { 0 } else { old };
+            base.wrapping_add(sext_narrow(lo.wrapping_sub(base) & m))
+        };
+        let count = ext(o.count, o.cnew);
+        self.cnt[ax] = count;
+        if o.inew || !valid {
+            self.idx[ax] = ext(o.index_count, o.iafter);
+        }
+        if o.pnew || !valid {
+            self.prb[ax] = ext(o.probe_count, o.pafter);
+        }
+        self.live[ax] = live_word(o);
+        self.itog ^= (o.inew as u32) << ax;
+        self.ptog ^= (o.pnew as u32) << ax;
+        self.valid |= 1 << ax;
+        self.count1 = count;
+        if reset {
+            self.valid = 0;
+            self.itog = 0;
+            self.ptog = 0;
+        }
+    }
+}
+
 /// The inputs of [`EncoderBankModel`] in one cycle (bit a = axis a).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BankInputs {
@@ -383,18 +529,20 @@ pub struct BankInputs {
     pub tol: u16,
 }
 
-/// K decoders, their velocity prescaler and the following-error unit: the model of
-/// `hdl::enc_bank`, clock for clock.
+/// K decoders, their velocity prescaler, the extension and the following-error unit:
+/// the model of `hdl::enc_bank`, clock for clock. The decoders are full-width models;
+/// the extension sees their narrow view, as the HDL's narrow decoders show it.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct EncoderBankModel {
     pub dec: Vec<EncoderModel>,
+    pub ext: ExtendModel,
     pub fe: FollowErrModel,
     pre: u16,
 }
 
 impl EncoderBankModel {
     pub fn new(k: usize) -> Self {
-        EncoderBankModel { dec: vec![EncoderModel::new(); k], fe: FollowErrModel::new(k), pre: 0 }
+        EncoderBankModel { dec: vec![EncoderModel::new(); k], ext: ExtendModel::default(), fe: FollowErrModel::new(k), pre: 0 }
     }
 
     /// The configuration of axis `a` from the shared mode and its invert bit.
@@ -406,32 +554,33 @@ impl EncoderBankModel {
         self.fe.ax()
     }
 
-    /// Axis `sel`'s status word as (lo, hi) (`hdl::enc_bank`'s layout); the deviation is
-    /// `None` before the axis's first visit.
-    pub fn word(&self, sel: usize) -> (Option<u128>, u128) {
-        let o = self.dec[sel].outputs();
+    /// Axis `sel`'s status word as (lo, hi) (`hdl::enc_bank`'s layout); `None` before
+    /// the axis's first visit since reset (the deviation: since power-up).
+    pub fn word(&self, sel: usize) -> (Option<u128>, Option<u128>) {
+        let e = &self.ext;
+        if e.valid >> sel & 1 == 0 {
+            return (None, None);
+        }
         let lo = self.fe.dev(sel).map(|d| {
-            o.count as u128 | (o.index_count as u128) << 32 | (o.probe_count as u128) << 64 | (d as u128) << 96
+            e.cnt[sel] as u128 | (e.idx[sel] as u128) << 32 | (e.prb[sel] as u128) << 64 | (d as u128) << 96
         });
-        let hi = o.period as u128
-            | (o.age as u128) << 16
-            | (o.illegal as u128) << 32
-            | (o.armed as u128) << 40
-            | (o.last_dir as u128) << 41
-            | ((o.levels & 7) as u128) << 42
+        let hi = e.live[sel] as u128
             | ((self.fe.fail() >> sel & 1) as u128) << 45
-            | (o.index_tog as u128) << 46
-            | (o.probe_tog as u128) << 47;
-        (lo, hi)
+            | ((e.itog >> sel & 1) as u128) << 46
+            | ((e.ptog >> sel & 1) as u128) << 47
+            | 1 << 48;
+        (lo, Some(hi))
     }
 
     pub fn clock(&mut self, i: &BankInputs, reset: bool) {
         let tick = self.pre >= i.vel_prescale;
-        let count = self.dec[self.fe.ax()].outputs().count;
-        self.fe.clock(i.position, count, i.ratio, i.tol, i.align, i.clear, reset);
+        let ax = self.fe.ax();
+        self.fe.clock(i.position, self.ext.count1, i.ratio, i.tol, i.align, i.clear, reset);
+        let view = self.dec[ax].outputs().narrow();
+        self.ext.clock(ax, &view, reset);
         for (a, d) in self.dec.iter_mut().enumerate() {
             let pins = EncPins { a: i.a >> a & 1 == 1, b: i.b >> a & 1 == 1, z: i.z >> a & 1 == 1 };
-            d.clock(&Self::config(i.mode, i.invert >> a & 1 == 1), pins, i.arm >> a & 1 == 1, i.probe, tick, reset);
+            d.clock_visit(&Self::config(i.mode, i.invert >> a & 1 == 1), pins, i.arm >> a & 1 == 1, i.probe, tick, a == ax, reset);
         }
         self.pre = if tick || reset { 0 } else { self.pre + 1 };
     }
@@ -517,6 +666,64 @@ mod tests {
         // restarts there, a tick later) and 32 (16 counts later).
         assert_eq!(seen, vec![(16, 16, false), (16, 16, false)]);
         assert_eq!(m.outputs().count, 40 - 16);
+    }
+
+    /// The narrow decoders and the shared extension give, at every visit, the full
+    /// model's 32-bit count and latches: random walks at up to a count per tick, far
+    /// from 0 (every narrow field wraps), with indexes, armed clears (two indexes
+    /// within a visit too), probes next to clears and resets, for K = 1..16.
+    #[test]
+    fn the_extension_gives_the_full_count_and_latches_at_every_visit() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rng = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut checked = [0u64; 3];
+        for k in 1..=16usize {
+            let mut bank = EncoderBankModel::new(k);
+            let mut pos = vec![0i64; k];
+            let mut target = vec![0i64; k];
+            for t in 0..6_000u64 {
+                let reset = t < 3 || rng() % 3_000 == 0;
+                let mut i = BankInputs { mode: 0x20, vel_prescale: 3, ..Default::default() };
+                for a in 0..k {
+                    if rng() % 200 == 0 {
+                        target[a] = (rng() % 4_000) as i64 - 2_000 + if a % 2 == 0 { 100_000 } else { -70_000 };
+                    }
+                    // At most a count per tick (every other tick for some axes).
+                    if pos[a] != target[a] && (a % 3 != 0 || t % 2 == 0) {
+                        pos[a] += (target[a] - pos[a]).signum();
+                    }
+                    // An index every 6 counts, so two can fall between two visits.
+                    let p = QuadratureGen::lines(pos[a], 6);
+                    i.a |= (p.a as u32) << a;
+                    i.b |= (p.b as u32) << a;
+                    i.z |= (p.z as u32) << a;
+                    // Frequent armed clears on some axes, rare on the others.
+                    if rng() % if a % 4 == 0 { 40 } else { 3_000 } == 0 {
+                        i.arm |= 1 << a;
+                    }
+                }
+                i.probe = rng() % 25 == 0;
+                let ax = bank.fe.ax();
+                let full = bank.dec[ax].outputs();
+                bank.clock(&i, reset);
+                if !reset {
+                    let e = &bank.ext;
+                    assert_eq!(e.cnt[ax], full.count, "K {k}, tick {t}, axis {ax}: the count");
+                    assert_eq!(e.idx[ax], full.index_count, "K {k}, tick {t}, axis {ax}: the index latch");
+                    assert_eq!(e.prb[ax], full.probe_count, "K {k}, tick {t}, axis {ax}: the probe latch");
+                    assert_eq!(e.live[ax], live_word(&full));
+                    checked[0] += ((full.count as i32).unsigned_abs() > 1 << 9 && !full.cnew) as u64;
+                    checked[1] += (full.inew && full.iafter) as u64;
+                    checked[2] += (full.pnew && full.pafter) as u64;
+                }
+            }
+        }
+        assert!(checked.iter().all(|&c| c > 20), "every case was met: {checked:?}");
     }
 
     #[test]

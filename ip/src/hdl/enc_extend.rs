@@ -1,0 +1,234 @@
+//! The extension of K axes' narrow encoder counts to 32 bits, shared and round robin
+//! (`export --encoder`). Each cycle it visits the axis `ax` (the following-error
+//! unit's, every K ticks) and, from that axis's narrow decoder outputs
+//! ([`super::enc_decoder::EncDecoder`], 8 bits, as they are before the edge) and its
+//! last count in memory, writes the axis's 32-bit count, its index and probe latches
+//! (when the decoder shows a new one) and its live word (velocity, illegal count,
+//! flags), and registers the count for the following-error unit. It equals
+//! `model::encoder::ExtendModel` clock for clock (tests/hdl_encoder.rs, through
+//! [`super::enc_bank::EncoderBank`], three ways); the model's unit test shows the
+//! extended values equal the full-width count and latches at every visit.
+//!
+//! The arithmetic: with `base` the axis's last count (0 before its first visit since
+//! reset, or after a clear the decoder reports, `cnew`: the narrow count then counts
+//! from the clear), the count is `base + sext(count − base mod 2^8)`; the latches the
+//! same with their own flags (`iafter`, `pafter`). Exact while a count moves less than
+//! 2^7 between visits: it moves at most once a tick, K ≤ 16 times.
+//!
+//! Ports:
+//! * `ax`: the axis visited (from [`super::follow_err::FollowErr`]'s `ax`); the parent
+//!   drives that axis's decoder outputs `count`, `index_count`, `probe_count` (8
+//!   bits), `cnew`, `inew`, `iafter`, `pnew`, `pafter` and `live`
+//!   (`model::encoder::live_word`: period 15..0, age 31..16, illegal 39..32, armed 40,
+//!   last direction 41, levels A, B, Z 44..42) and acknowledges the visit to it.
+//! * `count1` (a register): the count of the axis visited at the last edge.
+//! * `sel` → `s_count`, `s_index`, `s_probe` (32 bits), `s_live`, `s_itog`, `s_ptog`
+//!   (flip each time a new latch is written), `s_valid` (the axis was visited since
+//!   reset: before that the words are undefined): axis `sel`'s words, read from LUT
+//!   RAM asynchronously.
+//!
+//! Latency: a visit writes at its edge; what the bus reads is at most K ticks old.
+//! Cost: five 16-word LUT RAMs (the count twice, for its two read addresses; the
+//! latches; the live words: 173 bits), a 32-bit register, two 8-bit subtractors and
+//! three 32-bit adders, and 3 flip-flops per axis.
+
+use super::lut_ram::LutRam;
+use rust_hdl::prelude::*;
+
+/// Bits of the live word ([`crate::model::encoder::LIVE_BITS`]).
+pub const LIVE_BITS: usize = 45;
+
+#[derive(LogicBlock)]
+pub struct EncExtend<const K: usize> {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub ax: Signal<In, Bits<4>>,
+    pub count: Signal<In, Bits<8>>,
+    pub index_count: Signal<In, Bits<8>>,
+    pub probe_count: Signal<In, Bits<8>>,
+    pub cnew: Signal<In, Bit>,
+    pub inew: Signal<In, Bit>,
+    pub iafter: Signal<In, Bit>,
+    pub pnew: Signal<In, Bit>,
+    pub pafter: Signal<In, Bit>,
+    pub live: Signal<In, Bits<LIVE_BITS>>,
+    pub count1: Signal<Out, Bits<32>>,
+    pub sel: Signal<In, Bits<4>>,
+    pub s_count: Signal<Out, Bits<32>>,
+    pub s_index: Signal<Out, Bits<32>>,
+    pub s_probe: Signal<Out, Bits<32>>,
+    pub s_live: Signal<Out, Bits<LIVE_BITS>>,
+    pub s_itog: Signal<Out, Bit>,
+    pub s_ptog: Signal<Out, Bit>,
+    pub s_valid: Signal<Out, Bit>,
+    cnt_ram: LutRam<32, 4>,
+    cnt_sel: LutRam<32, 4>,
+    idx_ram: LutRam<32, 4>,
+    prb_ram: LutRam<32, 4>,
+    live_ram: LutRam<LIVE_BITS, 4>,
+    valid: DFF<Bits<K>>,
+    itog: DFF<Bits<K>>,
+    ptog: DFF<Bits<K>>,
+    c1: DFF<Bits<32>>,
+    c_one: Constant<Bits<K>>,
+    c_hi: Constant<Bits<32>>,
+    oh: Signal<Local, Bits<K>>,
+    ohs: Signal<Local, Bits<K>>,
+    v: Signal<Local, Bit>,
+    /// Per value: the base, the narrow difference, its sign extension, the sum.
+    b_c: Signal<Local, Bits<32>>,
+    d_c: Signal<Local, Bits<8>>,
+    x_c: Signal<Local, Bits<32>>,
+    e_c: Signal<Local, Bits<32>>,
+    b_i: Signal<Local, Bits<32>>,
+    d_i: Signal<Local, Bits<8>>,
+    x_i: Signal<Local, Bits<32>>,
+    b_p: Signal<Local, Bits<32>>,
+    d_p: Signal<Local, Bits<8>>,
+    x_p: Signal<Local, Bits<32>>,
+}
+
+impl<const K: usize> Default for EncExtend<K> {
+    fn default() -> Self {
+        assert!((1..=16).contains(&K), "EncExtend<{K}>: 1..=16 axes");
+        EncExtend {
+            clock: Default::default(),
+            reset: Default::default(),
+            ax: Default::default(),
+            count: Default::default(),
+            index_count: Default::default(),
+            probe_count: Default::default(),
+            cnew: Default::default(),
+            inew: Default::default(),
+            iafter: Default::default(),
+            pnew: Default::default(),
+            pafter: Default::default(),
+            live: Default::default(),
+            count1: Default::default(),
+            sel: Default::default(),
+            s_count: Default::default(),
+            s_index: Default::default(),
+            s_probe: Default::default(),
+            s_live: Default::default(),
+            s_itog: Default::default(),
+            s_ptog: Default::default(),
+            s_valid: Default::default(),
+            cnt_ram: Default::default(),
+            cnt_sel: Default::default(),
+            idx_ram: Default::default(),
+            prb_ram: Default::default(),
+            live_ram: Default::default(),
+            valid: Default::default(),
+            itog: Default::default(),
+            ptog: Default::default(),
+            c1: Default::default(),
+            c_one: Constant::new(1.into()),
+            c_hi: Constant::new(0xFFFF_FF00u64.into()),
+            oh: Default::default(),
+            ohs: Default::default(),
+            v: Default::default(),
+            b_c: Default::default(),
+            d_c: Default::default(),
+            x_c: Default::default(),
+            e_c: Default::default(),
+            b_i: Default::default(),
+            d_i: Default::default(),
+            x_i: Default::default(),
+            b_p: Default::default(),
+            d_p: Default::default(),
+            x_p: Default::default(),
+        }
+    }
+}
+
+impl<const K: usize> Logic for EncExtend<K> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, valid, itog, ptog, c1);
+        self.cnt_ram.clock.next = self.clock.val();
+        self.cnt_sel.clock.next = self.clock.val();
+        self.idx_ram.clock.next = self.clock.val();
+        self.prb_ram.clock.next = self.clock.val();
+        self.live_ram.clock.next = self.clock.val();
+
+        self.oh.next = self.c_one.val() << self.ax.val();
+        self.v.next = (self.valid.q.val() & self.oh.val()).any();
+        self.cnt_ram.raddr.next = self.ax.val();
+        // The count: from the last one, or from 0 (a clear, or the first visit).
+        self.b_c.next = 0.into();
+        if self.v.val() & !self.cnew.val() {
+            self.b_c.next = self.cnt_ram.rdata.val();
+        }
+        self.d_c.next = self.count.val() - self.b_c.val().get_bits::<8>(0);
+        self.x_c.next = bit_cast::<32, 8>(self.d_c.val());
+        if self.d_c.val().get_bit(7) {
+            self.x_c.next = bit_cast::<32, 8>(self.d_c.val()) | self.c_hi.val();
+        }
+        self.e_c.next = self.b_c.val() + self.x_c.val();
+        // The latches: the same from the count at the last visit (or from 0).
+        self.b_i.next = 0.into();
+        if self.v.val() & !self.iafter.val() {
+            self.b_i.next = self.cnt_ram.rdata.val();
+        }
+        self.d_i.next = self.index_count.val() - self.b_i.val().get_bits::<8>(0);
+        self.x_i.next = bit_cast::<32, 8>(self.d_i.val());
+        if self.d_i.val().get_bit(7) {
+            self.x_i.next = bit_cast::<32, 8>(self.d_i.val()) | self.c_hi.val();
+        }
+        self.b_p.next = 0.into();
+        if self.v.val() & !self.pafter.val() {
+            self.b_p.next = self.cnt_ram.rdata.val();
+        }
+        self.d_p.next = self.probe_count.val() - self.b_p.val().get_bits::<8>(0);
+        self.x_p.next = bit_cast::<32, 8>(self.d_p.val());
+        if self.d_p.val().get_bit(7) {
+            self.x_p.next = bit_cast::<32, 8>(self.d_p.val()) | self.c_hi.val();
+        }
+
+        self.cnt_ram.we.next = true;
+        self.cnt_ram.waddr.next = self.ax.val();
+        self.cnt_ram.wdata.next = self.e_c.val();
+        self.cnt_sel.we.next = true;
+        self.cnt_sel.waddr.next = self.ax.val();
+        self.cnt_sel.wdata.next = self.e_c.val();
+        self.idx_ram.we.next = self.inew.val() | !self.v.val();
+        self.idx_ram.waddr.next = self.ax.val();
+        self.idx_ram.wdata.next = self.b_i.val() + self.x_i.val();
+        self.prb_ram.we.next = self.pnew.val() | !self.v.val();
+        self.prb_ram.waddr.next = self.ax.val();
+        self.prb_ram.wdata.next = self.b_p.val() + self.x_p.val();
+        self.live_ram.we.next = true;
+        self.live_ram.waddr.next = self.ax.val();
+        self.live_ram.wdata.next = self.live.val();
+        self.c1.d.next = self.e_c.val();
+        self.valid.d.next = self.valid.q.val() | self.oh.val();
+        self.itog.d.next = self.itog.q.val();
+        if self.inew.val() {
+            self.itog.d.next = self.itog.q.val() ^ self.oh.val();
+        }
+        self.ptog.d.next = self.ptog.q.val();
+        if self.pnew.val() {
+            self.ptog.d.next = self.ptog.q.val() ^ self.oh.val();
+        }
+        if self.reset.val() {
+            self.valid.d.next = 0.into();
+            self.itog.d.next = 0.into();
+            self.ptog.d.next = 0.into();
+        }
+        self.count1.next = self.c1.q.val();
+
+        // Axis `sel`'s words.
+        self.ohs.next = self.c_one.val() << self.sel.val();
+        self.cnt_sel.raddr.next = self.sel.val();
+        self.idx_ram.raddr.next = self.sel.val();
+        self.prb_ram.raddr.next = self.sel.val();
+        self.live_ram.raddr.next = self.sel.val();
+        self.s_count.next = self.cnt_sel.rdata.val();
+        self.s_index.next = self.idx_ram.rdata.val();
+        self.s_probe.next = self.prb_ram.rdata.val();
+        self.s_live.next = self.live_ram.rdata.val();
+        self.s_itog.next = (self.itog.q.val() & self.ohs.val()).any();
+        self.s_ptog.next = (self.ptog.q.val() & self.ohs.val()).any();
+        self.s_valid.next = (self.valid.q.val() & self.ohs.val()).any();
+    }
+}
