@@ -27,7 +27,7 @@ fn decoder_uut() -> EncDecoder {
 /// Input columns: reset, a, b, z, mode, arm, probe, vel_tick, invert, ack.
 const IN_COLS: [(&str, usize); 10] =
     [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 8), ("arm", 1), ("probe", 1), ("vel_tick", 1), ("invert", 1), ("ack", 1)];
-const OUT_COLS: [(&str, usize); 17] = [
+const OUT_COLS: [(&str, usize); 19] = [
     ("count", 8),
     ("index_count", 8),
     ("probe_count", 8),
@@ -39,8 +39,10 @@ const OUT_COLS: [(&str, usize); 17] = [
     ("pafter", 1),
     ("armed", 1),
     ("clearing", 1),
-    ("period", 16),
-    ("age", 16),
+    ("enew", 1),
+    ("e2", 1),
+    ("period", 8),
+    ("age", 8),
     ("last_dir", 1),
     ("lev_a", 1),
     ("lev_b", 1),
@@ -62,6 +64,8 @@ fn model_outputs(m: &EncoderModel) -> Vec<u128> {
         o.pafter as u128,
         o.armed as u128,
         o.clearing as u128,
+        o.enew as u128,
+        o.e2 as u128,
         o.period as u128,
         o.age as u128,
         o.last_dir as u128,
@@ -187,6 +191,8 @@ fn decoder_equals_the_model_three_ways() {
                 u.pafter.val() as u128,
                 u.armed.val() as u128,
                 u.clearing.val() as u128,
+                u.enew.val() as u128,
+                u.e2.val() as u128,
                 u.period.val().to_u64() as u128,
                 u.age.val().to_u64() as u128,
                 u.last_dir.val() as u128,
@@ -570,13 +576,15 @@ fn encoder_bank_equals_the_model_three_ways() {
     let mut ratios = [0x1_4000u32; BK];
     let mut tols = [6u16; BK];
     let (mut rows, mut want) = (vec![], vec![]);
-    let (mut fails, mut counts) = (0, 0);
-    for cyc in 0..24_000usize {
-        let reset = cyc < 4 || rng.next() % 3000 == 0;
+    let (mut fails, mut counts, mut saturated) = (0, 0, 0);
+    // A rest longer than the velocity's 16 bits in the middle: its saturation.
+    let rest = |cyc: usize| (20_000..88_000).contains(&cyc);
+    for cyc in 0..92_000usize {
+        let reset = cyc < 4 || cyc == 19_990 || (!rest(cyc) && rng.next() % 3000 == 0);
         if reset {
             inp.mode = (rng.next() % 4) as u8 | ((rng.next() % 8) as u8) << 4 | (rng.next() as u8 & 0xC0);
             inp.invert = if rng.next() % 4 == 0 { (rng.next() % 4) as u32 } else { 0 };
-            inp.vel_prescale = (rng.next() % 3) as u16;
+            inp.vel_prescale = if cyc == 19_990 { 0 } else { (rng.next() % 3) as u16 };
             for a in 0..BK {
                 ratios[a] = if rng.next() % 3 == 0 { (rng.next() % 0x4_0000) as u32 + 1 } else { 0x1_4000 };
                 tols[a] = [0, 3, 6, 200][(rng.next() % 4) as usize];
@@ -585,6 +593,9 @@ fn encoder_bank_equals_the_model_three_ways() {
             }
         }
         for a in 0..BK {
+            if rest(cyc) {
+                continue;
+            }
             if rng.next() % 7 == 0 {
                 pos[a] += if (cyc / 2000) % 2 == a % 2 { 1 } else { -1 };
             }
@@ -642,8 +653,9 @@ fn encoder_bank_equals_the_model_three_ways() {
         m.clock(&inp, reset);
         fails += (m.fe.fail() & !before.0).count_ones();
         counts += (m.dec[0].outputs().count != before.1) as u32;
+        saturated += hi.is_some_and(|h| h >> 16 & 0xFFFF == 0xFFFF) as u32;
     }
-    assert!(fails > 10 && counts > 2000, "stimulus too thin: {fails} fails, {counts} counts");
+    assert!(fails > 10 && counts > 2000 && saturated > 100, "stimulus too thin: {fails} fails, {counts} counts, {saturated} saturated ages");
     let cols: [(&str, usize); 15] = [
         ("reset", 1),
         ("enc_a", BK),

@@ -57,3 +57,36 @@ impl<const K: usize> Logic for BitPick<K> {
         self.value.next = (self.bus.val() & self.mask.val()).any();
     }
 }
+
+/// Places a W-bit field at bit `offset` of an N-bit bus: `bus_out = bus_in | value <<
+/// offset` (the field's bits of `bus_in` must be 0). Chained like [`BitInsert`], K of
+/// them pack one field per axis at a power-of-two stride, so that the parent can pick
+/// an axis's field by shifting the bus right by `axis << log2(stride)`: yosys makes
+/// that a tree of multiplexers on the axis's bits (a quarter of a LUT6 per bit and
+/// axis), where a chain of `if axis == i` assignments is a priority chain (about half).
+#[derive(LogicBlock)]
+pub struct FieldPlace<const W: usize, const N: usize> {
+    pub bus_in: Signal<In, Bits<N>>,
+    pub value: Signal<In, Bits<W>>,
+    pub bus_out: Signal<Out, Bits<N>>,
+    offset: Constant<Bits<16>>,
+}
+
+impl<const W: usize, const N: usize> FieldPlace<W, N> {
+    pub fn new(offset: usize) -> Self {
+        assert!(offset + W <= N && N < 1 << 16);
+        FieldPlace {
+            bus_in: Default::default(),
+            value: Default::default(),
+            bus_out: Default::default(),
+            offset: Constant::new((offset as u64).into()),
+        }
+    }
+}
+
+impl<const W: usize, const N: usize> Logic for FieldPlace<W, N> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.bus_out.next = self.bus_in.val() | (bit_cast::<N, W>(self.value.val()) << self.offset.val());
+    }
+}

@@ -32,11 +32,14 @@
 //! extension's last visit); ENC_FAIL within K + 4 ticks of the
 //! crossing ([`super::follow_err::FOLLOW_ERR_LATENCY`]).
 
-use super::bit_insert::BitPick;
+use super::bit_insert::{BitPick, FieldPlace};
 use super::enc_decoder::EncDecoder;
 use super::enc_extend::{EncExtend, LIVE_BITS};
 use super::follow_err::FollowErr;
 use rust_hdl::prelude::*;
+
+/// The packed decoder outputs: 64 bits for each of up to 16 axes.
+const PACK_BITS: usize = 1024;
 
 /// Width of an axis's status word ({`word_hi`, `word_lo`}).
 pub const ENC_WORD_BITS: usize = 177;
@@ -74,12 +77,18 @@ pub struct EncoderBank<const K: usize> {
     pre: DFF<Bits<16>>,
     c_one: Constant<Bits<K>>,
     tick: Signal<Local, Bit>,
-    /// The visited axis's decoder outputs (the multiplexer).
+    /// The decoders' outputs packed at a stride of 64 bits, and the visited axis's.
+    pack: [FieldPlace<64, PACK_BITS>; K],
+    all_vis: Signal<Local, Bits<PACK_BITS>>,
+    shifted: Signal<Local, Bits<PACK_BITS>>,
+    v_word: Signal<Local, Bits<64>>,
     v_count: Signal<Local, Bits<8>>,
     v_index: Signal<Local, Bits<8>>,
     v_probe: Signal<Local, Bits<8>>,
-    v_period: Signal<Local, Bits<16>>,
-    v_age: Signal<Local, Bits<16>>,
+    v_period: Signal<Local, Bits<8>>,
+    v_age: Signal<Local, Bits<8>>,
+    v_enew: Signal<Local, Bit>,
+    v_e2: Signal<Local, Bit>,
     v_ill: Signal<Local, Bits<8>>,
     v_cnew: Signal<Local, Bit>,
     v_inew: Signal<Local, Bit>,
@@ -128,11 +137,17 @@ impl<const K: usize> Default for EncoderBank<K> {
             pre: Default::default(),
             c_one: Constant::new(1.into()),
             tick: Default::default(),
+            pack: std::array::from_fn(|i| FieldPlace::new(64 * i)),
+            all_vis: Default::default(),
+            shifted: Default::default(),
+            v_word: Default::default(),
             v_count: Default::default(),
             v_index: Default::default(),
             v_probe: Default::default(),
             v_period: Default::default(),
             v_age: Default::default(),
+            v_enew: Default::default(),
+            v_e2: Default::default(),
             v_ill: Default::default(),
             v_cnew: Default::default(),
             v_inew: Default::default(),
@@ -196,23 +211,13 @@ impl<const K: usize> Logic for EncoderBank<K> {
         self.fail.next = self.fe.fail.val();
         self.fe.count.next = self.ext.count1.val();
 
-        // The visited axis's outputs, to the extension, which acknowledges them.
-        self.v_count.next = 0.into();
-        self.v_index.next = 0.into();
-        self.v_probe.next = 0.into();
-        self.v_period.next = 0.into();
-        self.v_age.next = 0.into();
-        self.v_ill.next = 0.into();
-        self.v_cnew.next = false;
-        self.v_inew.next = false;
-        self.v_iafter.next = false;
-        self.v_pnew.next = false;
-        self.v_pafter.next = false;
-        self.v_armed.next = false;
-        self.v_dir.next = false;
-        self.v_la.next = false;
-        self.v_lb.next = false;
-        self.v_lz.next = false;
+        // The visited axis's outputs, to the extension, which acknowledges them: each
+        // decoder's 60 bits packed at a stride of 64, the axis's picked by a shift
+        // (a tree of multiplexers on `ax`'s bits, see `FieldPlace`).
+        self.pack[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.pack[i].bus_in.next = self.pack[i - 1].bus_out.val();
+        }
         for i in 0..K {
             self.a_pick[i].bus.next = self.enc_a.val();
             self.b_pick[i].bus.next = self.enc_b.val();
@@ -232,24 +237,31 @@ impl<const K: usize> Logic for EncoderBank<K> {
             self.dec[i].ack.next = false;
             if self.fe.ax.val().index() == i {
                 self.dec[i].ack.next = true;
-                self.v_count.next = self.dec[i].count.val();
-                self.v_index.next = self.dec[i].index_count.val();
-                self.v_probe.next = self.dec[i].probe_count.val();
-                self.v_period.next = self.dec[i].period.val();
-                self.v_age.next = self.dec[i].age.val();
-                self.v_ill.next = self.dec[i].illegal.val();
-                self.v_cnew.next = self.dec[i].cnew.val();
-                self.v_inew.next = self.dec[i].inew.val();
-                self.v_iafter.next = self.dec[i].iafter.val();
-                self.v_pnew.next = self.dec[i].pnew.val();
-                self.v_pafter.next = self.dec[i].pafter.val();
-                self.v_armed.next = self.dec[i].armed.val();
-                self.v_dir.next = self.dec[i].last_dir.val();
-                self.v_la.next = self.dec[i].lev_a.val();
-                self.v_lb.next = self.dec[i].lev_b.val();
-                self.v_lz.next = self.dec[i].lev_z.val();
             }
+            self.pack[i].value.next = self.dec[i].visit.val();
+            // (The last assignment, axis K − 1's, stands.)
+            self.all_vis.next = self.pack[i].bus_out.val();
         }
+        self.shifted.next = self.all_vis.val() >> (bit_cast::<16, 4>(self.fe.ax.val()) << 6);
+        self.v_word.next = self.shifted.val().get_bits::<64>(0);
+        self.v_count.next = self.v_word.val().get_bits::<8>(0);
+        self.v_index.next = self.v_word.val().get_bits::<8>(8);
+        self.v_probe.next = self.v_word.val().get_bits::<8>(16);
+        self.v_period.next = self.v_word.val().get_bits::<8>(24);
+        self.v_age.next = self.v_word.val().get_bits::<8>(32);
+        self.v_ill.next = self.v_word.val().get_bits::<8>(40);
+        self.v_cnew.next = self.v_word.val().get_bit(48);
+        self.v_inew.next = self.v_word.val().get_bit(49);
+        self.v_iafter.next = self.v_word.val().get_bit(50);
+        self.v_pnew.next = self.v_word.val().get_bit(51);
+        self.v_pafter.next = self.v_word.val().get_bit(52);
+        self.v_enew.next = self.v_word.val().get_bit(53);
+        self.v_e2.next = self.v_word.val().get_bit(54);
+        self.v_armed.next = self.v_word.val().get_bit(55);
+        self.v_dir.next = self.v_word.val().get_bit(56);
+        self.v_la.next = self.v_word.val().get_bit(57);
+        self.v_lb.next = self.v_word.val().get_bit(58);
+        self.v_lz.next = self.v_word.val().get_bit(59);
         self.ext.clock.next = self.clock.val();
         self.ext.reset.next = self.reset.val();
         self.ext.ax.next = self.fe.ax.val();
@@ -261,14 +273,16 @@ impl<const K: usize> Logic for EncoderBank<K> {
         self.ext.iafter.next = self.v_iafter.val();
         self.ext.pnew.next = self.v_pnew.val();
         self.ext.pafter.next = self.v_pafter.val();
-        self.ext.live.next = bit_cast::<LIVE_BITS, 16>(self.v_period.val())
-            | (bit_cast::<LIVE_BITS, 16>(self.v_age.val()) << 16)
-            | (bit_cast::<LIVE_BITS, 8>(self.v_ill.val()) << 32)
-            | (bit_cast::<LIVE_BITS, 1>(self.v_armed.val().into()) << 40)
-            | (bit_cast::<LIVE_BITS, 1>(self.v_dir.val().into()) << 41)
-            | (bit_cast::<LIVE_BITS, 1>(self.v_la.val().into()) << 42)
-            | (bit_cast::<LIVE_BITS, 1>(self.v_lb.val().into()) << 43)
-            | (bit_cast::<LIVE_BITS, 1>(self.v_lz.val().into()) << 44);
+        self.ext.enew.next = self.v_enew.val();
+        self.ext.e2.next = self.v_e2.val();
+        self.ext.period.next = self.v_period.val();
+        self.ext.age.next = self.v_age.val();
+        self.ext.live.next = bit_cast::<LIVE_BITS, 8>(self.v_ill.val())
+            | (bit_cast::<LIVE_BITS, 1>(self.v_armed.val().into()) << 8)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_dir.val().into()) << 9)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_la.val().into()) << 10)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_lb.val().into()) << 11)
+            | (bit_cast::<LIVE_BITS, 1>(self.v_lz.val().into()) << 12);
 
         // Axis `sel`'s word, from memory.
         self.ext.sel.next = self.sel.val().get_bits::<4>(0);
@@ -277,7 +291,9 @@ impl<const K: usize> Logic for EncoderBank<K> {
             | (bit_cast::<128, 32>(self.ext.s_index.val()) << 32)
             | (bit_cast::<128, 32>(self.ext.s_probe.val()) << 64)
             | (bit_cast::<128, 32>(self.fe.dev.val()) << 96);
-        self.word_hi.next = bit_cast::<49, LIVE_BITS>(self.ext.s_live.val())
+        self.word_hi.next = bit_cast::<49, 16>(self.ext.s_period.val())
+            | (bit_cast::<49, 16>(self.ext.s_age.val()) << 16)
+            | (bit_cast::<49, LIVE_BITS>(self.ext.s_live.val()) << 32)
             | (bit_cast::<49, 1>(self.w_fail.val().into()) << 45)
             | (bit_cast::<49, 1>(self.ext.s_itog.val().into()) << 46)
             | (bit_cast::<49, 1>(self.ext.s_ptog.val().into()) << 47)

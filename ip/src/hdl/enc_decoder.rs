@@ -20,22 +20,29 @@
 //! * Outputs, all flip-flops: `count`, `index_count`, `probe_count` (8 bits,
 //!   wrapping), `illegal` (8 bits, wrapping), the visit flags `cnew`, `inew`,
 //!   `iafter`, `pnew`, `pafter` (`EncoderModel::clock_visit`), `armed`, `clearing`
-//!   (the armed clear was taken: the count restarts from 0 at this tick), `period`
-//!   and `age` (16 bits, saturating at 0xFFFF, 0 after reset), `last_dir` (1: the
-//!   last counted edge went up) and the filtered levels `lev_a`, `lev_b`, `lev_z`.
+//!   (the armed clear was taken: the count restarts from 0 at this tick), `enew` and
+//!   `e2` (one, and two or more, counted edges since the visit), `period` and `age`
+//!   (the narrow velocity counters, 8 bits, wrapping, 0 after reset: `age8` and
+//!   `per8` of the model; the extension makes the 16-bit saturating ones),
+//!   `last_dir` (1: the last counted edge went up) and the filtered levels `lev_a`,
+//!   `lev_b`, `lev_z`; `visit`: what the extension takes, packed (count 7..0, index
+//!   15..8, probe 23..16, period 31..24, age 39..32, illegal 47..40, cnew 48, inew
+//!   49, iafter 50, pnew 51, pafter 52, enew 53, e2 54, armed 55, last direction 56,
+//!   A, B, Z 59..57).
 //!
 //! Two choices keep the logic per bit to the adders: the armed clear takes effect a
 //! tick after the index, as a zero operand of the count's adder (a clear in the
 //! strobe's own tick put a multiplexer with the whole index condition on every bit:
 //! about 75 LUT), and the velocity registers reset to 0, so the restart at an edge and
-//! the reset are one synchronous reset.
+//! the reset are one synchronous reset. Everything that would saturate or carry past
+//! 8 bits is the shared extension's.
 //!
 //! Latency: a pin change sampled at clk edge e0 moves the count at edge e0 + 2 + filter
 //! (`model::encoder::pin_to_level_ticks`). One count per tick at most; the documented
 //! rate keeps `model::encoder::max_count_rate_ticks` ticks between edges.
 //!
 //! Cost: 9 flip-flops for the lines (synchroniser and level), 12 for the filters, 8
-//! for the count, 8 per latch, 8 for `illegal`, 32 for the velocity and 8 more.
+//! for the count, 8 per latch, 8 for `illegal`, 16 for the velocity and 10 more.
 
 use rust_hdl::prelude::*;
 
@@ -63,12 +70,15 @@ pub struct EncDecoder {
     pub pafter: Signal<Out, Bit>,
     pub armed: Signal<Out, Bit>,
     pub clearing: Signal<Out, Bit>,
-    pub period: Signal<Out, Bits<16>>,
-    pub age: Signal<Out, Bits<16>>,
+    pub enew: Signal<Out, Bit>,
+    pub e2: Signal<Out, Bit>,
+    pub period: Signal<Out, Bits<8>>,
+    pub age: Signal<Out, Bits<8>>,
     pub last_dir: Signal<Out, Bit>,
     pub lev_a: Signal<Out, Bit>,
     pub lev_b: Signal<Out, Bit>,
     pub lev_z: Signal<Out, Bit>,
+    pub visit: Signal<Out, Bits<64>>,
     a1: DFF<Bit>,
     a2: DFF<Bit>,
     b1: DFF<Bit>,
@@ -92,14 +102,16 @@ pub struct EncDecoder {
     pafter_q: DFF<Bit>,
     arm_q: DFF<Bit>,
     clr_q: DFF<Bit>,
-    per: DFF<Bits<16>>,
-    agec: DFF<Bits<16>>,
+    per: DFF<Bits<8>>,
+    agec: DFF<Bits<8>>,
+    enew_q: DFF<Bit>,
+    e2_q: DFF<Bit>,
     ldir: DFF<Bit>,
     c_ones: Constant<Bits<8>>,
     inc: Signal<Local, Bits<8>>,
     /// A clear the visit has not read.
     cl_old: Signal<Local, Bit>,
-    age_next: Signal<Local, Bits<16>>,
+    age_next: Signal<Local, Bits<8>>,
     /// This tick: the filtered A, B, Z change; exactly one of A and B changed; the
     /// move is up; the count after it; the index strobe.
     ca: Signal<Local, Bit>,
@@ -139,12 +151,15 @@ impl Default for EncDecoder {
             pafter: Default::default(),
             armed: Default::default(),
             clearing: Default::default(),
+            enew: Default::default(),
+            e2: Default::default(),
             period: Default::default(),
             age: Default::default(),
             last_dir: Default::default(),
             lev_a: Default::default(),
             lev_b: Default::default(),
             lev_z: Default::default(),
+            visit: Default::default(),
             a1: Default::default(),
             a2: Default::default(),
             b1: Default::default(),
@@ -170,6 +185,8 @@ impl Default for EncDecoder {
             clr_q: Default::default(),
             per: Default::default(),
             agec: Default::default(),
+            enew_q: Default::default(),
+            e2_q: Default::default(),
             ldir: Default::default(),
             c_ones: Constant::new(0xFFu64.into()),
             inc: Default::default(),
@@ -212,7 +229,7 @@ impl Logic for EncDecoder {
     fn update(&mut self) {
         dff_setup!(
             self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, cnew_q, inew_q, iafter_q, pnew_q,
-            pafter_q, arm_q, clr_q, per, agec, ldir
+            pafter_q, arm_q, clr_q, per, agec, enew_q, e2_q, ldir
         );
         self.a1.d.next = self.a.val();
         self.a2.d.next = self.a1.q.val();
@@ -314,9 +331,11 @@ impl Logic for EncDecoder {
         self.agec.d.next = self.agec.q.val();
         self.ldir.d.next = self.ldir.q.val();
         self.age_next.next = self.agec.q.val();
-        if self.vel_tick.val() & !self.agec.q.val().all() {
+        if self.vel_tick.val() {
             self.age_next.next = self.agec.q.val() + 1;
         }
+        self.enew_q.d.next = self.counted.val() | (self.enew_q.q.val() & !self.ack.val());
+        self.e2_q.d.next = (self.counted.val() & self.enew_q.q.val() & !self.ack.val()) | (self.e2_q.q.val() & !self.ack.val());
         if self.counted.val() {
             self.per.d.next = self.age_next.val();
             self.agec.d.next = 0.into();
@@ -344,6 +363,8 @@ impl Logic for EncDecoder {
             self.arm_q.d.next = false;
             self.per.d.next = 0.into();
             self.agec.d.next = 0.into();
+            self.enew_q.d.next = false;
+            self.e2_q.d.next = false;
             self.clr_q.d.next = false;
             self.ldir.d.next = false;
         }
@@ -359,11 +380,31 @@ impl Logic for EncDecoder {
         self.pafter.next = self.pafter_q.q.val();
         self.armed.next = self.arm_q.q.val();
         self.clearing.next = self.clr_q.q.val();
+        self.enew.next = self.enew_q.q.val();
+        self.e2.next = self.e2_q.q.val();
         self.period.next = self.per.q.val();
         self.age.next = self.agec.q.val();
         self.last_dir.next = self.ldir.q.val();
         self.lev_a.next = self.la.q.val();
         self.lev_b.next = self.lb.q.val();
         self.lev_z.next = self.lz.q.val();
+        self.visit.next = bit_cast::<64, 8>(self.cnt.q.val())
+            | (bit_cast::<64, 8>(self.idx.q.val()) << 8)
+            | (bit_cast::<64, 8>(self.prb.q.val()) << 16)
+            | (bit_cast::<64, 8>(self.per.q.val()) << 24)
+            | (bit_cast::<64, 8>(self.agec.q.val()) << 32)
+            | (bit_cast::<64, 8>(self.ill.q.val()) << 40)
+            | (bit_cast::<64, 1>(self.cnew_q.q.val().into()) << 48)
+            | (bit_cast::<64, 1>(self.inew_q.q.val().into()) << 49)
+            | (bit_cast::<64, 1>(self.iafter_q.q.val().into()) << 50)
+            | (bit_cast::<64, 1>(self.pnew_q.q.val().into()) << 51)
+            | (bit_cast::<64, 1>(self.pafter_q.q.val().into()) << 52)
+            | (bit_cast::<64, 1>(self.enew_q.q.val().into()) << 53)
+            | (bit_cast::<64, 1>(self.e2_q.q.val().into()) << 54)
+            | (bit_cast::<64, 1>(self.arm_q.q.val().into()) << 55)
+            | (bit_cast::<64, 1>(self.ldir.q.val().into()) << 56)
+            | (bit_cast::<64, 1>(self.la.q.val().into()) << 57)
+            | (bit_cast::<64, 1>(self.lb.q.val().into()) << 58)
+            | (bit_cast::<64, 1>(self.lz.q.val().into()) << 59);
     }
 }

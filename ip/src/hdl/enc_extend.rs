@@ -13,30 +13,36 @@
 //! reset, or after a clear the decoder reports, `cnew`: the narrow count then counts
 //! from the clear), the count is `base + sext(count − base mod 2^8)`; the latches the
 //! same with their own flags (`iafter`, `pafter`). Exact while a count moves less than
-//! 2^7 between visits: it moves at most once a tick, K ≤ 16 times.
+//! 2^7 between visits: it moves at most once a tick, K ≤ 16 times. The velocity the
+//! same way from the decoder's 8-bit wrapping counters: `age` is the narrow one after
+//! an edge (`enew`), else the last `age` plus the narrow counter's growth, saturating
+//! at 0xFFFF; `period` is written when an edge came: the narrow one after two
+//! (`e2`), else the last `age` plus the growth to the edge, saturating.
 //!
 //! Ports:
 //! * `ax`: the axis visited (from [`super::follow_err::FollowErr`]'s `ax`); the parent
-//!   drives that axis's decoder outputs `count`, `index_count`, `probe_count` (8
-//!   bits), `cnew`, `inew`, `iafter`, `pnew`, `pafter` and `live`
-//!   (`model::encoder::live_word`: period 15..0, age 31..16, illegal 39..32, armed 40,
-//!   last direction 41, levels A, B, Z 44..42) and acknowledges the visit to it.
+//!   drives that axis's decoder outputs `count`, `index_count`, `probe_count`,
+//!   `period`, `age` (8 bits), `cnew`, `inew`, `iafter`, `pnew`, `pafter`, `enew`,
+//!   `e2` and `live` (`model::encoder::live_word`: illegal 7..0, armed 8, last
+//!   direction 9, levels A, B, Z 12..10) and acknowledges the visit to it.
 //! * `count1` (a register): the count of the axis visited at the last edge.
-//! * `sel` → `s_count`, `s_index`, `s_probe` (32 bits), `s_live`, `s_itog`, `s_ptog`
+//! * `sel` → `s_count`, `s_index`, `s_probe` (32 bits), `s_period`, `s_age` (16
+//!   bits), `s_live`, `s_itog`, `s_ptog`
 //!   (flip each time a new latch is written), `s_valid` (the axis was visited since
 //!   reset: before that the words are undefined): axis `sel`'s words, read from LUT
 //!   RAM asynchronously.
 //!
 //! Latency: a visit writes at its edge; what the bus reads is at most K ticks old.
-//! Cost: five 16-word LUT RAMs (the count twice, for its two read addresses; the
-//! latches; the live words: 173 bits), a 32-bit register, two 8-bit subtractors and
-//! three 32-bit adders, and 3 flip-flops per axis.
+//! Cost: eight 16-word LUT RAMs (the count and the age twice, for their two read
+//! addresses; the latches; the period; the live words: 189 bits), a 32-bit register,
+//! five 8-bit subtractors, three 32-bit and two 17-bit adders, and 3 flip-flops per
+//! axis.
 
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
 /// Bits of the live word ([`crate::model::encoder::LIVE_BITS`]).
-pub const LIVE_BITS: usize = 45;
+pub const LIVE_BITS: usize = 13;
 
 #[derive(LogicBlock)]
 pub struct EncExtend<const K: usize> {
@@ -51,12 +57,18 @@ pub struct EncExtend<const K: usize> {
     pub iafter: Signal<In, Bit>,
     pub pnew: Signal<In, Bit>,
     pub pafter: Signal<In, Bit>,
+    pub enew: Signal<In, Bit>,
+    pub e2: Signal<In, Bit>,
+    pub period: Signal<In, Bits<8>>,
+    pub age: Signal<In, Bits<8>>,
     pub live: Signal<In, Bits<LIVE_BITS>>,
     pub count1: Signal<Out, Bits<32>>,
     pub sel: Signal<In, Bits<4>>,
     pub s_count: Signal<Out, Bits<32>>,
     pub s_index: Signal<Out, Bits<32>>,
     pub s_probe: Signal<Out, Bits<32>>,
+    pub s_period: Signal<Out, Bits<16>>,
+    pub s_age: Signal<Out, Bits<16>>,
     pub s_live: Signal<Out, Bits<LIVE_BITS>>,
     pub s_itog: Signal<Out, Bit>,
     pub s_ptog: Signal<Out, Bit>,
@@ -65,6 +77,9 @@ pub struct EncExtend<const K: usize> {
     cnt_sel: LutRam<32, 4>,
     idx_ram: LutRam<32, 4>,
     prb_ram: LutRam<32, 4>,
+    per_ram: LutRam<16, 4>,
+    age_ram: LutRam<16, 4>,
+    age_sel: LutRam<16, 4>,
     live_ram: LutRam<LIVE_BITS, 4>,
     valid: DFF<Bits<K>>,
     itog: DFF<Bits<K>>,
@@ -86,6 +101,14 @@ pub struct EncExtend<const K: usize> {
     b_p: Signal<Local, Bits<32>>,
     d_p: Signal<Local, Bits<8>>,
     x_p: Signal<Local, Bits<32>>,
+    /// The velocity: the last age, the narrow growths, their saturating sums.
+    a_old: Signal<Local, Bits<16>>,
+    d_a: Signal<Local, Bits<8>>,
+    g_a: Signal<Local, Bits<17>>,
+    d_q: Signal<Local, Bits<8>>,
+    g_q: Signal<Local, Bits<17>>,
+    a_new: Signal<Local, Bits<16>>,
+    c_max: Constant<Bits<16>>,
 }
 
 impl<const K: usize> Default for EncExtend<K> {
@@ -103,12 +126,18 @@ impl<const K: usize> Default for EncExtend<K> {
             iafter: Default::default(),
             pnew: Default::default(),
             pafter: Default::default(),
+            enew: Default::default(),
+            e2: Default::default(),
+            period: Default::default(),
+            age: Default::default(),
             live: Default::default(),
             count1: Default::default(),
             sel: Default::default(),
             s_count: Default::default(),
             s_index: Default::default(),
             s_probe: Default::default(),
+            s_period: Default::default(),
+            s_age: Default::default(),
             s_live: Default::default(),
             s_itog: Default::default(),
             s_ptog: Default::default(),
@@ -117,6 +146,9 @@ impl<const K: usize> Default for EncExtend<K> {
             cnt_sel: Default::default(),
             idx_ram: Default::default(),
             prb_ram: Default::default(),
+            per_ram: Default::default(),
+            age_ram: Default::default(),
+            age_sel: Default::default(),
             live_ram: Default::default(),
             valid: Default::default(),
             itog: Default::default(),
@@ -137,6 +169,13 @@ impl<const K: usize> Default for EncExtend<K> {
             b_p: Default::default(),
             d_p: Default::default(),
             x_p: Default::default(),
+            a_old: Default::default(),
+            d_a: Default::default(),
+            g_a: Default::default(),
+            d_q: Default::default(),
+            g_q: Default::default(),
+            a_new: Default::default(),
+            c_max: Constant::new(0xFFFF.into()),
         }
     }
 }
@@ -150,6 +189,9 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.idx_ram.clock.next = self.clock.val();
         self.prb_ram.clock.next = self.clock.val();
         self.live_ram.clock.next = self.clock.val();
+        self.per_ram.clock.next = self.clock.val();
+        self.age_ram.clock.next = self.clock.val();
+        self.age_sel.clock.next = self.clock.val();
 
         self.oh.next = self.c_one.val() << self.ax.val();
         self.v.next = (self.valid.q.val() & self.oh.val()).any();
@@ -183,6 +225,39 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.x_p.next = bit_cast::<32, 8>(self.d_p.val());
         if self.d_p.val().get_bit(7) {
             self.x_p.next = bit_cast::<32, 8>(self.d_p.val()) | self.c_hi.val();
+        }
+
+        // The velocity: from the last age (0 before the first visit).
+        self.age_ram.raddr.next = self.ax.val();
+        self.a_old.next = 0.into();
+        if self.v.val() {
+            self.a_old.next = self.age_ram.rdata.val();
+        }
+        self.d_a.next = self.age.val() - self.a_old.val().get_bits::<8>(0);
+        self.g_a.next = bit_cast::<17, 16>(self.a_old.val()) + bit_cast::<17, 8>(self.d_a.val());
+        self.d_q.next = self.period.val() - self.a_old.val().get_bits::<8>(0);
+        self.g_q.next = bit_cast::<17, 16>(self.a_old.val()) + bit_cast::<17, 8>(self.d_q.val());
+        if self.enew.val() {
+            self.a_new.next = bit_cast::<16, 8>(self.age.val());
+        } else if self.g_a.val().get_bit(16) {
+            self.a_new.next = self.c_max.val();
+        } else {
+            self.a_new.next = self.g_a.val().get_bits::<16>(0);
+        }
+        self.age_ram.we.next = true;
+        self.age_ram.waddr.next = self.ax.val();
+        self.age_ram.wdata.next = self.a_new.val();
+        self.age_sel.we.next = true;
+        self.age_sel.waddr.next = self.ax.val();
+        self.age_sel.wdata.next = self.a_new.val();
+        self.per_ram.we.next = self.enew.val() | !self.v.val();
+        self.per_ram.waddr.next = self.ax.val();
+        if self.e2.val() {
+            self.per_ram.wdata.next = bit_cast::<16, 8>(self.period.val());
+        } else if self.g_q.val().get_bit(16) {
+            self.per_ram.wdata.next = self.c_max.val();
+        } else {
+            self.per_ram.wdata.next = self.g_q.val().get_bits::<16>(0);
         }
 
         self.cnt_ram.we.next = true;
@@ -223,6 +298,10 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.idx_ram.raddr.next = self.sel.val();
         self.prb_ram.raddr.next = self.sel.val();
         self.live_ram.raddr.next = self.sel.val();
+        self.per_ram.raddr.next = self.sel.val();
+        self.age_sel.raddr.next = self.sel.val();
+        self.s_period.next = self.per_ram.rdata.val();
+        self.s_age.next = self.age_sel.rdata.val();
         self.s_count.next = self.cnt_sel.rdata.val();
         self.s_index.next = self.idx_ram.rdata.val();
         self.s_probe.next = self.prb_ram.rdata.val();

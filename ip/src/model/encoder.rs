@@ -126,6 +126,15 @@ pub struct EncOutputs {
     pub iafter: bool,
     pub pnew: bool,
     pub pafter: bool,
+    /// Since the last visit: a counted edge (`enew`), two or more (`e2`).
+    pub enew: bool,
+    pub e2: bool,
+    /// The narrow velocity counters the HDL decoder keeps: `age8` counts velocity
+    /// ticks since the last edge (wrapping, not saturating), `per8` takes `age8` + the
+    /// edge's own velocity tick at each edge ([`Self::narrow`] shows them as `age`
+    /// and `period`).
+    pub age8: u8,
+    pub per8: u8,
 }
 
 /// The bits of the count and its latches the HDL decoder keeps per axis: the shared
@@ -135,10 +144,18 @@ pub const NARROW_BITS: u32 = 8;
 
 impl EncOutputs {
     /// The narrow view the HDL decoder shows: the count and the latches modulo
-    /// 2^[`NARROW_BITS`], the rest as is.
+    /// 2^[`NARROW_BITS`], the velocity's narrow counters as `age` and `period`, the
+    /// rest as is.
     pub fn narrow(&self) -> EncOutputs {
         let m = (1u32 << NARROW_BITS) - 1;
-        EncOutputs { count: self.count & m, index_count: self.index_count & m, probe_count: self.probe_count & m, ..*self }
+        EncOutputs {
+            count: self.count & m,
+            index_count: self.index_count & m,
+            probe_count: self.probe_count & m,
+            age: self.age8 as u16,
+            period: self.per8 as u16,
+            ..*self
+        }
     }
 }
 
@@ -256,6 +273,14 @@ impl EncoderModel {
             o.index_tog = !o.index_tog;
         }
         o.armed = arm || (o.armed && !index);
+        o.e2 = (counted && o.enew && !ack) || (o.e2 && !ack);
+        o.enew = counted || (o.enew && !ack);
+        if counted {
+            o.per8 = o.age8.wrapping_add(vel_tick as u8);
+            o.age8 = 0;
+        } else if vel_tick {
+            o.age8 = o.age8.wrapping_add(1);
+        }
         if counted {
             o.period = o.age.saturating_add(vel_tick as u16);
             o.age = 0;
@@ -430,18 +455,18 @@ impl FollowErrModel {
     }
 }
 
-/// The bits of an axis's `live` word in [`ExtendModel`]: period 15..0, age 31..16,
-/// illegal 39..32, armed 40, last direction 41, filtered A, B, Z 44..42.
-pub const LIVE_BITS: u32 = 45;
+/// The bits of an axis's `live` word in [`ExtendModel`]: illegal 7..0, armed 8, last
+/// direction 9, filtered A, B, Z 12..10.
+pub const LIVE_BITS: u32 = 13;
 
 /// The live part of a decoder's outputs as [`ExtendModel`] stores it.
-pub fn live_word(o: &EncOutputs) -> u64 {
-    o.period as u64
-        | (o.age as u64) << 16
-        | (o.illegal as u64) << 32
-        | (o.armed as u64) << 40
-        | (o.last_dir as u64) << 41
-        | ((o.levels & 7) as u64) << 42
+pub fn live_word(o: &EncOutputs) -> u16 {
+    o.illegal as u16 | (o.armed as u16) << 8 | (o.last_dir as u16) << 9 | ((o.levels & 7) as u16) << 10
+}
+
+/// `a + b`, saturating at [`VEL_MAX`].
+fn sat_add(a: u16, b: u8) -> u16 {
+    a.saturating_add(b as u16)
 }
 
 /// Sign-extends a narrow difference.
@@ -456,7 +481,10 @@ fn sext_narrow(d: u32) -> u32 {
 /// before the edge) and its last count in memory, writes its 32-bit count, its index
 /// and probe latches (when new) and its live word, and registers the count for the
 /// following-error unit's next stage. Exact while the count moves less than 2^7
-/// between two visits (at most K ≤ 16 moves: one per tick).
+/// between two visits (at most K ≤ 16 moves: one per tick). The velocity the same
+/// way: `age` from the last one plus the narrow counter's growth (saturating), or
+/// the narrow `age` after an edge; `period` when an edge came: the narrow one after
+/// two edges, else the last `age` plus the growth to the edge (saturating).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ExtendModel {
     /// Axis a has been visited since reset (its memory words are written).
@@ -467,14 +495,16 @@ pub struct ExtendModel {
     pub cnt: [u32; 16],
     pub idx: [u32; 16],
     pub prb: [u32; 16],
-    pub live: [u64; 16],
+    pub per: [u16; 16],
+    pub age: [u16; 16],
+    pub live: [u16; 16],
     /// The count of the axis visited at the last edge.
     pub count1: u32,
 }
 
 impl Default for ExtendModel {
     fn default() -> Self {
-        ExtendModel { valid: 0, itog: 0, ptog: 0, cnt: [0; 16], idx: [0; 16], prb: [0; 16], live: [0; 16], count1: 0 }
+        ExtendModel { valid: 0, itog: 0, ptog: 0, cnt: [0; 16], idx: [0; 16], prb: [0; 16], per: [0; 16], age: [0; 16], live: [0; 16], count1: 0 }
     }
 }
 
@@ -496,6 +526,12 @@ impl ExtendModel {
         if o.pnew || !valid {
             self.prb[ax] = ext(o.probe_count, o.pafter);
         }
+        let age_old = if valid { self.age[ax] } else { 0 };
+        let grow = |narrow: u16| sat_add(age_old, (narrow as u8).wrapping_sub(age_old as u8));
+        if o.enew || !valid {
+            self.per[ax] = if o.e2 { o.period } else { grow(o.period) };
+        }
+        self.age[ax] = if o.enew { o.age } else { grow(o.age) };
         self.live[ax] = live_word(o);
         self.itog ^= (o.inew as u32) << ax;
         self.ptog ^= (o.pnew as u32) << ax;
@@ -564,7 +600,9 @@ impl EncoderBankModel {
         let lo = self.fe.dev(sel).map(|d| {
             e.cnt[sel] as u128 | (e.idx[sel] as u128) << 32 | (e.prb[sel] as u128) << 64 | (d as u128) << 96
         });
-        let hi = e.live[sel] as u128
+        let hi = e.per[sel] as u128
+            | (e.age[sel] as u128) << 16
+            | (e.live[sel] as u128) << 32
             | ((self.fe.fail() >> sel & 1) as u128) << 45
             | ((e.itog >> sel & 1) as u128) << 46
             | ((e.ptog >> sel & 1) as u128) << 47
@@ -681,17 +719,28 @@ mod tests {
             seed ^= seed << 17;
             seed
         };
-        let mut checked = [0u64; 3];
+        let mut checked = [0u64; 5];
         for k in 1..=16usize {
             let mut bank = EncoderBankModel::new(k);
             let mut pos = vec![0i64; k];
             let mut target = vec![0i64; k];
-            for t in 0..6_000u64 {
-                let reset = t < 3 || rng() % 3_000 == 0;
-                let mut i = BankInputs { mode: 0x20, vel_prescale: 3, ..Default::default() };
+            // Some runs hold every axis still for longer than the velocity saturates.
+            let long = [1, 5, 16].contains(&k);
+            let stall = |t: u64| long && (6_000..74_000).contains(&t);
+            for t in 0..if long { 80_000 } else { 6_000 } {
+                let reset = t < 3 || (!stall(t) && rng() % 3_000 == 0);
+                let vel_prescale = if long || k % 3 == 0 { 0 } else { 3 };
+                let mut i = BankInputs { mode: 0x20, vel_prescale, ..Default::default() };
                 for a in 0..k {
-                    if rng() % 200 == 0 {
-                        target[a] = (rng() % 4_000) as i64 - 2_000 + if a % 2 == 0 { 100_000 } else { -70_000 };
+                    if stall(t) {
+                        target[a] = pos[a];
+                    } else if rng() % 200 == 0 {
+                        // Far away, or near (then the axis rests until the next).
+                        target[a] = if rng() % 2 == 0 {
+                            (rng() % 4_000) as i64 - 2_000 + if a % 2 == 0 { 100_000 } else { -70_000 }
+                        } else {
+                            pos[a] + (rng() % 40) as i64 - 20
+                        };
                     }
                     // At most a count per tick (every other tick for some axes).
                     if pos[a] != target[a] && (a % 3 != 0 || t % 2 == 0) {
@@ -703,7 +752,7 @@ mod tests {
                     i.b |= (p.b as u32) << a;
                     i.z |= (p.z as u32) << a;
                     // Frequent armed clears on some axes, rare on the others.
-                    if rng() % if a % 4 == 0 { 40 } else { 3_000 } == 0 {
+                    if !stall(t) && rng() % if a % 4 == 0 { 40 } else { 3_000 } == 0 {
                         i.arm |= 1 << a;
                     }
                 }
@@ -717,6 +766,9 @@ mod tests {
                     assert_eq!(e.idx[ax], full.index_count, "K {k}, tick {t}, axis {ax}: the index latch");
                     assert_eq!(e.prb[ax], full.probe_count, "K {k}, tick {t}, axis {ax}: the probe latch");
                     assert_eq!(e.live[ax], live_word(&full));
+                    assert_eq!((e.per[ax], e.age[ax]), (full.period, full.age), "K {k}, tick {t}, axis {ax}: the velocity");
+                    checked[3] += (full.age == VEL_MAX) as u64;
+                    checked[4] += (full.period > 255 && full.enew && !full.e2) as u64;
                     checked[0] += ((full.count as i32).unsigned_abs() > 1 << 9 && !full.cnew) as u64;
                     checked[1] += (full.inew && full.iafter) as u64;
                     checked[2] += (full.pnew && full.pafter) as u64;
