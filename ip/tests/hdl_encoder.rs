@@ -377,14 +377,14 @@ fn an_encoder_following_step_dir_is_counted_exactly_through_bounce_stall_and_sli
 const FK: usize = 3;
 
 /// One edge of the following-error model as the bank drives it: axis `ax`'s position
-/// now, and the count `taken` of the axis taken at the last edge (`ax1`); `count` is
-/// axis `ax`'s count now, kept for the next edge.
+/// now, and the count of the axis taken two edges ago (`ax2`) as it was then (`taken`
+/// holds the last two); `count` is axis `ax`'s count now, kept for later.
 #[allow(clippy::too_many_arguments)]
-fn fe_clock(m: &mut FollowErrModel, taken: &mut u32, position: u32, count: u32, ratio: u32, tol: u16, align: u32, clear: u32, reset: bool) -> u32 {
-    let c1 = *taken;
-    *taken = count;
-    m.clock(position, c1, ratio, tol, align, clear, reset);
-    c1
+fn fe_clock(m: &mut FollowErrModel, taken: &mut [u32; 2], position: u32, count: u32, ratio: u32, tol: u16, align: u32, clear: u32, reset: bool) -> u32 {
+    let c2 = taken[0];
+    *taken = [taken[1], count];
+    m.clock(position, c2, ratio, tol, align, clear, reset);
+    c2
 }
 
 /// Per axis of the following-error stimulus: the step position, the encoder count, the
@@ -407,7 +407,7 @@ fn follow_rows(seed: u64, cycles: usize) -> (Vec<Vec<u128>>, Vec<Vec<Option<u128
     let mut axes = [FeAxis { pos: 0, count: 0, ratio: 0x1_4000, tol: 4 }; FK];
     let (mut rows, mut want) = (vec![], vec![]);
     let (mut fails, mut aligns) = (0, 0);
-    let mut taken = 0u32;
+    let mut taken = [0u32; 2];
     for cyc in 0..cycles {
         let reset = cyc < 2 || rng.next() % 1500 == 0;
         if reset {
@@ -441,7 +441,7 @@ fn follow_rows(seed: u64, cycles: usize) -> (Vec<Vec<u128>>, Vec<Vec<Option<u128
         let a = axes[m.ax()];
         want.push(vec![
             (cyc >= 1).then_some(m.ax() as u128),
-            (cyc >= 1).then_some(m.ax1() as u128),
+            (cyc >= 2).then_some(m.ax2() as u128),
             m.dev(dev_axis).map(|d| d as u128),
             (cyc >= 1).then_some(m.fail() as u128),
         ]);
@@ -470,7 +470,7 @@ fn following_error_equals_the_model_three_ways() {
             Port::new("clear", FK),
             Port::new("dev_axis", 4),
         ],
-        outputs: vec![Port::new("ax", 4), Port::new("ax1", 4), Port::new("dev", 32), Port::new("fail", FK)],
+        outputs: vec![Port::new("ax", 4), Port::new("ax2", 4), Port::new("dev", 32), Port::new("fail", FK)],
     };
     three_ways(
         "follow_err",
@@ -490,7 +490,7 @@ fn following_error_equals_the_model_three_ways() {
             u.clear.next = (r[6] as u64).into();
             u.dev_axis.next = (r[7] as u64).into();
         },
-        |u| vec![u.ax.val().to_u64() as u128, u.ax1.val().to_u64() as u128, u.dev.val().to_u64() as u128, u.fail.val().to_u64() as u128],
+        |u| vec![u.ax.val().to_u64() as u128, u.ax2.val().to_u64() as u128, u.dev.val().to_u64() as u128, u.fail.val().to_u64() as u128],
         &spec,
         &rows,
         &want,
@@ -516,7 +516,7 @@ fn enc_fail_comes_within_one_refresh_and_four_ticks_and_align_zeroes_the_deviati
             let victim = (rng.next() % k as u64) as usize;
             let x = 40 + rng.next() % 50;
             let mut rose = None;
-            let mut taken = 0u32;
+            let mut taken = [0u32; 2];
             for edge in 0..(x + 2 * k as u64 + 20) {
                 if edge == x {
                     // The count steps past the tolerance (a slip).

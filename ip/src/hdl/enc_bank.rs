@@ -2,7 +2,10 @@
 //! [`EncDecoder`]s, the velocity prescaler they share, the [`EncExtend`] and
 //! [`FollowErr`] units stepping round robin over them together (the extension visits
 //! axis `fe.ax` and hands its 32-bit count to the following error's next stage), and
-//! the status word of one axis for the crossing to the bus. It equals
+//! the status word of one axis for the crossing to the bus. The visit registers the
+//! visited decoder's narrow outputs (and acknowledges them); the extension works on
+//! that sample a cycle later, so neither cycle holds both the K:1 selection and the
+//! 32-bit arithmetic. It equals
 //! `model::encoder::EncoderBankModel` clock for clock (tests/hdl_encoder.rs, three
 //! ways).
 //!
@@ -24,12 +27,13 @@
 //!   flags armed 168, last direction 169, filtered A, B, Z 170..172, ENC_FAIL 173,
 //!   index toggle 174, probe toggle 175 (each flips when a new latch is written),
 //!   valid 176 (`word_hi`, bit 128 of the word is its bit 0). All but ENC_FAIL are as
-//!   the extension's last visit of the axis saw them, at most K ticks old; before the
-//!   axis's first visit since reset (K ticks), valid is 0 and the rest undefined;
+//!   the last visit of the axis saw them, at most K + 1 ticks old; before the axis's
+//!   first visit since reset is written (K + 1 ticks), valid is 0 and the rest
+//!   undefined;
 //! * `fail` (bit a, a register): axis a's ENC_FAIL.
 //!
-//! Latency: the decoders' ([`super::enc_decoder`]); the word at most K ticks old (the
-//! extension's last visit); ENC_FAIL within K + 4 ticks of the
+//! Latency: the decoders' ([`super::enc_decoder`]); the word at most K + 1 ticks old
+//! (the last visit); ENC_FAIL within K + 4 ticks of the
 //! crossing ([`super::follow_err::FOLLOW_ERR_LATENCY`]).
 
 use super::bit_insert::{BitPick, FieldPlace};
@@ -82,6 +86,10 @@ pub struct EncoderBank<const K: usize> {
     all_vis: Signal<Local, Bits<PACK_BITS>>,
     shifted: Signal<Local, Bits<PACK_BITS>>,
     v_word: Signal<Local, Bits<64>>,
+    /// The visit's sample: the visited axis's bits, the axis, taken out of reset.
+    vis_q: DFF<Bits<64>>,
+    vis_ax: DFF<Bits<4>>,
+    vis_ok: DFF<Bit>,
     v_count: Signal<Local, Bits<8>>,
     v_index: Signal<Local, Bits<8>>,
     v_probe: Signal<Local, Bits<8>>,
@@ -141,6 +149,9 @@ impl<const K: usize> Default for EncoderBank<K> {
             all_vis: Default::default(),
             shifted: Default::default(),
             v_word: Default::default(),
+            vis_q: Default::default(),
+            vis_ax: Default::default(),
+            vis_ok: Default::default(),
             v_count: Default::default(),
             v_index: Default::default(),
             v_probe: Default::default(),
@@ -190,7 +201,7 @@ impl<const K: usize> EncoderBank<K> {
 impl<const K: usize> Logic for EncoderBank<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, pre);
+        dff_setup!(self, clock, pre, vis_q, vis_ax, vis_ok);
         // The velocity ticks, shared.
         self.tick.next = self.pre.q.val() >= self.vel_prescale.val();
         if self.tick.val() | self.reset.val() {
@@ -244,27 +255,32 @@ impl<const K: usize> Logic for EncoderBank<K> {
         }
         self.shifted.next = self.all_vis.val() >> (bit_cast::<16, 4>(self.fe.ax.val()) << 6);
         self.v_word.next = self.shifted.val().get_bits::<64>(0);
-        self.v_count.next = self.v_word.val().get_bits::<8>(0);
-        self.v_index.next = self.v_word.val().get_bits::<8>(8);
-        self.v_probe.next = self.v_word.val().get_bits::<8>(16);
-        self.v_period.next = self.v_word.val().get_bits::<8>(24);
-        self.v_age.next = self.v_word.val().get_bits::<8>(32);
-        self.v_ill.next = self.v_word.val().get_bits::<8>(40);
-        self.v_cnew.next = self.v_word.val().get_bit(48);
-        self.v_inew.next = self.v_word.val().get_bit(49);
-        self.v_iafter.next = self.v_word.val().get_bit(50);
-        self.v_pnew.next = self.v_word.val().get_bit(51);
-        self.v_pafter.next = self.v_word.val().get_bit(52);
-        self.v_enew.next = self.v_word.val().get_bit(53);
-        self.v_e2.next = self.v_word.val().get_bit(54);
-        self.v_armed.next = self.v_word.val().get_bit(55);
-        self.v_dir.next = self.v_word.val().get_bit(56);
-        self.v_la.next = self.v_word.val().get_bit(57);
-        self.v_lb.next = self.v_word.val().get_bit(58);
-        self.v_lz.next = self.v_word.val().get_bit(59);
+        self.vis_q.d.next = self.v_word.val();
+        self.vis_ax.d.next = self.fe.ax.val();
+        self.vis_ok.d.next = !self.reset.val();
+        self.v_count.next = self.vis_q.q.val().get_bits::<8>(0);
+        self.v_index.next = self.vis_q.q.val().get_bits::<8>(8);
+        self.v_probe.next = self.vis_q.q.val().get_bits::<8>(16);
+        self.v_period.next = self.vis_q.q.val().get_bits::<8>(24);
+        self.v_age.next = self.vis_q.q.val().get_bits::<8>(32);
+        self.v_ill.next = self.vis_q.q.val().get_bits::<8>(40);
+        self.v_cnew.next = self.vis_q.q.val().get_bit(48);
+        self.v_inew.next = self.vis_q.q.val().get_bit(49);
+        self.v_iafter.next = self.vis_q.q.val().get_bit(50);
+        self.v_pnew.next = self.vis_q.q.val().get_bit(51);
+        self.v_pafter.next = self.vis_q.q.val().get_bit(52);
+        self.v_enew.next = self.vis_q.q.val().get_bit(53);
+        self.v_e2.next = self.vis_q.q.val().get_bit(54);
+        self.v_armed.next = self.vis_q.q.val().get_bit(55);
+        self.v_dir.next = self.vis_q.q.val().get_bit(56);
+        self.v_la.next = self.vis_q.q.val().get_bit(57);
+        self.v_lb.next = self.vis_q.q.val().get_bit(58);
+        self.v_lz.next = self.vis_q.q.val().get_bit(59);
         self.ext.clock.next = self.clock.val();
         self.ext.reset.next = self.reset.val();
-        self.ext.ax.next = self.fe.ax.val();
+        self.ext.ax.next = self.vis_ax.q.val();
+        self.ext.ok.next = self.vis_ok.q.val();
+        self.ext.next_ax.next = self.fe.ax.val();
         self.ext.count.next = self.v_count.val();
         self.ext.index_count.next = self.v_index.val();
         self.ext.probe_count.next = self.v_probe.val();

@@ -1,10 +1,11 @@
 //! The extension of K axes' narrow encoder counts to 32 bits, shared and round robin
-//! (`export --encoder`). Each cycle it visits the axis `ax` (the following-error
-//! unit's, every K ticks) and, from that axis's narrow decoder outputs
-//! ([`super::enc_decoder::EncDecoder`], 8 bits, as they are before the edge) and its
-//! last count in memory, writes the axis's 32-bit count, its index and probe latches
-//! (when the decoder shows a new one) and its live word (velocity, illegal count,
-//! flags), and registers the count for the following-error unit. It equals
+//! (`export --encoder`). Each cycle it takes the sample the parent registered at the
+//! last edge of axis `ax`'s narrow decoder outputs ([`super::enc_decoder::EncDecoder`],
+//! 8 bits: the visit, every K ticks, of the axis the following-error unit takes) and,
+//! from it and the axis's last count in memory, writes the axis's 32-bit count, its
+//! index and probe latches (when the decoder shows a new one) and its live word
+//! (velocity, illegal count, flags), and registers the count for the following-error
+//! unit's stage 2. It equals
 //! `model::encoder::ExtendModel` clock for clock (tests/hdl_encoder.rs, through
 //! [`super::enc_bank::EncoderBank`], three ways); the model's unit test shows the
 //! extended values equal the full-width count and latches at every visit.
@@ -20,19 +21,24 @@
 //! (`e2`), else the last `age` plus the growth to the edge, saturating.
 //!
 //! Ports:
-//! * `ax`: the axis visited (from [`super::follow_err::FollowErr`]'s `ax`); the parent
-//!   drives that axis's decoder outputs `count`, `index_count`, `probe_count`,
+//! * `ax`: the axis visited at the last edge (the parent's sample register), `ok`: the
+//!   sample was taken out of reset (else nothing is written); `next_ax`: the axis
+//!   visited now (whose "visited since reset" bit is registered for the next cycle,
+//!   out of the arithmetic's path); the parent drives the
+//!   sample of that axis's decoder outputs `count`, `index_count`, `probe_count`,
 //!   `period`, `age` (8 bits), `cnew`, `inew`, `iafter`, `pnew`, `pafter`, `enew`,
 //!   `e2` and `live` (`model::encoder::live_word`: illegal 7..0, armed 8, last
-//!   direction 9, levels A, B, Z 12..10) and acknowledges the visit to it.
-//! * `count1` (a register): the count of the axis visited at the last edge.
+//!   direction 9, levels A, B, Z 12..10), registered at the visit, and acknowledged
+//!   the visit to the decoder then.
+//! * `count1` (a register): the count of the sample taken at the last edge.
 //! * `sel` → `s_count`, `s_index`, `s_probe` (32 bits), `s_period`, `s_age` (16
 //!   bits), `s_live`, `s_itog`, `s_ptog`
 //!   (flip each time a new latch is written), `s_valid` (the axis was visited since
 //!   reset: before that the words are undefined): axis `sel`'s words, read from LUT
 //!   RAM asynchronously.
 //!
-//! Latency: a visit writes at its edge; what the bus reads is at most K ticks old.
+//! Latency: a visit's sample is written at the next edge; what the bus reads is at
+//! most K + 1 ticks old.
 //! Cost: eight 16-word LUT RAMs (the count and the age twice, for their two read
 //! addresses; the latches; the period; the live words: 189 bits), a 32-bit register,
 //! five 8-bit subtractors, three 32-bit and two 17-bit adders, and 3 flip-flops per
@@ -49,6 +55,8 @@ pub struct EncExtend<const K: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub ax: Signal<In, Bits<4>>,
+    pub ok: Signal<In, Bit>,
+    pub next_ax: Signal<In, Bits<4>>,
     pub count: Signal<In, Bits<8>>,
     pub index_count: Signal<In, Bits<8>>,
     pub probe_count: Signal<In, Bits<8>>,
@@ -85,6 +93,8 @@ pub struct EncExtend<const K: usize> {
     itog: DFF<Bits<K>>,
     ptog: DFF<Bits<K>>,
     c1: DFF<Bits<32>>,
+    /// Axis `ax`'s bit of `valid`, registered a cycle ahead.
+    v_q: DFF<Bit>,
     c_one: Constant<Bits<K>>,
     c_hi: Constant<Bits<32>>,
     oh: Signal<Local, Bits<K>>,
@@ -118,6 +128,8 @@ impl<const K: usize> Default for EncExtend<K> {
             clock: Default::default(),
             reset: Default::default(),
             ax: Default::default(),
+            ok: Default::default(),
+            next_ax: Default::default(),
             count: Default::default(),
             index_count: Default::default(),
             probe_count: Default::default(),
@@ -154,6 +166,7 @@ impl<const K: usize> Default for EncExtend<K> {
             itog: Default::default(),
             ptog: Default::default(),
             c1: Default::default(),
+            v_q: Default::default(),
             c_one: Constant::new(1.into()),
             c_hi: Constant::new(0xFFFF_FF00u64.into()),
             oh: Default::default(),
@@ -183,7 +196,7 @@ impl<const K: usize> Default for EncExtend<K> {
 impl<const K: usize> Logic for EncExtend<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, valid, itog, ptog, c1);
+        dff_setup!(self, clock, valid, itog, ptog, c1, v_q);
         self.cnt_ram.clock.next = self.clock.val();
         self.cnt_sel.clock.next = self.clock.val();
         self.idx_ram.clock.next = self.clock.val();
@@ -194,7 +207,9 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.age_sel.clock.next = self.clock.val();
 
         self.oh.next = self.c_one.val() << self.ax.val();
-        self.v.next = (self.valid.q.val() & self.oh.val()).any();
+        self.v.next = self.v_q.q.val();
+        // The next sample's axis: visited since reset, or written now.
+        self.v_q.d.next = (self.valid.q.val() & (self.c_one.val() << self.next_ax.val())).any() | (self.ok.val() & (self.ax.val() == self.next_ax.val()));
         self.cnt_ram.raddr.next = self.ax.val();
         // The count: from the last one, or from 0 (a clear, or the first visit).
         self.b_c.next = 0.into();
@@ -244,13 +259,13 @@ impl<const K: usize> Logic for EncExtend<K> {
         } else {
             self.a_new.next = self.g_a.val().get_bits::<16>(0);
         }
-        self.age_ram.we.next = true;
+        self.age_ram.we.next = self.ok.val();
         self.age_ram.waddr.next = self.ax.val();
         self.age_ram.wdata.next = self.a_new.val();
-        self.age_sel.we.next = true;
+        self.age_sel.we.next = self.ok.val();
         self.age_sel.waddr.next = self.ax.val();
         self.age_sel.wdata.next = self.a_new.val();
-        self.per_ram.we.next = self.enew.val() | !self.v.val();
+        self.per_ram.we.next = self.ok.val() & (self.enew.val() | !self.v.val());
         self.per_ram.waddr.next = self.ax.val();
         if self.e2.val() {
             self.per_ram.wdata.next = bit_cast::<16, 8>(self.period.val());
@@ -260,32 +275,36 @@ impl<const K: usize> Logic for EncExtend<K> {
             self.per_ram.wdata.next = self.g_q.val().get_bits::<16>(0);
         }
 
-        self.cnt_ram.we.next = true;
+        self.cnt_ram.we.next = self.ok.val();
         self.cnt_ram.waddr.next = self.ax.val();
         self.cnt_ram.wdata.next = self.e_c.val();
-        self.cnt_sel.we.next = true;
+        self.cnt_sel.we.next = self.ok.val();
         self.cnt_sel.waddr.next = self.ax.val();
         self.cnt_sel.wdata.next = self.e_c.val();
-        self.idx_ram.we.next = self.inew.val() | !self.v.val();
+        self.idx_ram.we.next = self.ok.val() & (self.inew.val() | !self.v.val());
         self.idx_ram.waddr.next = self.ax.val();
         self.idx_ram.wdata.next = self.b_i.val() + self.x_i.val();
-        self.prb_ram.we.next = self.pnew.val() | !self.v.val();
+        self.prb_ram.we.next = self.ok.val() & (self.pnew.val() | !self.v.val());
         self.prb_ram.waddr.next = self.ax.val();
         self.prb_ram.wdata.next = self.b_p.val() + self.x_p.val();
-        self.live_ram.we.next = true;
+        self.live_ram.we.next = self.ok.val();
         self.live_ram.waddr.next = self.ax.val();
         self.live_ram.wdata.next = self.live.val();
         self.c1.d.next = self.e_c.val();
-        self.valid.d.next = self.valid.q.val() | self.oh.val();
+        self.valid.d.next = self.valid.q.val();
         self.itog.d.next = self.itog.q.val();
-        if self.inew.val() {
-            self.itog.d.next = self.itog.q.val() ^ self.oh.val();
-        }
         self.ptog.d.next = self.ptog.q.val();
-        if self.pnew.val() {
-            self.ptog.d.next = self.ptog.q.val() ^ self.oh.val();
+        if self.ok.val() {
+            self.valid.d.next = self.valid.q.val() | self.oh.val();
+            if self.inew.val() {
+                self.itog.d.next = self.itog.q.val() ^ self.oh.val();
+            }
+            if self.pnew.val() {
+                self.ptog.d.next = self.ptog.q.val() ^ self.oh.val();
+            }
         }
         if self.reset.val() {
+            self.v_q.d.next = false;
             self.valid.d.next = 0.into();
             self.itog.d.next = 0.into();
             self.ptog.d.next = 0.into();

@@ -9,8 +9,8 @@
 //!   K − 1, 0, … from reset. The parent drives `position` (the core's step position of
 //!   axis `ax`), `ratio` (its counts per step, unsigned Q16.16) and `tol` (its
 //!   tolerance, counts; 0 = no check) combinationally from registers or static memory.
-//!   `ax1` (a register): the axis `ax` named a cycle earlier; the parent drives `count`
-//!   with its encoder count as it was in that cycle (the extension's register,
+//!   `ax2` (a register): the axis `ax` named two cycles earlier; the parent drives
+//!   `count` with its encoder count as it was in that cycle (the extension's register,
 //!   [`super::enc_extend::EncExtend`]'s `count1`).
 //! * `align`, `clear` (bit a, one cycle each): align axis a (its offset becomes the
 //!   value that makes its deviation 0 at its next visit; until that visit's write its
@@ -22,11 +22,10 @@
 //!
 //! Pipeline (one axis per cycle): stage 0 (`ax` = a) reads the inputs and the offset
 //! (0 while an align is pending, and from reset until the axis's first visit writes
-//! 0 into the offset RAM, which has no reset), stage 1 registers them, takes the count
-//! and forms `offset − count` and the sign correction ratio · 2^16 (for a negative
-//! position: the multiplier, [`MulReg`], two stages, takes the position as unsigned),
-//! stage 2 subtracts the correction, stage 3 adds the product, stage 4 registers
-//! `dev`, and the edge after it writes `dev` and, for an align, the offset, and sets
+//! 0 into the offset RAM, which has no reset), stage 1 registers them and subtracts
+//! the sign correction ratio · 2^16 from the offset (for a negative position: the
+//! multiplier, [`MulReg`], two stages, takes the position as unsigned), stage 2 takes
+//! the count and subtracts it, stage 3 adds the product, stage 4 registers `dev`, and the edge after it writes `dev` and, for an align, the offset, and sets
 //! `fail`. **Refresh**: each axis's inputs are taken every K ticks; **latency**: a
 //! count or position that crosses the tolerance at clk edge X sets `fail` at an edge
 //! ≤ X + K + 4 ([`FOLLOW_ERR_LATENCY`] + K).
@@ -48,7 +47,7 @@ pub struct FollowErr<const K: usize> {
     pub clock: Signal<In, Clock>,
     pub reset: Signal<In, Bit>,
     pub ax: Signal<Out, Bits<4>>,
-    pub ax1: Signal<Out, Bits<4>>,
+    pub ax2: Signal<Out, Bits<4>>,
     pub position: Signal<In, Bits<32>>,
     pub count: Signal<In, Bits<32>>,
     pub ratio: Signal<In, Bits<32>>,
@@ -68,7 +67,6 @@ pub struct FollowErr<const K: usize> {
     s1_z: DFF<Bit>,
     s1_ok: DFF<Bit>,
     s2_v: DFF<Bits<32>>,
-    s2_corr: DFF<Bits<16>>,
     s2_tol: DFF<Bits<16>>,
     s2_ax: DFF<Bits<4>>,
     s2_al: DFF<Bit>,
@@ -82,6 +80,10 @@ pub struct FollowErr<const K: usize> {
     s3_ok: DFF<Bit>,
     s4_dev: DFF<Bits<32>>,
     s4_tol: DFF<Bits<16>>,
+    /// The bounds of the check with the sign bit flipped (unsigned compares of a signed
+    /// deviation, in parallel, with no negation in series): 2^31 + tol and 2^31 − tol.
+    s4_hib: DFF<Bits<32>>,
+    s4_lob: DFF<Bits<32>>,
     s4_ax: DFF<Bits<4>>,
     s4_al: DFF<Bit>,
     s4_z: DFF<Bit>,
@@ -101,7 +103,8 @@ pub struct FollowErr<const K: usize> {
     fresh: Signal<Local, Bit>,
     off: Signal<Local, Bits<32>>,
     corr: Signal<Local, Bits<32>>,
-    mag: Signal<Local, Bits<32>>,
+    flip: Signal<Local, Bits<32>>,
+    c_sign: Constant<Bits<32>>,
     over: Signal<Local, Bit>,
 }
 
@@ -112,7 +115,7 @@ impl<const K: usize> Default for FollowErr<K> {
             clock: Default::default(),
             reset: Default::default(),
             ax: Default::default(),
-            ax1: Default::default(),
+            ax2: Default::default(),
             position: Default::default(),
             count: Default::default(),
             ratio: Default::default(),
@@ -132,7 +135,6 @@ impl<const K: usize> Default for FollowErr<K> {
             s1_z: Default::default(),
             s1_ok: Default::default(),
             s2_v: Default::default(),
-            s2_corr: Default::default(),
             s2_tol: Default::default(),
             s2_ax: Default::default(),
             s2_al: Default::default(),
@@ -146,6 +148,8 @@ impl<const K: usize> Default for FollowErr<K> {
             s3_ok: Default::default(),
             s4_dev: Default::default(),
             s4_tol: Default::default(),
+            s4_hib: Default::default(),
+            s4_lob: Default::default(),
             s4_ax: Default::default(),
             s4_al: Default::default(),
             s4_z: Default::default(),
@@ -164,7 +168,8 @@ impl<const K: usize> Default for FollowErr<K> {
             fresh: Default::default(),
             off: Default::default(),
             corr: Default::default(),
-            mag: Default::default(),
+            flip: Default::default(),
+            c_sign: Constant::new(0x8000_0000u64.into()),
             over: Default::default(),
         }
     }
@@ -190,8 +195,8 @@ impl<const K: usize> Logic for FollowErr<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, axq, s1_pos, s1_ratio, s1_off, s1_tol, s1_ax, s1_al, s1_z, s1_ok, s2_v, s2_corr, s2_tol, s2_ax, s2_al, s2_z,
-            s2_ok, s3_v, s3_tol, s3_ax, s3_al, s3_z, s3_ok, s4_dev, s4_tol, s4_ax, s4_al, s4_z, s4_ok, al_q, ov_q, fail_q
+            self, clock, axq, s1_pos, s1_ratio, s1_off, s1_tol, s1_ax, s1_al, s1_z, s1_ok, s2_v, s2_tol, s2_ax, s2_al, s2_z,
+            s2_ok, s3_v, s3_tol, s3_ax, s3_al, s3_z, s3_ok, s4_dev, s4_tol, s4_hib, s4_lob, s4_ax, s4_al, s4_z, s4_ok, al_q, ov_q, fail_q
         );
         self.mul.clock.next = self.clock.val();
         self.off_ram.clock.next = self.clock.val();
@@ -223,21 +228,20 @@ impl<const K: usize> Logic for FollowErr<K> {
 
         // Stages 1 to 3: the product, and offset − count less ratio·2^16 for a
         // negative position (the multiplier takes the position as unsigned).
-        self.ax1.next = self.s1_ax.q.val();
+        self.ax2.next = self.s2_ax.q.val();
         self.mul.a.next = self.s1_pos.q.val();
         self.mul.b.next = self.s1_ratio.q.val();
-        self.s2_corr.d.next = 0.into();
+        self.corr.next = 0.into();
         if self.s1_pos.q.val().get_bit(31) {
-            self.s2_corr.d.next = self.s1_ratio.q.val().get_bits::<16>(0);
+            self.corr.next = bit_cast::<32, 16>(self.s1_ratio.q.val().get_bits::<16>(0)) << 16;
         }
-        self.s2_v.d.next = self.s1_off.q.val() - self.count.val();
-        self.corr.next = bit_cast::<32, 16>(self.s2_corr.q.val()) << 16;
+        self.s2_v.d.next = self.s1_off.q.val() - self.corr.val();
         self.s2_tol.d.next = self.s1_tol.q.val();
         self.s2_ax.d.next = self.s1_ax.q.val();
         self.s2_al.d.next = self.s1_al.q.val();
         self.s2_z.d.next = self.s1_z.q.val();
         self.s2_ok.d.next = self.s1_ok.q.val();
-        self.s3_v.d.next = self.s2_v.q.val() - self.corr.val();
+        self.s3_v.d.next = self.s2_v.q.val() - self.count.val();
         self.s3_tol.d.next = self.s2_tol.q.val();
         self.s3_ax.d.next = self.s2_ax.q.val();
         self.s3_al.d.next = self.s2_al.q.val();
@@ -245,6 +249,8 @@ impl<const K: usize> Logic for FollowErr<K> {
         self.s3_ok.d.next = self.s2_ok.q.val();
         self.s4_dev.d.next = self.mul.p.val().get_bits::<32>(16) + self.s3_v.q.val();
         self.s4_tol.d.next = self.s3_tol.q.val();
+        self.s4_hib.d.next = self.c_sign.val() | bit_cast::<32, 16>(self.s3_tol.q.val());
+        self.s4_lob.d.next = self.c_sign.val() - bit_cast::<32, 16>(self.s3_tol.q.val());
         self.s4_ax.d.next = self.s3_ax.q.val();
         self.s4_al.d.next = self.s3_al.q.val();
         self.s4_z.d.next = self.s3_z.q.val();
@@ -267,14 +273,13 @@ impl<const K: usize> Logic for FollowErr<K> {
         if self.s4_ok.q.val() & (self.s4_al.q.val() | self.s4_z.q.val()) {
             self.ov_q.d.next = self.ov_q.q.val() | self.oh4.val();
         }
-        self.mag.next = self.s4_dev.q.val();
-        if self.s4_dev.q.val().get_bit(31) {
-            self.mag.next = !self.s4_dev.q.val() + 1;
-        }
+        // |dev| > tol, as dev > tol or dev < −tol (signed), each an unsigned compare
+        // with the sign bit flipped.
+        self.flip.next = self.s4_dev.q.val() ^ self.c_sign.val();
         self.over.next = self.s4_ok.q.val()
             & !self.s4_al.q.val()
             & self.s4_tol.q.val().any()
-            & (self.mag.val() > bit_cast::<32, 16>(self.s4_tol.q.val()));
+            & ((self.flip.val() > self.s4_hib.q.val()) | (self.flip.val() < self.s4_lob.q.val()));
         self.fail_q.d.next = self.fail_q.q.val() & !self.clear.val();
         if self.over.val() {
             self.fail_q.d.next = (self.fail_q.q.val() & !self.clear.val()) | self.oh4.val();

@@ -340,10 +340,9 @@ struct FeStage {
     tol: u16,
     pos: u32,
     ratio: u32,
-    /// Stage 1: the offset; 2: less the count; 3: less the sign correction (`corr`,
-    /// formed at stage 1); 4: the deviation.
+    /// Stage 1: the offset; 2: less the sign correction; 3: less the count; 4: the
+    /// deviation.
     v: u32,
-    corr: u32,
     prod: u64,
 }
 
@@ -395,14 +394,14 @@ impl FollowErrModel {
         self.dev_ram[a]
     }
 
-    /// The axis whose count the next edge takes (the one [`Self::ax`] named a cycle
-    /// earlier).
-    pub fn ax1(&self) -> usize {
-        self.s[0].ax
+    /// The axis whose count the next edge takes (the one [`Self::ax`] named two
+    /// cycles earlier).
+    pub fn ax2(&self) -> usize {
+        self.s[1].ax
     }
 
     /// One clk edge with axis [`Self::ax`]'s position, ratio and tolerance and axis
-    /// [`Self::ax1`]'s count (as it was when axis `ax1`'s other inputs were taken).
+    /// [`Self::ax2`]'s count (as it was when axis `ax2`'s other inputs were taken).
     #[allow(clippy::too_many_arguments)]
     pub fn clock(&mut self, position: u32, count: u32, ratio: u32, tol: u16, align: u32, clear: u32, reset: bool) {
         let a = self.ax;
@@ -410,12 +409,12 @@ impl FollowErrModel {
         let take = self.al & oh0 != 0;
         let fresh = self.ov & oh0 == 0;
         let off = if take || fresh { 0 } else { self.off_ram[a] };
-        let n1 = FeStage { ok: true, ax: a, al: take, z: fresh, tol, pos: position, ratio, v: off, corr: 0, prod: 0 };
+        let n1 = FeStage { ok: true, ax: a, al: take, z: fresh, tol, pos: position, ratio, v: off, prod: 0 };
         let s1 = self.s[0];
         let corr = if s1.pos >> 31 == 1 { (s1.ratio & 0xFFFF) << 16 } else { 0 };
-        let n2 = FeStage { v: s1.v.wrapping_sub(count), corr, prod: s1.pos as u64 * s1.ratio as u64, ..s1 };
+        let n2 = FeStage { v: s1.v.wrapping_sub(corr), prod: s1.pos as u64 * s1.ratio as u64, ..s1 };
         let s2 = self.s[1];
-        let n3 = FeStage { v: s2.v.wrapping_sub(s2.corr), ..s2 };
+        let n3 = FeStage { v: s2.v.wrapping_sub(count), ..s2 };
         let s3 = self.s[2];
         let n4 = FeStage { v: ((s3.prod >> 16) as u32).wrapping_add(s3.v), ..s3 };
         let s4 = self.s[3];
@@ -476,11 +475,11 @@ fn sext_narrow(d: u32) -> u32 {
 }
 
 /// The extension of the narrow counts to 32 bits: the model of `hdl::enc_extend`,
-/// clock for clock. Each cycle it visits the axis the following-error unit takes
-/// (round robin, every K ticks) and, from that axis's narrow outputs (as they are
-/// before the edge) and its last count in memory, writes its 32-bit count, its index
-/// and probe latches (when new) and its live word, and registers the count for the
-/// following-error unit's next stage. Exact while the count moves less than 2^7
+/// clock for clock. Each cycle the bank registers the narrow outputs of the axis the
+/// following-error unit takes (round robin, every K ticks: the visit), and the
+/// extension, a cycle later, from that sample and the axis's last count in memory,
+/// writes its 32-bit count, its index and probe latches (when new) and its live word,
+/// and registers the count for the following-error unit's stage 2. Exact while the count moves less than 2^7
 /// between two visits (at most K ≤ 16 moves: one per tick). The velocity the same
 /// way: `age` from the last one plus the narrow counter's growth (saturating), or
 /// the narrow `age` after an edge; `period` when an edge came: the narrow one after
@@ -509,8 +508,17 @@ impl Default for ExtendModel {
 }
 
 impl ExtendModel {
-    /// One clk edge visiting axis `ax`, whose decoder shows `o` (its narrow view).
-    pub fn clock(&mut self, ax: usize, o: &EncOutputs, reset: bool) {
+    /// One clk edge with the sample `o` of axis `ax`'s narrow view taken at the last
+    /// edge; `ok`: the sample was taken out of reset (else nothing is written).
+    pub fn clock(&mut self, ax: usize, o: &EncOutputs, ok: bool, reset: bool) {
+        if !ok {
+            if reset {
+                self.valid = 0;
+                self.itog = 0;
+                self.ptog = 0;
+            }
+            return;
+        }
         let m = (1u32 << NARROW_BITS) - 1;
         let valid = self.valid >> ax & 1 == 1;
         let old = if valid { self.cnt[ax] } else { 0 };
@@ -574,11 +582,13 @@ pub struct EncoderBankModel {
     pub ext: ExtendModel,
     pub fe: FollowErrModel,
     pre: u16,
+    /// The visit's sample register: axis, narrow view, taken out of reset.
+    vis: (usize, EncOutputs, bool),
 }
 
 impl EncoderBankModel {
     pub fn new(k: usize) -> Self {
-        EncoderBankModel { dec: vec![EncoderModel::new(); k], ext: ExtendModel::default(), fe: FollowErrModel::new(k), pre: 0 }
+        EncoderBankModel { dec: vec![EncoderModel::new(); k], ext: ExtendModel::default(), fe: FollowErrModel::new(k), pre: 0, vis: (0, EncOutputs::default(), false) }
     }
 
     /// The configuration of axis `a` from the shared mode and its invert bit.
@@ -614,8 +624,9 @@ impl EncoderBankModel {
         let tick = self.pre >= i.vel_prescale;
         let ax = self.fe.ax();
         self.fe.clock(i.position, self.ext.count1, i.ratio, i.tol, i.align, i.clear, reset);
-        let view = self.dec[ax].outputs().narrow();
-        self.ext.clock(ax, &view, reset);
+        let (pax, view, ok) = self.vis;
+        self.ext.clock(pax, &view, ok, reset);
+        self.vis = (ax, self.dec[ax].outputs().narrow(), !reset);
         for (a, d) in self.dec.iter_mut().enumerate() {
             let pins = EncPins { a: i.a >> a & 1 == 1, b: i.b >> a & 1 == 1, z: i.z >> a & 1 == 1 };
             d.clock_visit(&Self::config(i.mode, i.invert >> a & 1 == 1), pins, i.arm >> a & 1 == 1, i.probe, tick, a == ax, reset);
@@ -727,6 +738,7 @@ mod tests {
             // Some runs hold every axis still for longer than the velocity saturates.
             let long = [1, 5, 16].contains(&k);
             let stall = |t: u64| long && (6_000..74_000).contains(&t);
+            let mut visit = (0, EncOutputs::default(), false);
             for t in 0..if long { 80_000 } else { 6_000 } {
                 let reset = t < 3 || (!stall(t) && rng() % 3_000 == 0);
                 let vel_prescale = if long || k % 3 == 0 { 0 } else { 3 };
@@ -757,10 +769,11 @@ mod tests {
                     }
                 }
                 i.probe = rng() % 25 == 0;
-                let ax = bank.fe.ax();
-                let full = bank.dec[ax].outputs();
+                // The visit's sample, written by the next edge.
+                let (ax, full, ok) = visit;
+                visit = (bank.fe.ax(), bank.dec[bank.fe.ax()].outputs(), !reset);
                 bank.clock(&i, reset);
-                if !reset {
+                if ok && !reset {
                     let e = &bank.ext;
                     assert_eq!(e.cnt[ax], full.count, "K {k}, tick {t}, axis {ax}: the count");
                     assert_eq!(e.idx[ax], full.index_count, "K {k}, tick {t}, axis {ax}: the index latch");
