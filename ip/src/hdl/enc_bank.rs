@@ -1,7 +1,7 @@
 //! The encoder feedback of K axes in `clk` (`export --encoder`): K narrow
 //! [`EncDecoder`]s, the velocity prescaler they share, the [`EncExtend`] and
 //! [`FollowErr`] units stepping round robin over them together (the extension visits
-//! axis `fe.ax` and hands its 32-bit count to the following error's next stage), and
+//! axis `fe.ax` and hands its 32-bit count to the following error's stage 2), and
 //! the status word of one axis for the crossing to the bus. The visit registers the
 //! visited decoder's narrow outputs (and acknowledges them); the extension works on
 //! that sample a cycle later, so neither cycle holds both the K:1 selection and the
