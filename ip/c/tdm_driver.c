@@ -383,8 +383,66 @@ tdm_events tdm_irq_service(tdm_dev *dev)
     return ev;
 }
 
-#if defined(TDM_STOP)
+#if defined(TDM_STOP) || defined(TDM_ENC_AXIS)
+static int axis_mask_ok(const tdm_dev *dev, uint16_t mask)
+{
+    return (mask & ~(uint16_t)((1ul << dev->axes) - 1u)) == 0u;
+}
+#endif
+
+#if defined(TDM_STOP_HOME) || defined(TDM_PROBE_POS_LO) || defined(TDM_ENC_AXIS)
+/* A 32-bit register read tear-free: reading the low half latches the high half. */
+static int32_t read_latched(tdm_dev *dev, uint32_t lo, uint32_t hi)
+{
+    uint32_t l = tdm_read(dev, lo); /* latches the high half */
+    uint32_t h = tdm_read(dev, hi);
+    return (int32_t)((h << 16) | l);
+}
+#endif
+
+#if defined(TDM_STOP) || defined(TDM_ENC_AXIS)
 #include "tdm_planner.h"
+#endif
+
+#if defined(TDM_STOP_HOME) || defined(TDM_ENC_AXIS)
+/* A rest-to-rest move of `steps` at speed and accel (steps/s, steps/s^2), planned,
+ * pushed, started and waited for (tdm_home, tdm_enc_correct). */
+static int rest_move(tdm_dev *dev, unsigned axis, int32_t steps, uint32_t speed, uint32_t accel, unsigned long poll_limit)
+{
+    tdm_segment segs[3];
+    unsigned count;
+    unsigned bad;
+    unsigned taken;
+    tdm_axis_status st;
+    int rc;
+    if (steps == 0) {
+        return 0;
+    }
+    rc = tdm_plan_rates(steps, speed, accel, accel, dev->clock_hz, dev->max_rate, segs, &count, &bad);
+    if (rc != 0) {
+        return rc;
+    }
+    tdm_clear_status(dev, axis);
+    rc = tdm_push_some(dev, axis, segs, count, &taken);
+    if (rc != 0) {
+        return rc;
+    }
+    if (taken != count) {
+        return TDM_E_FULL;
+    }
+    st = tdm_status(dev, axis);
+    if (st.error) {
+        return st.error_code;
+    }
+    rc = tdm_start(dev, (uint16_t)(1u << axis));
+    if (rc != 0) {
+        return rc;
+    }
+    return tdm_wait_idle(dev, (uint16_t)(1u << axis), poll_limit);
+}
+#endif
+
+#if defined(TDM_STOP)
 
 /* Fields of groups the export lacks read as 0 here (the header leaves them out). */
 #ifndef TDM_IO_STATUS_ESTOP_MASK
@@ -523,11 +581,6 @@ int tdm_soft_limits(tdm_dev *dev, unsigned axis, int32_t min, int32_t max, int e
     return (tdm_read(dev, TDM_SL_STATUS) & TDM_SL_STATUS_REFUSED_MASK) ? TDM_E_REFUSED : 0;
 }
 
-static int axis_mask_ok(const tdm_dev *dev, uint16_t mask)
-{
-    return (mask & ~(uint16_t)((1ul << dev->axes) - 1u)) == 0u;
-}
-
 int tdm_stop(tdm_dev *dev, uint16_t mask)
 {
     if (mask == 0u || !axis_mask_ok(dev, mask)) {
@@ -547,15 +600,6 @@ int tdm_stop_on_home(tdm_dev *dev, uint16_t mask)
     return 0;
 }
 
-#endif
-
-#if defined(TDM_STOP_HOME) || defined(TDM_PROBE_POS_LO)
-static int32_t read_latched(tdm_dev *dev, uint32_t lo, uint32_t hi)
-{
-    uint32_t l = tdm_read(dev, lo); /* latches the high half */
-    uint32_t h = tdm_read(dev, hi);
-    return (int32_t)((h << 16) | l);
-}
 #endif
 
 #if defined(TDM_STOP_HOME)
@@ -598,41 +642,6 @@ tdm_io_events tdm_io_service(tdm_dev *dev)
 }
 
 #if defined(TDM_STOP_HOME)
-/* A rest-to-rest move of `steps` at speed and accel, pushed, started and waited for. */
-static int home_move(tdm_dev *dev, unsigned axis, int32_t steps, uint32_t speed, const tdm_home_params *p)
-{
-    tdm_segment segs[3];
-    unsigned count;
-    unsigned bad;
-    unsigned taken;
-    tdm_axis_status st;
-    int rc;
-    if (steps == 0) {
-        return 0;
-    }
-    rc = tdm_plan_rates(steps, speed, p->accel, p->accel, dev->clock_hz, dev->max_rate, segs, &count, &bad);
-    if (rc != 0) {
-        return rc;
-    }
-    tdm_clear_status(dev, axis);
-    rc = tdm_push_some(dev, axis, segs, count, &taken);
-    if (rc != 0) {
-        return rc;
-    }
-    if (taken != count) {
-        return TDM_E_FULL;
-    }
-    st = tdm_status(dev, axis);
-    if (st.error) {
-        return st.error_code;
-    }
-    rc = tdm_start(dev, (uint16_t)(1u << axis));
-    if (rc != 0) {
-        return rc;
-    }
-    return tdm_wait_idle(dev, (uint16_t)(1u << axis), p->poll_limit);
-}
-
 int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *home_pos)
 {
     uint16_t bit;
@@ -651,7 +660,7 @@ int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *hom
     bit = (uint16_t)(1u << axis);
     /* Already on the switch: leave it first, so the search sees it become active. */
     if (tdm_read(dev, TDM_IO_AXIS(axis)) & TDM_IO_AXIS_HOME_MASK) {
-        rc = home_move(dev, axis, -dir * (int32_t)p->backoff, p->speed, p);
+        rc = rest_move(dev, axis, -dir * (int32_t)p->backoff, p->speed, p->accel, p->poll_limit);
         if (rc != 0) {
             return rc;
         }
@@ -659,7 +668,7 @@ int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *hom
     tdm_write(dev, TDM_IRQ_IO, TDM_IRQ_IO_HOME_MASK); /* clears HOME_LATCHED */
     armed = tdm_read(dev, TDM_STOP_HOME);
     tdm_write(dev, TDM_STOP_HOME, (uint16_t)(armed | bit));
-    rc = home_move(dev, axis, dir * (int32_t)p->max_travel, p->speed, p);
+    rc = rest_move(dev, axis, dir * (int32_t)p->max_travel, p->speed, p->accel, p->poll_limit);
     tdm_write(dev, TDM_STOP_HOME, (uint16_t)(armed & ~bit));
     if (rc != 0) {
         return rc;
@@ -669,11 +678,11 @@ int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *hom
     }
     h = tdm_home_position(dev, axis);
     /* Back off past the latched position, then approach it slowly. */
-    rc = home_move(dev, axis, h - dir * (int32_t)p->backoff - tdm_position(dev, axis), p->speed, p);
+    rc = rest_move(dev, axis, h - dir * (int32_t)p->backoff - tdm_position(dev, axis), p->speed, p->accel, p->poll_limit);
     if (rc != 0) {
         return rc;
     }
-    rc = home_move(dev, axis, h - tdm_position(dev, axis), p->slow_speed, p);
+    rc = rest_move(dev, axis, h - tdm_position(dev, axis), p->slow_speed, p->accel, p->poll_limit);
     if (rc != 0) {
         return rc;
     }
@@ -682,3 +691,143 @@ int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *hom
 }
 #endif /* TDM_STOP_HOME */
 #endif /* TDM_STOP */
+
+#if defined(TDM_ENC_AXIS)
+/* ---- Encoder feedback (`export --encoder`) ---- */
+
+int tdm_enc_configure(tdm_dev *dev, const tdm_enc_config *cfg)
+{
+    unsigned a;
+    if (cfg == 0 || cfg->filter > TDM_ENC_FILTER_MAX || cfg->index_mode > 15u) {
+        return TDM_E_ARG;
+    }
+    for (a = 0; a < dev->axes; a++) {
+        if (cfg->ratio[a] == 0u || cfg->ratio[a] > TDM_ENC_RATIO_MAX) {
+            return TDM_E_ARG;
+        }
+    }
+    if (!axis_mask_ok(dev, cfg->invert) || !axis_mask_ok(dev, cfg->stop)) {
+        return TDM_E_AXIS;
+    }
+    if (tdm_read(dev, TDM_GSTATUS) & TDM_GSTATUS_ENABLED_MASK) {
+        return TDM_E_REFUSED;
+    }
+    tdm_write(dev, TDM_ENC_STATUS, TDM_ENC_STATUS_REFUSED_MASK);
+    tdm_write(dev, TDM_ENC_FILTER, cfg->filter);
+    tdm_write(dev, TDM_ENC_INDEX_MODE, cfg->index_mode);
+    tdm_write(dev, TDM_ENC_INVERT, cfg->invert);
+    tdm_write(dev, TDM_ENC_VEL_PRESCALE, cfg->vel_prescale);
+    tdm_write(dev, TDM_ENC_STOP, cfg->stop);
+    for (a = 0; a < dev->axes; a++) {
+        dev->enc_ratio[a] = cfg->ratio[a];
+        tdm_write(dev, TDM_ENC_AXIS, (uint16_t)a);
+        tdm_write(dev, TDM_ENC_RATIO_LO, (uint16_t)(cfg->ratio[a] & 0xFFFFu));
+        tdm_write(dev, TDM_ENC_RATIO_HI, (uint16_t)(cfg->ratio[a] >> 16));
+        tdm_write(dev, TDM_ENC_TOL, cfg->tol[a]);
+    }
+    return (tdm_read(dev, TDM_ENC_STATUS) & TDM_ENC_STATUS_REFUSED_MASK) ? TDM_E_REFUSED : 0;
+}
+
+int tdm_enc_read(tdm_dev *dev, unsigned axis, tdm_enc_status *st, unsigned long poll_limit)
+{
+    unsigned long n;
+    uint16_t state = 0;
+    if (st == 0) {
+        return TDM_E_ARG;
+    }
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    if ((tdm_read(dev, TDM_ENC_AXIS) & 0xFu) != axis) {
+        tdm_write(dev, TDM_ENC_AXIS, (uint16_t)axis);
+    }
+    for (n = 0; n < poll_limit; n++) {
+        state = tdm_read(dev, TDM_ENC_STATE);
+        if (state & TDM_ENC_STATE_VALID_MASK) {
+            break;
+        }
+    }
+    if ((state & TDM_ENC_STATE_VALID_MASK) == 0u) {
+        return TDM_E_TIMEOUT;
+    }
+    st->count = read_latched(dev, TDM_ENC_COUNT_LO, TDM_ENC_COUNT_HI);
+    st->index = read_latched(dev, TDM_ENC_INDEX_LO, TDM_ENC_INDEX_HI);
+    st->probe = read_latched(dev, TDM_ENC_PROBE_LO, TDM_ENC_PROBE_HI);
+    st->deviation = read_latched(dev, TDM_ENC_DEV_LO, TDM_ENC_DEV_HI);
+    st->period = tdm_read(dev, TDM_ENC_PERIOD);
+    st->age = tdm_read(dev, TDM_ENC_AGE);
+    st->state = tdm_read(dev, TDM_ENC_STATE);
+    return 0;
+}
+
+int tdm_enc_align(tdm_dev *dev, uint16_t mask)
+{
+    if (!axis_mask_ok(dev, mask)) {
+        return TDM_E_AXIS;
+    }
+    tdm_write(dev, TDM_ENC_ALIGN, mask);
+    return 0;
+}
+
+int tdm_enc_clear(tdm_dev *dev, uint16_t mask)
+{
+    if (!axis_mask_ok(dev, mask)) {
+        return TDM_E_AXIS;
+    }
+    tdm_write(dev, TDM_ENC_CLEAR, mask);
+    return 0;
+}
+
+int tdm_enc_correct(tdm_dev *dev, unsigned axis, uint32_t speed, uint32_t accel, unsigned long poll_limit, int32_t *moved)
+{
+    tdm_enc_status st;
+    uint32_t ratio;
+    int64_t num;
+    int32_t steps;
+    uint16_t bit;
+    int rc;
+    if (moved == 0) {
+        return TDM_E_ARG;
+    }
+    *moved = 0;
+    if (axis >= dev->axes) {
+        return TDM_E_AXIS;
+    }
+    bit = (uint16_t)(1u << axis);
+    if ((tdm_read(dev, TDM_BUSY) & bit) || (tdm_status(dev, axis).level != 0u)) {
+        return TDM_E_BUSY;
+    }
+    rc = tdm_enc_read(dev, axis, &st, poll_limit);
+    if (rc != 0) {
+        return rc;
+    }
+    ratio = dev->enc_ratio[axis];
+    if (ratio == 0u) {
+        ratio = TDM_ENC_RATIO_ONE; /* not configured: the core's reset value */
+    }
+    /* The steps the encoder lags by: deviation / ratio, rounded to the nearest. */
+    num = (int64_t)st.deviation * 65536;
+    num += num >= 0 ? (int64_t)(ratio / 2u) : -(int64_t)(ratio / 2u);
+    steps = (int32_t)(num / (int64_t)ratio);
+    /* Keep the deviation relative to here, let the axis run again, and move the lost steps. */
+    tdm_write(dev, TDM_ENC_ALIGN, bit);
+    tdm_write(dev, TDM_ENC_CLEAR, bit);
+    rc = rest_move(dev, axis, steps, speed, accel, poll_limit);
+    if (rc == 0) {
+        *moved = steps;
+    }
+    return rc;
+}
+
+uint16_t tdm_enc_service(tdm_dev *dev, uint16_t *failed)
+{
+    uint16_t irq = tdm_read(dev, TDM_IRQ_ENC);
+    if (failed != 0) {
+        *failed = tdm_read(dev, TDM_ENC_FAIL);
+    }
+    if (irq) {
+        tdm_write(dev, TDM_IRQ_ENC, irq);
+    }
+    return irq;
+}
+#endif /* TDM_ENC_AXIS */

@@ -72,6 +72,10 @@ typedef struct {
     uint16_t min_period;
     uint32_t clock_hz;
     uint32_t max_rate;
+#if defined(TDM_ENC_AXIS)
+    /* Each axis's ENC_RATIO as tdm_enc_configure() wrote it (tdm_enc_correct uses it). */
+    uint32_t enc_ratio[TDM_AXES];
+#endif
 } tdm_dev;
 
 /* What tdm_irq_service() found (and cleared): bit a = axis a. */
@@ -257,6 +261,65 @@ typedef struct {
 int tdm_home(tdm_dev *dev, unsigned axis, const tdm_home_params *p, int32_t *home_pos);
 #endif
 #endif /* TDM_STOP */
+
+#if defined(TDM_ENC_AXIS)
+/* ---- Encoder feedback: declared only with a header from `export --encoder` ------- */
+
+#define TDM_E_BUSY (-11) /* tdm_enc_correct(): the axis is moving or has segments queued */
+
+/* The encoders' configuration, written while the core is disabled. */
+typedef struct {
+    uint8_t filter;          /* A, B and Z filter, clk ticks (0..TDM_ENC_FILTER_MAX; 0 = off) */
+    uint8_t index_mode;      /* ENC_INDEX_MODE: Z_LOW, GATE, GATE_A, GATE_B */
+    uint16_t invert;         /* bit a: axis a counts down when A leads B */
+    uint16_t vel_prescale;   /* ENC_PERIOD and ENC_AGE count a tick every vel_prescale + 1 clk ticks */
+    uint16_t stop;           /* bit a: axis a's ENC_FAIL stops it (hard) */
+    uint32_t ratio[TDM_AXES]; /* counts per step, Q16.16 (TDM_ENC_RATIO_ONE = 1.0), 1..TDM_ENC_RATIO_MAX */
+    uint16_t tol[TDM_AXES];  /* following-error tolerance, counts; 0 = no check */
+} tdm_enc_config;
+
+/* One axis's encoder, as its last copy showed it. */
+typedef struct {
+    int32_t count;     /* counts, signed */
+    int32_t index;     /* the count the index latch took */
+    int32_t probe;     /* the count the probe latched (with the machine I/O's probe) */
+    int32_t deviation; /* position x ratio + offset - count: positive when the encoder lags */
+    uint16_t period;   /* velocity ticks between the last two edges (saturating) */
+    uint16_t age;      /* velocity ticks since the last edge (saturating): a stall shows here */
+    uint16_t state;    /* ENC_STATE: ILLEGAL 7:0, ARMED, DIR, A, B, Z, FAIL, VALID */
+} tdm_enc_status;
+
+/* Writes the configuration and keeps the ratios in dev. The core must be disabled.
+ * TDM_E_ARG (a filter above TDM_ENC_FILTER_MAX, an index mode above 15, a ratio of 0 or
+ * above TDM_ENC_RATIO_MAX) and TDM_E_AXIS (a mask bit >= K) without touching the bus;
+ * TDM_E_REFUSED if the core is enabled (nothing written) or refused a write. */
+int tdm_enc_configure(tdm_dev *dev, const tdm_enc_config *cfg);
+
+/* Reads axis `axis`'s encoder through the window (ENC_AXIS, then waits at most
+ * poll_limit reads for ENC_STATE.VALID; each 32-bit value tear-free). 0, TDM_E_ARG,
+ * TDM_E_AXIS or TDM_E_TIMEOUT. */
+int tdm_enc_read(tdm_dev *dev, unsigned axis, tdm_enc_status *st, unsigned long poll_limit);
+
+/* ENC_ALIGN (the masked axes' deviation becomes 0) and ENC_CLEAR (their ENC_FAIL
+ * clears; align first, or it sets again). TDM_E_AXIS. */
+int tdm_enc_align(tdm_dev *dev, uint16_t mask);
+int tdm_enc_clear(tdm_dev *dev, uint16_t mask);
+
+/* The correction the MCU makes after a lost step, as the source motion card does: on
+ * an idle axis (BUSY 0, nothing queued; else TDM_E_BUSY), reads the deviation d,
+ * aligns and clears the axis's ENC_FAIL, and moves round(d / ratio) steps (planned by
+ * tdm_plan_rates at speed and accel, steps/s and steps/s^2; waited for within
+ * poll_limit reads per wait), returned in *moved. Afterwards the encoder reads the
+ * position the steps commanded before the loss would have put it at, within the
+ * ratio's resolution (half a step's counts), and the deviation is measured from
+ * there (POS counts the correction's steps too). 0, TDM_E_ARG, TDM_E_AXIS,
+ * TDM_E_BUSY, TDM_E_TIMEOUT, a planner error or a push's code. */
+int tdm_enc_correct(tdm_dev *dev, unsigned axis, uint32_t speed, uint32_t accel, unsigned long poll_limit, int32_t *moved);
+
+/* Reads and clears IRQ_ENC (returned: TDM_IRQ_ENC_*_MASK bits); *failed (if not null)
+ * gets ENC_FAIL (bit a: axis a). */
+uint16_t tdm_enc_service(tdm_dev *dev, uint16_t *failed);
+#endif /* TDM_ENC_AXIS */
 
 #if defined(TDM_POLY_ARM)
 /* ---- S-curve: declared only with a header from `export --profiles trapezoid,scurve`

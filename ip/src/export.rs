@@ -10,7 +10,7 @@
 //! The segment queue holds [`QUEUE_DEPTH`] segments per axis.
 
 use crate::hdl::core::t_calc_sqrt;
-use crate::hdl::top::{BaselineStepper, TdmStepper, TdmStepperIo};
+use crate::hdl::top::{BaselineStepper, TdmStepper, TdmStepperEnc, TdmStepperIo, TdmStepperIoEnc};
 use crate::model::Limits;
 use crate::regs::{self, CoreParams};
 use rust_hdl::prelude::*;
@@ -161,6 +161,9 @@ pub struct ExportOptions {
     /// The S-curve option (`--profiles trapezoid,scurve`): polynomial segments beside
     /// the trapezoid ones (TDM only).
     pub scurve: bool,
+    /// Encoder feedback (`--encoder`): per axis the pins `enc_a`, `enc_b`, `enc_z`,
+    /// the decoders, the shared following-error unit and their registers (TDM only).
+    pub encoder: bool,
 }
 
 impl Default for ExportOptions {
@@ -175,6 +178,7 @@ impl Default for ExportOptions {
             io: false,
             io_omit: 0,
             scurve: false,
+            encoder: false,
         }
     }
 }
@@ -268,6 +272,9 @@ impl ExportOptions {
         if self.scurve && self.arch == Arch::Baseline {
             return Err("--profiles scurve with --arch baseline: the S-curve option is built for the TDM core only".into());
         }
+        if self.encoder && self.arch == Arch::Baseline {
+            return Err("--encoder with --arch baseline: encoder feedback is built for the TDM core only".into());
+        }
         if self.io && self.arch == Arch::Baseline {
             return Err("--io with --arch baseline: the machine I/O is built for the TDM core only".into());
         }
@@ -296,6 +303,7 @@ impl ExportOptions {
             io: self.io,
             io_omit: if self.io { self.io_omit } else { 0 },
             scurve: self.scurve,
+            encoder: self.encoder,
         }
     }
 
@@ -358,11 +366,17 @@ macro_rules! stepper_fn {
 stepper_fn!(tdm_verilog, TdmStepper);
 stepper_fn!(baseline_verilog, BaselineStepper);
 stepper_fn!(tdm_io_verilog, TdmStepperIo);
+stepper_fn!(tdm_enc_verilog, TdmStepperEnc);
+stepper_fn!(tdm_io_enc_verilog, TdmStepperIoEnc);
 
 macro_rules! dispatch {
     ($opts:expr, $params:expr, [$($k:literal),*], [$($kb:literal),*]) => {{
         let o = $opts;
         match o.arch {
+            Arch::Tdm if o.io && o.encoder && o.scurve => match o.axes { $($k => tdm_io_enc_verilog::<$k, 1>($params),)* _ => unreachable!() },
+            Arch::Tdm if o.io && o.encoder => match o.axes { $($k => tdm_io_enc_verilog::<$k, 0>($params),)* _ => unreachable!() },
+            Arch::Tdm if o.encoder && o.scurve => match o.axes { $($k => tdm_enc_verilog::<$k, 1>($params),)* _ => unreachable!() },
+            Arch::Tdm if o.encoder => match o.axes { $($k => tdm_enc_verilog::<$k, 0>($params),)* _ => unreachable!() },
             Arch::Tdm if o.io && o.scurve => match o.axes { $($k => tdm_io_verilog::<$k, 1>($params),)* _ => unreachable!() },
             Arch::Tdm if o.io => match o.axes { $($k => tdm_io_verilog::<$k, 0>($params),)* _ => unreachable!() },
             Arch::Tdm if o.scurve => match o.axes { $($k => tdm_verilog::<$k, 1>($params),)* _ => unreachable!() },
@@ -396,17 +410,21 @@ pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
         // groups off by constants, so the level does not matter).
         let full = format!("{}__io_top", opts.name.as_str());
         let text = rename_top(&text, &full)?;
-        return Ok(text + &io_wrapper_module(opts.name.as_str(), &full, opts.axes, params.io_groups()));
+        return Ok(text + &io_wrapper_module(opts.name.as_str(), &full, opts.axes, params.io_groups(), params.encoder));
     }
     rename_top(&text, opts.name.as_str())
 }
 
 /// The top module of an export with some machine I/O groups: `name`, with the ports
 /// of [`ports`] for `groups`, around `full` (the machine I/O top with every group).
-fn io_wrapper_module(name: &str, full: &str, axes: usize, groups: u8) -> String {
+fn io_wrapper_module(name: &str, full: &str, axes: usize, groups: u8, encoder: bool) -> String {
     use std::fmt::Write as _;
-    let mine = ports(axes, groups);
-    let all = ports(axes, regs::IO_ALL);
+    let mut mine = ports(axes, groups);
+    let mut all = ports(axes, regs::IO_ALL);
+    if encoder {
+        mine.extend(encoder_ports(axes));
+        all.extend(encoder_ports(axes));
+    }
     let names: Vec<&str> = mine.iter().map(|p| p.name).collect();
     let mut m = format!(
         "\n// {name}: the machine I/O core with the groups {} only (export --io); the input pins of\n// the others are not ports and are tied to 0 inside.\nmodule {name}({});\n",
@@ -542,6 +560,25 @@ pub fn ports(axes: usize, groups: u8) -> Vec<PortDoc> {
     v
 }
 
+/// The encoder feedback's ports (`--encoder`), after the machine I/O's.
+pub fn encoder_ports(axes: usize) -> Vec<PortDoc> {
+    let p = |name, description| PortDoc { name, direction: "input", width: axes, clock: "async", description };
+    vec![
+        p("enc_a", "quadrature line A of axis a's encoder, bit a; synchronised and filtered (ENC_FILTER), 4x decoded"),
+        p("enc_b", "quadrature line B of axis a's encoder, bit a: the count goes up when A leads B (ENC_INVERT swaps)"),
+        p("enc_z", "index of axis a's encoder, bit a: its active edge (ENC_INDEX_MODE) latches the count (ENC_INDEX) and, armed (ENC_ARM), clears it; tie to 0 without an index"),
+    ]
+}
+
+/// The ports of the core `opts` exports: [`ports`], then the encoder's.
+pub fn ports_of(opts: &ExportOptions) -> Vec<PortDoc> {
+    let mut v = ports(opts.axes, opts.params().io_groups());
+    if opts.encoder {
+        v.extend(encoder_ports(opts.axes));
+    }
+    v
+}
+
 #[derive(Serialize)]
 struct Manifest {
     top_module: String,
@@ -567,6 +604,9 @@ struct Manifest {
     /// With the machine I/O: the smallest STOP_DECEL the core accepts (else absent).
     #[serde(skip_serializing_if = "Option::is_none")]
     stop_decel_min: Option<u32>,
+    /// Encoder feedback is in this core (`--encoder`; absent without it).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    encoder: bool,
     ports: Vec<PortDoc>,
     tools: Tools,
 }
@@ -597,7 +637,8 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         io: opts.io,
         io_groups: opts.io.then(|| io_group_list(opts.params().io_groups())),
         stop_decel_min: opts.io.then(|| opts.params().stop_decel_min()),
-        ports: ports(opts.axes, opts.params().io_groups()),
+        encoder: opts.encoder,
+        ports: ports_of(opts),
         tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },
     }
 }

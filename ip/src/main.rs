@@ -55,6 +55,12 @@ enum Command {
         /// option: polynomial segments and their registers; TDM only).
         #[arg(long, default_value = "trapezoid", value_parser = export::parse_profiles, action = clap::ArgAction::Set)]
         profiles: bool,
+        /// Encoder feedback: per axis the quadrature pins enc_a, enc_b and enc_z, 4x
+        /// decoders with filters, index and probe latches and a reciprocal velocity, the
+        /// following error by one shared multiplier with ENC_FAIL and its stop, and their
+        /// registers (TDM only).
+        #[arg(long)]
+        encoder: bool,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -139,6 +145,12 @@ enum Command {
         /// option: polynomial segments and their registers; TDM only).
         #[arg(long, default_value = "trapezoid", value_parser = export::parse_profiles, action = clap::ArgAction::Set)]
         profiles: bool,
+        /// Encoder feedback: per axis the quadrature pins enc_a, enc_b and enc_z, 4x
+        /// decoders with filters, index and probe latches and a reciprocal velocity, the
+        /// following error by one shared multiplier with ENC_FAIL and its stop, and their
+        /// registers (TDM only).
+        #[arg(long)]
+        encoder: bool,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -156,15 +168,20 @@ enum Command {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, profiles, out } => {
-            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit, scurve: profiles };
+        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, profiles, encoder, out } => {
+            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit, scurve: profiles, encoder };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = export::export(&opts, &out)?;
             println!(
                 "exported {} core{}, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
                 arch.name(),
-                if io.io { " with machine I/O" } else { "" },
+                match (io.io, encoder) {
+                    (true, true) => " with machine I/O and encoder feedback",
+                    (true, false) => " with machine I/O",
+                    (false, true) => " with encoder feedback",
+                    (false, false) => "",
+                },
                 opts.params().t_calc,
                 opts.min_period_ticks(),
                 opts.max_step_rate_hz(),
@@ -214,7 +231,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 .into());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io, profiles } => {
+        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io, profiles, encoder } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
@@ -241,6 +258,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 io: io.io,
                 io_omit: io.omit,
                 scurve: profiles,
+                encoder,
             };
             let repo = std::env::current_dir().map_err(|e| e.to_string())?;
             let (s, files) = sweep::run(&opts, &repo)?;

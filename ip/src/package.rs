@@ -4,7 +4,7 @@
 //! FuseSoC CAPI2 core description. Each is generated from the same port list as the
 //! manifest ([`crate::export::ports`]), so none can name a port the Verilog lacks.
 
-use crate::export::{ports, ExportOptions};
+use crate::export::{ports_of, ExportOptions};
 use std::fmt::Write as _;
 
 /// The lint waivers for the exported Verilog (Verilator configuration file), the
@@ -49,7 +49,7 @@ fn mhz(hz: u32) -> String {
 /// and commented (direction, width, clock domain, meaning).
 pub fn instantiation_template(opts: &ExportOptions) -> String {
     let top = opts.name.as_str();
-    let ps = ports(opts.axes, opts.params().io_groups());
+    let ps = ports_of(opts);
     let mut t = String::new();
     let _ = writeln!(
         t,
@@ -135,7 +135,7 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let _ = writeln!(t, "set_false_path -to [get_ports {{step[*] dir[*] irq fsm_state[*]}}]");
     if opts.io {
         let _ = writeln!(t, "# Machine I/O: the input pins enter through two flip-flops in clk; drv_enable is a clk register.");
-        let ins: Vec<String> = ports(opts.axes, opts.params().io_groups())
+        let ins: Vec<String> = ports_of(opts)
             .iter()
             .filter(|p| p.direction == "input" && ["estop_n", "probe", "limit_neg", "limit_pos", "home", "alarm"].contains(&p.name))
             .map(|p| if p.width > 1 || p.name.starts_with("limit") || ["home", "alarm"].contains(&p.name) { format!("{}[*]", p.name) } else { p.name.to_string() })

@@ -103,6 +103,8 @@ pub enum Feature {
     Io(u8),
     /// The S-curve option (`export --profiles trapezoid,scurve`): polynomial segments.
     Scurve,
+    /// Encoder feedback (`export --encoder`).
+    Encoder,
 }
 
 /// The machine I/O's groups (`export --io`), defined with their model.
@@ -138,6 +140,9 @@ pub struct CoreParams {
     /// The S-curve option (`export --profiles trapezoid,scurve`): polynomial segments,
     /// their staging registers and check.
     pub scurve: bool,
+    /// Encoder feedback (`export --encoder`): the quadrature inputs, their decoders,
+    /// the following error and their registers.
+    pub encoder: bool,
 }
 
 impl CoreParams {
@@ -162,6 +167,7 @@ impl CoreParams {
             Feature::Base => true,
             Feature::Io(groups) => self.io_groups() & groups != 0,
             Feature::Scurve => self.scurve,
+            Feature::Encoder => self.encoder,
         }
     }
 
@@ -235,6 +241,13 @@ fn reg(name: &'static str, offset: u16, per_axis: bool, reset: Reset, fields: Ve
 fn poly_reg(name: &'static str, offset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
     Register { name, offset, per_axis: false, reset: Reset::Value(0), fields, doc, feature: Feature::Scurve }
 }
+
+fn enc_reg(name: &'static str, offset: u16, reset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
+    Register { name, offset, per_axis: false, reset: Reset::Value(reset), fields, doc, feature: Feature::Encoder }
+}
+
+/// Written only while the core is held in reset.
+const ENC_CONFIG_RULE: &str = "Encoder configuration: written only while CTRL.ENABLE = 0 and the core is held in reset (else refused: ENC_STATUS.REFUSED, code 3).";
 
 fn io_reg(name: &'static str, offset: u16, per_axis: bool, reset: u16, fields: Vec<Field>, doc: &'static str) -> Register {
     io_reg_of(IO_ALL, name, offset, per_axis, reset, fields, doc)
@@ -496,6 +509,87 @@ pub fn table() -> Vec<Register> {
             "Probe latch: the axis's position when the filtered probe input changed in the IO_EDGES direction (every axis in the same tick); 0 after reset.",
         ),
         io_reg_of(IO_PROBE, "PROBE_POS_HI", 0xE, true, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last PROBE_POS_LO or HOME_POS_LO read")], "Probe latch, high half (read PROBE_POS_LO first)."),
+        // Encoder feedback (export --encoder).
+        enc_reg(
+            "ENC_AXIS", 0x50, 0,
+            vec![f("AXIS", 0, 4, Rw, "the axis ENC_RATIO, ENC_TOL and the window registers (ENC_COUNT .. ENC_STATE) address; a write of an axis the core lacks is refused (code 4). Writing it empties the window until the axis's next copy (ENC_STATE.VALID)")],
+            "Encoder: the axis the window registers address.",
+        ),
+        enc_reg("ENC_FILTER", 0x51, 0, vec![f("TICKS", 0, 16, Rw, "A, B and Z filter, clk ticks (0..15, 0 = off): a new level is taken once seen at TICKS + 1 consecutive ticks; a larger value is refused (code 2)")], ENC_CONFIG_RULE),
+        enc_reg(
+            "ENC_INDEX_MODE", 0x52, 0,
+            vec![
+                f("Z_LOW", 0, 1, Rw, "1: the index (enc_z) is active low"),
+                f("GATE", 1, 1, Rw, "1: the index counts only while the filtered A and B equal GATE_A and GATE_B"),
+                f("GATE_A", 2, 1, Rw, "A's level for GATE"),
+                f("GATE_B", 3, 1, Rw, "B's level for GATE"),
+            ],
+            ENC_CONFIG_RULE,
+        ),
+        enc_reg("ENC_INVERT", 0x53, 0, vec![f("AXES", 0, 16, Rw, "bit a: axis a counts down when A leads B (bits of axes the core lacks read 0)")], ENC_CONFIG_RULE),
+        enc_reg("ENC_VEL_PRESCALE", 0x54, 0, vec![f("TICKS", 0, 16, Rw, "ENC_PERIOD and ENC_AGE count velocity ticks, one every TICKS + 1 clk ticks")], ENC_CONFIG_RULE),
+        enc_reg(
+            "ENC_RATIO_LO", 0x55, 0,
+            vec![f("VALUE", 0, 16, Rw, "write: stages bits 15:0 for ENC_RATIO_HI's write; read (while CTRL.ENABLE = 0; 0 while enabled): bits 15:0 of axis ENC_AXIS's ratio")],
+            "Following error: counts per step of axis ENC_AXIS, unsigned Q16.16 (1.0 = 0x10000 after reset; 0x1..0x1000000, at most 256 counts per step), low half.",
+        ),
+        enc_reg(
+            "ENC_RATIO_HI", 0x56, 0,
+            vec![f("VALUE", 0, 16, Rw, "write: {this, the staged low half} becomes axis ENC_AXIS's ratio; refused while enabled (code 3) or for 0 or above 0x1000000 (code 1); read: bits 31:16")],
+            "Following error: the ratio, high half (write ENC_RATIO_LO first).",
+        ),
+        enc_reg(
+            "ENC_TOL", 0x57, 0,
+            vec![f("COUNTS", 0, 16, Rw, "axis ENC_AXIS's tolerance, counts: ENC_FAIL when |deviation| exceeds it; 0 = no check (after reset); read while CTRL.ENABLE = 0 (0 while enabled)")],
+            ENC_CONFIG_RULE,
+        ),
+        enc_reg("ENC_STOP", 0x58, 0, vec![f("AXES", 0, 16, Rw, "bit a: axis a's ENC_FAIL stops it (a hard stop, held while ENC_FAIL is set: pushes meanwhile are flushed and counted as taken)")], ENC_CONFIG_RULE),
+        enc_reg("ENC_ARM", 0x59, 0, vec![f("AXES", 0, 16, Wo, "write 1 to bit a: axis a's count restarts at 0 at its next index (self-clearing; ENC_STATE.ARMED)")], "Encoder: home on the index. Each command reaches clk 3 to 4 clk ticks after the write commits."),
+        enc_reg("ENC_ALIGN", 0x5A, 0, vec![f("AXES", 0, 16, Wo, "write 1 to bit a: axis a's deviation becomes 0 at its next visit (the offset takes the difference), and stays relative to that")], "Following error: align. Commands cross as ENC_ARM's."),
+        enc_reg("ENC_CLEAR", 0x5B, 0, vec![f("AXES", 0, 16, Wo, "write 1 to bit a: clear axis a's ENC_FAIL (it sets again at the next visit if the deviation is still out of tolerance: align first)")], "Following error: clear ENC_FAIL. Commands cross as ENC_ARM's."),
+        enc_reg("ENC_FAIL", 0x5C, 0, vec![f("AXES", 0, 16, Ro, "bit a: axis a's |deviation| exceeded its tolerance since ENC_CLEAR (about 3 bus clocks behind clk)")], "Following error: the sticky ENC_FAIL flags."),
+        enc_reg(
+            "ENC_STATUS", 0x5D, 0,
+            vec![
+                f("REFUSED", 0, 1, W1c, "an encoder register write was refused; CODE says why. Clearing it clears CODE"),
+                f("CODE", 4, 4, Ro, "the last refusal: 1 ratio 0 or above 0x1000000, 2 filter above 15, 3 configuration while enabled, 4 ENC_AXIS not an axis"),
+            ],
+            "Encoder status.",
+        ),
+        enc_reg(
+            "IRQ_ENC", 0x5E, 0,
+            vec![
+                f("FAIL", 0, 1, W1c, "an axis's ENC_FAIL was set (ENC_FAIL says which)"),
+                f("ILLEGAL", 1, 1, W1c, "an axis counted an illegal transition (ENC_STATE.ILLEGAL)"),
+                f("INDEX", 2, 1, W1c, "an axis's index latch took its count (ENC_INDEX)"),
+            ],
+            "Encoder events; under IRQ_MASK_ENC they raise the irq line. ILLEGAL and INDEX come with the axis's next copy (at most K·(3 clk + 3 bus clocks) after the event).",
+        ),
+        enc_reg("IRQ_MASK_ENC", 0x5F, 0, vec![f("EVENTS", 0, 3, Rw, "1 lets IRQ_ENC bit b raise the irq line")], "Enables for IRQ_ENC."),
+        enc_reg("ENC_COUNT_LO", 0x60, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of axis ENC_AXIS's count (signed, 4 per line period); reading it latches bits 31:16 for ENC_COUNT_HI")], "Encoder window: the count, low half."),
+        enc_reg("ENC_COUNT_HI", 0x61, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_COUNT_LO read")], "Encoder window: the count, high half."),
+        enc_reg("ENC_INDEX_LO", 0x62, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the count the index latch took; reading it latches bits 31:16 for ENC_INDEX_HI")], "Encoder window: the index latch, low half."),
+        enc_reg("ENC_INDEX_HI", 0x63, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_INDEX_LO read")], "Encoder window: the index latch, high half."),
+        enc_reg("ENC_PROBE_LO", 0x64, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the count the machine I/O's probe latched (0 without it); reading it latches bits 31:16 for ENC_PROBE_HI")], "Encoder window: the probe latch, low half."),
+        enc_reg("ENC_PROBE_HI", 0x65, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_PROBE_LO read")], "Encoder window: the probe latch, high half."),
+        enc_reg("ENC_DEV_LO", 0x66, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the deviation ⌊position·ratio/2^16⌋ + offset − count (signed counts, positive when the encoder lags the steps); reading it latches bits 31:16 for ENC_DEV_HI")], "Encoder window: the following error, low half."),
+        enc_reg("ENC_DEV_HI", 0x67, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_DEV_LO read")], "Encoder window: the following error, high half."),
+        enc_reg("ENC_PERIOD", 0x68, 0, vec![f("TICKS", 0, 16, Ro, "velocity ticks between the last two counted edges (saturating at 65,535)")], "Encoder window: the reciprocal velocity."),
+        enc_reg("ENC_AGE", 0x69, 0, vec![f("TICKS", 0, 16, Ro, "velocity ticks since the last counted edge (saturating): a stall shows here")], "Encoder window: the time since the last edge."),
+        enc_reg(
+            "ENC_STATE", 0x6A, 0,
+            vec![
+                f("ILLEGAL", 0, 8, Ro, "illegal transitions (A and B changing in one filtered sample), wrapping"),
+                f("ARMED", 8, 1, Ro, "the clear on the next index is armed"),
+                f("DIR", 9, 1, Ro, "the last counted edge's direction (1 = up)"),
+                f("A", 10, 1, Ro, "filtered A"),
+                f("B", 11, 1, Ro, "filtered B"),
+                f("Z", 12, 1, Ro, "filtered Z"),
+                f("FAIL", 13, 1, Ro, "the axis's ENC_FAIL"),
+                f("VALID", 15, 1, Ro, "the window holds a copy of axis ENC_AXIS (0 after reset, an ENC_AXIS write or while the core is held in reset)"),
+            ],
+            "Encoder window: the axis's live state. The window registers are one copy of the axis's word, refreshed at least every K·(3 clk + 3 bus clocks).",
+        ),
         // The S-curve option (export --profiles trapezoid,scurve).
         poly_reg("POLY_V1_LO", 0x40, vec![f("VALUE", 0, 16, Rw, "end speed v1, Q0.32 steps per tick, bits 15:0")], "Polynomial staging (global): end speed, low half."),
         poly_reg("POLY_V1_HI", 0x41, vec![f("VALUE", 0, 16, Rw, "v1 bits 31:16")], "Polynomial staging: end speed, high half."),
@@ -609,6 +703,16 @@ pub fn c_header(p: &CoreParams) -> String {
     for (code, name) in error_codes(p) {
         let _ = writeln!(h, "#define TDM_ERR_{name} {code}u");
     }
+    if p.encoder {
+        use crate::model::encoder::{EncRefusal, FILTER_MAX, RATIO_MAX, RATIO_ONE};
+        h.push_str("\n/* Encoder refusal codes (ENC_STATUS.CODE) and limits. */\n");
+        for e in EncRefusal::ALL {
+            let _ = writeln!(h, "#define TDM_ENC_ERR_{} {}u", e.name(), e.code());
+        }
+        let _ = writeln!(h, "#define TDM_ENC_RATIO_ONE 0x{RATIO_ONE:X}u /* ENC_RATIO of 1.0 count per step (Q16.16) */");
+        let _ = writeln!(h, "#define TDM_ENC_RATIO_MAX 0x{RATIO_MAX:X}u /* the largest ENC_RATIO accepted */");
+        let _ = writeln!(h, "#define TDM_ENC_FILTER_MAX {FILTER_MAX}u");
+    }
     h.push_str("\n/* Access helpers: base is the bank's address, e.g. 0x60000000 for FSMC bank 1. */\n");
     h.push_str("#define TDM_REG(base, off) (*(volatile uint16_t *)((uintptr_t)(base) + (off)))\n\n");
     h.push_str("#endif /* TDM_STEPPER_REGS_H */\n");
@@ -712,6 +816,27 @@ fn contract(m: &mut String, p: &CoreParams) {
         v = PUSH_VERDICT_BUS_CLOCKS,
         c = COMMAND_SPACING_BUS_CLOCKS
     );
+    if p.encoder {
+        use crate::model::encoder::{max_count_rate_ticks, RATIO_MAX};
+        let k = p.axes;
+        let _ = writeln!(
+            m,
+            "* **Encoder feedback.** Each axis's count is 32-bit signed, 4 counts per line period. \
+             With the filter off the decoder counts an edge of A or B every {r0} clk ticks without loss \
+             (clk/{r0}, {f0:.1} M counts/s at this clock); with ENC_FILTER = n, one every \
+             ⌈(n + 3)/2⌉ ticks, at least 2. The following error of every axis is computed by one \
+             shared multiplier, round robin: each axis is refreshed every K = {k} clk ticks, and an \
+             ENC_FAIL follows the count or position crossing the tolerance within K + 4 = {fl} clk ticks \
+             (plus the count's way through the synchroniser and filter, 2 + n ticks). ENC_RATIO \
+             takes 0x1 to 0x{RATIO_MAX:X} (Q16.16 counts per step, at most 256); the deviation is \
+             ⌊position·ratio/2^16⌋ + offset − count, where ENC_ALIGN sets the offset that makes it 0. \
+             The window registers (ENC_COUNT .. ENC_STATE) show a copy of axis ENC_AXIS refreshed at \
+             least every K·(3 clk + 3 bus clocks); reading a *_LO half latches its *_HI half.",
+            r0 = max_count_rate_ticks(0),
+            f0 = p.clock_hz as f64 / max_count_rate_ticks(0) as f64 / 1e6,
+            fl = k + 4,
+        );
+    }
     if p.scurve {
         let _ = writeln!(
             m,

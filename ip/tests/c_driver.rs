@@ -627,3 +627,55 @@ fn readme_homing_example_runs_as_written_through_the_machine_io() {
     assert_eq!(field(&out, "STOPAXIS")[0], [-4, -4]);
     assert!(out.contains("RC 0\n"));
 }
+
+/// The README's encoder worked example (Encoder feedback), compiled as written with the
+/// header of an `--encoder` export (K = 2) and run through the shim with a motor per
+/// axis that follows STEP and DIR and an encoder of 5/4 counts per step: a 2,000-step
+/// move of axis 0 whose motor loses about 40 steps (the shim stalls it) ends with the
+/// encoder behind by their counts and ENC_FAIL set (IRQ_ENC.FAIL, tdm_enc_service);
+/// `check_and_correct` moves exactly the steps lost and leaves the encoder at the
+/// commanded position within a count, the deviation 0 and ENC_FAIL clear; a second
+/// call moves nothing; and the calls that must refuse do, with the documented codes.
+/// Without the encoder the functions are not in the driver.
+#[test]
+fn readme_encoder_example_corrects_lost_steps_through_the_driver() {
+    let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+    let section = readme.split("## Encoder feedback").nth(1).expect("README has an Encoder feedback section").split("\n## ").next().unwrap();
+    let code = section.split("```c\n").nth(1).expect("a C block").split("```").next().unwrap();
+    let dir = sim_dir("c_encoder", Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ExportOptions { axes: 2, encoder: true, ..Default::default() };
+    export::export(&opts, &dir).unwrap();
+    std::fs::write(dir.join("enc_example.c"), code).unwrap();
+    let example = gcc_c(&dir, &dir.join("enc_example.c"), "enc_example.o");
+    let exe = build_with_shim_flags(&dir, &tests_c().join("enc_main.c"), &[example], &["-DSHIM_ENC"]);
+    let out = run(Command::new(exe).current_dir(&dir), "the encoder example");
+    let one = |tag: &str| field(&out, tag).into_iter().next().unwrap_or_else(|| panic!("no {tag} line in:\n{out}"));
+    assert_eq!(one("IDENTIFY"), [0]);
+    assert_eq!((one("BADRATIO"), one("BIGRATIO"), one("BADFILTER"), one("BADSTOP")), (vec![-7], vec![-7], vec![-7], vec![-4]), "bad configurations");
+    assert_eq!((one("SETUP"), one("ENABLE"), one("ENABLED"), one("ALIGN")), (vec![0], vec![0], vec![-6], vec![0, -4]), "setup, enable, setup while enabled, align");
+    let lost = one("STALL")[0];
+    assert!((38..=42).contains(&lost), "the motor lost {lost} steps");
+    assert_eq!(one("MOVE"), [0, 2000], "the move ran to its end");
+    let counts = |steps: i64| (steps * 5).div_euclid(4);
+    let read = one("READ");
+    assert_eq!(read, [0, counts(2000 - lost), counts(2000) - counts(2000 - lost), 1, 0], "the encoder behind by the lost steps' counts, ENC_FAIL, no illegal transition");
+    assert_eq!(one("SERVICE"), [1, 1], "tdm_enc_service: IRQ_ENC.FAIL, ENC_FAIL of axis 0");
+    let c = one("CORRECT");
+    assert_eq!((c[0], c[1]), (0, lost), "the correction moved the lost steps");
+    assert!((c[2] - counts(2000)).abs() <= 1, "after the correction the encoder reads {}, the commanded position is {} counts", c[2], counts(2000));
+    assert_eq!((c[3], c[4]), (2000, 2000 + lost), "the motor at the commanded position, POS counting the correction");
+    let after = one("AFTER");
+    assert_eq!((after[0], after[2], after[3]), (0, 0, 0), "the deviation 0 and ENC_FAIL clear after the correction");
+    assert!((after[1] - counts(2000)).abs() <= 1);
+    assert_eq!(one("NOTHING"), [0, 0], "nothing to correct");
+    assert_eq!(one("BADAXIS"), [-4, -4]);
+    assert!(out.contains("RC 0\n"));
+    // The encoder functions exist only with an encoder export's header.
+    let syms = run(Command::new("nm").arg(dir.join("tdm_driver.o")), "nm");
+    assert!(syms.lines().any(|l| l.ends_with(" T tdm_enc_correct")), "tdm_enc_correct with --encoder");
+    let (plain, _) = export_dir("c_encoder_plain", 2);
+    gcc_c(&plain, &plain.join("tdm_driver.c"), "tdm_driver.o");
+    let syms = run(Command::new("nm").arg(plain.join("tdm_driver.o")), "nm");
+    assert!(!syms.contains("tdm_enc_"), "no tdm_enc_* without --encoder");
+}

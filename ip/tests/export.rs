@@ -108,13 +108,32 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         (1, "tdm", "none", "trapezoid,scurve"),
         (16, "tdm", "all", "trapezoid,scurve"),
         (3, "tdm", "limits,home", "trapezoid,scurve"),
+        // Encoder feedback (export --encoder): alone, with every machine I/O group, with
+        // some groups and the S-curve option.
+        (1, "tdm", "none", "trapezoid+enc"),
+        (16, "tdm", "none", "trapezoid+enc"),
+        (2, "tdm", "all", "trapezoid+enc"),
+        (3, "tdm", "probe,limits", "trapezoid,scurve+enc"),
     ];
     for (k, arch, io, profiles) in cases {
+        let (profiles, enc) = match profiles.strip_suffix("+enc") {
+            Some(p) => (p, true),
+            None => (profiles, false),
+        };
         let tag = if profiles == "trapezoid" { String::new() } else { "_scurve".into() };
-        let dir = export_to(&["--axes", &k.to_string(), "--arch", arch, "--io", io, "--profiles", profiles], &format!("export_lint_{arch}_{k}_{io}{tag}"));
+        let tag = if enc { tag + "_enc" } else { tag };
+        let mut args = vec!["--axes".to_string(), k.to_string(), "--arch".into(), arch.into(), "--io".into(), io.into(), "--profiles".into(), profiles.into()];
+        if enc {
+            args.push("--encoder".into());
+        }
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let dir = export_to(&args, &format!("export_lint_{arch}_{k}_{io}{tag}"));
         let v = std::fs::read_to_string(dir.join("tdm_stepper.v")).unwrap();
-        let want: Vec<(String, String, usize)> =
-            export::ports(k, { let c = export::parse_io(io).unwrap(); if c.io { tdm_stepper::regs::IO_ALL & !c.omit } else { 0 } }).iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
+        let mut want_ports = export::ports(k, { let c = export::parse_io(io).unwrap(); if c.io { tdm_stepper::regs::IO_ALL & !c.omit } else { 0 } });
+        if enc {
+            want_ports.extend(export::encoder_ports(k));
+        }
+        let want: Vec<(String, String, usize)> = want_ports.iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
         assert_eq!(verilog_ports(&v), want, "K = {k} {arch}: ports differ from export::ports (and the manifest)");
         // No system tasks or delays. (rust-hdl's flip-flops carry `initial q = 0`
         // blocks: power-up values, which FPGA synthesis honours.)
@@ -143,7 +162,7 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         assert!(out.status.success(), "K = {k} {arch}: verilator -Wall:\n{}", String::from_utf8_lossy(&out.stderr));
     }
     // No true combinational loop (the waived UNOPTFLAT are block-level only).
-    for case in ["export_lint_tdm_2_none", "export_lint_tdm_3_all"] {
+    for case in ["export_lint_tdm_2_none", "export_lint_tdm_3_all", "export_lint_tdm_2_all_enc"] {
         let dir = sim_dir(case, Simulator::Verilator);
         let out = Command::new("yosys")
             .current_dir(&dir)

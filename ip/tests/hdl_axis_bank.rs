@@ -224,6 +224,7 @@ fn uut() -> AxisBank<K, DEPTH> {
     u.home_latch.connect();
     u.probe_latch.connect();
     u.lsel_axis.connect();
+    u.epos_axis.connect();
     u.stop.connect();
     u.connect_all();
     u

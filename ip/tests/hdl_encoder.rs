@@ -559,6 +559,40 @@ fn enc_fail_comes_within_one_refresh_and_four_ticks_and_align_zeroes_the_deviati
     }
 }
 
+/// A clear right after an align sticks, whatever the delay between them: no visit
+/// that took the old offset (in flight when the align came) sets the flag after the
+/// clear. The C driver's correction writes ENC_ALIGN, then ENC_CLEAR a few ticks later;
+/// without the rule the flag came back at delays of 1 to 4 ticks.
+#[test]
+fn a_clear_right_after_an_align_sticks() {
+    let mut failed_before = 0;
+    for k in [1usize, 2, 3, 16] {
+        for delay in 0..12u64 {
+            let mut m = FollowErrModel::new(k);
+            let mut taken = [0u32; 2];
+            let (ratio, tol) = (0x1_4000u32, 6u16);
+            // Every axis 50 counts behind its steps: the flags set.
+            let (pos, count) = (2_000u32, 2_450u32);
+            let all = (1u32 << k) - 1;
+            for edge in 0..(3 * k as u64 + 10) {
+                fe_clock(&mut m, &mut taken, pos, count, ratio, tol, 0, 0, edge < 2);
+            }
+            assert_eq!(m.fail(), all, "K = {k}: the flags before the align");
+            for edge in 0..(3 * k as u64 + 20) {
+                let al = if edge == 0 { all } else { 0 };
+                let cl = if edge == delay { all } else { 0 };
+                fe_clock(&mut m, &mut taken, pos, count, ratio, tol, al, cl, false);
+                if edge == delay + 1 && m.fail() != 0 {
+                    failed_before += 1;
+                }
+            }
+            assert_eq!(m.fail(), 0, "K = {k}: a clear {delay} ticks after the align did not stick");
+            assert!((0..k).all(|b| m.dev(b) == Some(0)), "K = {k}: aligned");
+        }
+    }
+    assert_eq!(failed_before, 0, "a flag came back right after its clear");
+}
+
 const BK: usize = 2;
 
 /// The bank three ways: two axes whose steps move both ways and whose encoders follow

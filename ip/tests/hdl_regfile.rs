@@ -24,7 +24,7 @@ const K: usize = 2;
 const L: usize = PUSH_CHECK_LATENCY;
 
 fn uut() -> RegFile<K> {
-    let p = CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: 16, fifo_depth: 4, t_calc: 22, min_period: 2, io: false, io_omit: 0, scurve: false };
+    let p = CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: 16, fifo_depth: 4, t_calc: 22, min_period: 2, io: false, io_omit: 0, scurve: false, encoder: false };
     let mut u = RegFile::<K>::new(p);
     u.clock.connect();
     u.reset.connect();

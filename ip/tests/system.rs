@@ -13,7 +13,7 @@ use tdm_stepper::hdl::top::{TdmStepper, TdmStepperIo};
 use tdm_stepper::model::{pulse, AxisRun, Limits, PulseTiming, Segment};
 use tdm_stepper::regs::{self, CoreParams};
 use tdm_stepper::verify::bus::{
-    position, run_stepper_io_rust_hdl, run_stepper_rust_hdl, samples_to_bus_events, stepper_watch, system_spec, BusModel, BusTiming,
+    position, run_stepper_io_rust_hdl, run_stepper_rust_hdl, samples_to_bus_events, stepper_watch, system_spec, BusModel, BusTiming, ReadId,
 };
 use tdm_stepper::verify::system::{run_system, run_system_with, Clocks, RunOptions, SystemTrace};
 use tdm_stepper::verify::{Port, Simulator};
@@ -27,7 +27,7 @@ const CLOCKS: Clocks = Clocks { clk_half_ps: 10_002, bus_half_ps: 5_001 };
 const MCU_HALF_PS: u64 = 2_976;
 
 fn params<const K: usize>() -> CoreParams {
-    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false, io_omit: 0, scurve: false }
+    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: QDEPTH, fifo_depth: DEPTH, t_calc: t_calc_sqrt(R), min_period: Limits::default().min_period_ticks, io: false, io_omit: 0, scurve: false, encoder: false }
 }
 
 fn dut<const K: usize>() -> TdmStepper<K, R, DEPTH, QDEPTH> {
@@ -1986,4 +1986,271 @@ fn scurve_moves_through_the_bus_in_verilator() {
 /// The segments of `ms` that pass validation.
 fn motion_count(ms: &[tdm_stepper::model::Motion], limits: &Limits) -> usize {
     ms.iter().filter(|m| m.validate(limits).is_ok()).count()
+}
+
+// ---- encoder feedback (export --encoder) --------------------------------------------
+
+/// The exported core with encoder feedback in Verilator, inside `enc_rig`: motors that
+/// follow STEP and DIR with encoders of 5/4 counts per step (`verify::encoder`), the
+/// bus events with the rig's pins beside them (`stall`, `slip`, `bounce`), watching
+/// step, dir, irq and axis 0's encoder position.
+fn verilator_enc<const K: usize>(name: &str, b: &BusModel, cycles: u64, rig: &tdm_stepper::verify::encoder::RigConfig, pins: &[(u64, Vec<u128>)]) -> SystemTrace {
+    let opts = tdm_stepper::export::ExportOptions { axes: K, encoder: true, ..Default::default() };
+    let verilog = tdm_stepper::export::verilog(&opts).unwrap()
+        + &tdm_stepper::verify::encoder::rig_verilog(tdm_stepper::export::TOP_MODULE, K, tdm_stepper::hdl::core::STATE_BITS, rig);
+    let mut watch = stepper_watch(K);
+    watch.push(Port::new("count0", 32));
+    let mut spec = system_spec("enc_rig", watch);
+    for (n, w) in [("stall", K), ("slip", K), ("bounce", 1)] {
+        spec.inputs.push(Port::new(n, w));
+    }
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &[0, 0, 1], pins);
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
+    samples_to_bus_events(&mut tr, &index);
+    tr
+}
+
+/// Axis 0's encoder position (the rig's count) at the end of clk cycle `c`.
+fn count0_at(tr: &SystemTrace, c: u64) -> i32 {
+    tr.changes.iter().take_while(|(cc, _)| *cc <= c).last().map_or(0, |(_, v)| v[3].unwrap_or(0) as u32 as i32)
+}
+
+/// The bus script of [`encoder_feedback_through_the_bus_counts_trips_stops_and_corrects`]
+/// and what it reads; `correction`: the correction move's steps (known from a first run).
+struct EncScript {
+    b: BusModel,
+    pins: Vec<(u64, Vec<u128>)>,
+    r_filter: (ReadId, ReadId),
+    r_axis: (ReadId, ReadId),
+    r_ratio0: ReadId,
+    r_ratio_big: ReadId,
+    r_back: (ReadId, ReadId, ReadId, ReadId),
+    r_default: (ReadId, ReadId, ReadId),
+    r_enabled: (ReadId, ReadId, ReadId),
+    out: [ReadId; 4],
+    out_idx: [ReadId; 4],
+    back: [ReadId; 4],
+    back_state: [ReadId; 3],
+    back_pos: (ReadId, ReadId),
+    stalled: [ReadId; 3],
+    stalled_pos: (ReadId, ReadId),
+    stalled_dev: (ReadId, ReadId),
+    t_stall: u64,
+    t_correct: u64,
+    corrected: Option<([ReadId; 4], (ReadId, ReadId), ReadId)>,
+    t_slip: u64,
+    slipped: [ReadId; 2],
+}
+
+const ENC_TOL: u16 = 8;
+const ENC_PERIOD: u32 = 150;
+
+fn enc_script(rig: &tdm_stepper::verify::encoder::RigConfig, correction: Option<i32>) -> EncScript {
+    const K: usize = 2;
+    let tick = 2 * CLOCKS.clk_half_ps;
+    let mut b = bus();
+    let mut pins: Vec<(u64, Vec<u128>)> = Vec::new();
+    // Configuration, with every refusal.
+    b.write_reg("ENC_FILTER", 0, 16);
+    let r_filter = (b.read_reg("ENC_STATUS", 0), b.read_reg("ENC_FILTER", 0));
+    b.write_reg("ENC_STATUS", 0, 1);
+    b.write_reg("ENC_FILTER", 0, 2);
+    b.write_reg("ENC_AXIS", 0, K as u16);
+    let r_axis = (b.read_reg("ENC_STATUS", 0), b.read_reg("ENC_AXIS", 0));
+    b.write_reg("ENC_STATUS", 0, 1);
+    b.write_reg("ENC_RATIO_LO", 0, 0);
+    b.write_reg("ENC_RATIO_HI", 0, 0);
+    let r_ratio0 = b.read_reg("ENC_STATUS", 0);
+    b.write_reg("ENC_STATUS", 0, 1);
+    b.write_reg("ENC_RATIO_LO", 0, 1);
+    b.write_reg("ENC_RATIO_HI", 0, 0x100);
+    let r_ratio_big = b.read_reg("ENC_STATUS", 0);
+    b.write_reg("ENC_STATUS", 0, 1);
+    let q = rig.ratio_q16();
+    b.write_reg("ENC_RATIO_LO", 0, q as u16);
+    b.write_reg("ENC_RATIO_HI", 0, (q >> 16) as u16);
+    b.write_reg("ENC_TOL", 0, ENC_TOL);
+    let r_back = (b.read_reg("ENC_RATIO_LO", 0), b.read_reg("ENC_RATIO_HI", 0), b.read_reg("ENC_TOL", 0), b.read_reg("ENC_STATUS", 0));
+    b.write_reg("ENC_AXIS", 0, 1);
+    let r_default = (b.read_reg("ENC_RATIO_LO", 0), b.read_reg("ENC_RATIO_HI", 0), b.read_reg("ENC_TOL", 0));
+    b.write_reg("ENC_AXIS", 0, 0);
+    b.write_reg("ENC_STOP", 0, 0b01);
+    b.write_reg("IRQ_MASK_ENC", 0, 0b001);
+    b.enable(ENABLE_WAIT);
+    b.write_reg("ENC_FILTER", 0, 3);
+    let r_enabled = (b.read_reg("ENC_STATUS", 0), b.read_reg("ENC_FILTER", 0), b.read_reg("ENC_RATIO_LO", 0));
+    b.write_reg("ENC_STATUS", 0, 1);
+    b.write_reg("ENC_ALIGN", 0, 0b11);
+    b.idle(200);
+    let count_reads = |b: &mut BusModel| [b.read_reg("ENC_COUNT_LO", 0), b.read_reg("ENC_COUNT_HI", 0), b.read_reg("ENC_DEV_LO", 0), b.read_reg("ENC_DEV_HI", 0)];
+
+    // Out 3,200 steps (one revolution of counts, past the index), then back 1,600.
+    b.push_segment(0, &uniform(3_200 * ENC_PERIOD, 3_200));
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + (3_200 * ENC_PERIOD as u64 + 2_000) * tick);
+    let out = count_reads(&mut b);
+    let out_idx = [b.read_reg("ENC_INDEX_LO", 0), b.read_reg("ENC_INDEX_HI", 0), b.read_reg("IRQ_ENC", 0), b.read_reg("ENC_STATE", 0)];
+    b.write_reg("IRQ_ENC", 0, 0b110);
+    b.push_segment(0, &uniform(1_600 * ENC_PERIOD, -1_600));
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + (1_600 * ENC_PERIOD as u64 + 2_000) * tick);
+    let back = count_reads(&mut b);
+    let back_state = [b.read_reg("ENC_STATE", 0), b.read_reg("ENC_FAIL", 0), b.read_reg("IRQ_ENC", 0)];
+    let back_pos = b.read_position(0);
+
+    // A stall 400 steps into a 2,000-step move.
+    b.push_segment(0, &uniform(2_000 * ENC_PERIOD, 2_000));
+    b.write_reg("START", 0, 0b01);
+    let t_stall = b.now_ps() + 400 * ENC_PERIOD as u64 * tick;
+    pins.push((t_stall, vec![1, 0, 1]));
+    b.idle_until_ps(t_stall + 20_000 * tick);
+    let stalled = [b.read_reg("ENC_FAIL", 0), b.read_reg("IRQ_ENC", 0), b.read_reg("BUSY", 0)];
+    let stalled_pos = b.read_position(0);
+    let stalled_dev = (b.read_reg("ENC_DEV_LO", 0), b.read_reg("ENC_DEV_HI", 0));
+    // The motor free again; align (the deviation kept in the offset), clear, and move
+    // the steps the motor lost.
+    pins.push((b.now_ps() + 1_000 * tick, vec![0, 0, 1]));
+    b.idle_until_ps(b.now_ps() + 2_000 * tick);
+    b.write_reg("ENC_ALIGN", 0, 0b01);
+    b.write_reg("ENC_CLEAR", 0, 0b01);
+    b.write_reg("IRQ_ENC", 0, 0b111);
+    b.idle(200);
+    let t_correct = b.now_ps();
+    let mut corrected = None;
+    if let Some(n) = correction {
+        b.push_segment(0, &uniform(n.unsigned_abs() * 400, n));
+        b.write_reg("START", 0, 0b01);
+        b.idle_until_ps(b.now_ps() + (n.unsigned_abs() as u64 * 400 + 2_000) * tick);
+        corrected = Some((count_reads(&mut b), b.read_position(0), b.read_reg("ENC_FAIL", 0)));
+    }
+    // A slip 300 steps into a 1,000-step move.
+    b.push_segment(0, &uniform(1_000 * ENC_PERIOD, 1_000));
+    b.write_reg("START", 0, 0b01);
+    let t_slip = b.now_ps() + 300 * ENC_PERIOD as u64 * tick;
+    pins.push((t_slip, vec![0, 1, 1]));
+    b.idle_until_ps(t_slip + 10_000 * tick);
+    let slipped = [b.read_reg("ENC_FAIL", 0), b.read_reg("BUSY", 0)];
+    EncScript {
+        b,
+        pins,
+        r_filter,
+        r_axis,
+        r_ratio0,
+        r_ratio_big,
+        r_back,
+        r_default,
+        r_enabled,
+        out,
+        out_idx,
+        back,
+        back_state,
+        back_pos,
+        stalled,
+        stalled_pos,
+        stalled_dev,
+        t_stall,
+        t_correct,
+        corrected,
+        t_slip,
+        slipped,
+    }
+}
+
+/// Encoder feedback through the bus, against motors with 5/4 counts per step (4,000
+/// counts per revolution against 3,200 steps), an index once per revolution and
+/// contact bounce on A shorter than the filter: bad configuration is refused with its
+/// code (filter 16, ratio 0 or above the maximum, an axis the core lacks, a write
+/// while enabled) and changes nothing; the ratio and tolerance read back, 1.0 and 0 on
+/// an axis never written; a move out and back (a reversal) leaves ENC_COUNT exact, the
+/// deviation 0, no illegal transition, and the index latch at the index's count; a
+/// stall (counts stop, steps go on) trips ENC_FAIL at the tolerance and, with ENC_STOP,
+/// stops the axis on the step that crossed it (IRQ_ENC.FAIL, the irq line, BUSY 0, the
+/// position equal to the edges emitted); the correction (ENC_ALIGN and ENC_CLEAR, then
+/// a move of the deviation over the ratio) brings the encoder to the commanded position
+/// within a count; a slip (the motor thrown back) trips it and stops the axis within
+/// the documented latency.
+#[test]
+fn encoder_feedback_through_the_bus_counts_trips_stops_and_corrects() {
+    use tdm_stepper::hdl::follow_err::FOLLOW_ERR_LATENCY;
+    use tdm_stepper::model::encoder::{pin_to_level_ticks, EncRefusal};
+    const K: usize = 2;
+    let rig = tdm_stepper::verify::encoder::RigConfig::default();
+    let tick = 2 * CLOCKS.clk_half_ps;
+    let dev_of = |b: &BusModel, tr: &SystemTrace, ids: (ReadId, ReadId)| position(b, tr, ids).unwrap();
+    // First run: the deviation the stall leaves, for the correction move.
+    let first = enc_script(&rig, None);
+    let cycles = first.t_correct / tick + 1_000;
+    let tr = verilator_enc::<K>("enc_first", &first.b, cycles, &rig, &first.pins);
+    let dev = dev_of(&first.b, &tr, first.stalled_dev);
+    assert!(dev > ENC_TOL as i32, "the stall left a deviation of {dev} counts, within the tolerance");
+    let n = ((dev as i64 * 65_536 + rig.ratio_q16() as i64 / 2) / rig.ratio_q16() as i64) as i32;
+    let s = enc_script(&rig, Some(n));
+    let cycles = cycles_after(&s.b, 2_000);
+    let tr = verilator_enc::<K>("enc", &s.b, cycles, &rig, &s.pins);
+    let b = &s.b;
+    let v = |id| b.value(&tr, id).expect("read returned x");
+    let refused = |code: EncRefusal| 1 | (code.code() as u16) << 4;
+
+    // Configuration.
+    assert_eq!((v(s.r_filter.0), v(s.r_filter.1)), (refused(EncRefusal::Filter), 0), "ENC_FILTER = 16 is refused");
+    assert_eq!((v(s.r_axis.0), v(s.r_axis.1)), (refused(EncRefusal::Axis), 0), "ENC_AXIS = K is refused");
+    assert_eq!(v(s.r_ratio0), refused(EncRefusal::Ratio), "a ratio of 0 is refused");
+    assert_eq!(v(s.r_ratio_big), refused(EncRefusal::Ratio), "a ratio above the maximum is refused");
+    let q = rig.ratio_q16();
+    assert_eq!((v(s.r_back.0), v(s.r_back.1), v(s.r_back.2), v(s.r_back.3)), (q as u16, (q >> 16) as u16, ENC_TOL, 0), "the ratio and tolerance read back");
+    assert_eq!((v(s.r_default.0), v(s.r_default.1), v(s.r_default.2)), (0, 1, 0), "an axis never written: ratio 1.0, tolerance 0");
+    assert_eq!((v(s.r_enabled.0), v(s.r_enabled.1), v(s.r_enabled.2)), (refused(EncRefusal::Enabled), 2, 0), "a configuration write while enabled is refused; the ratio reads 0");
+
+    // Out and back: exact counts, no deviation, the index latched, no illegal count.
+    let out = [v(s.out[0]), v(s.out[1]), v(s.out[2]), v(s.out[3])];
+    assert_eq!(((out[1] as u32) << 16 | out[0] as u32) as i32, rig.counts(3_200) as i32, "ENC_COUNT after 3,200 steps");
+    assert_eq!(((out[3] as u32) << 16 | out[2] as u32) as i32, 0, "ENC_DEV after 3,200 steps");
+    let idx = [v(s.out_idx[0]), v(s.out_idx[1]), v(s.out_idx[2]), v(s.out_idx[3])];
+    assert_eq!(((idx[1] as u32) << 16 | idx[0] as u32) as i32, rig.index_at, "ENC_INDEX: the count at the index");
+    assert_eq!(idx[2] & 0b110, 0b100, "IRQ_ENC: INDEX, no ILLEGAL");
+    assert_eq!(idx[3] & 0xFF, 0, "ENC_STATE.ILLEGAL: bounce shorter than the filter is no fault");
+    assert_eq!(idx[3] >> 15, 1, "ENC_STATE.VALID");
+    assert_eq!(idx[3] >> 9 & 1, 1, "ENC_STATE.DIR after moving up");
+    let back = [v(s.back[0]), v(s.back[1]), v(s.back[2]), v(s.back[3])];
+    assert_eq!(((back[1] as u32) << 16 | back[0] as u32) as i32, rig.counts(1_600) as i32, "ENC_COUNT after the reversal");
+    assert_eq!(((back[3] as u32) << 16 | back[2] as u32) as i32, 0, "ENC_DEV after the reversal");
+    assert_eq!((v(s.back_state[0]) & 0xFF, v(s.back_state[0]) >> 9 & 1, v(s.back_state[1]), v(s.back_state[2])), (0, 0, 0, 0), "ENC_STATE, ENC_FAIL, IRQ_ENC after the reversal");
+    assert_eq!(position(b, &tr, s.back_pos), Some(1_600));
+
+    // The stall: ENC_FAIL on the step that crossed the tolerance, and the stop.
+    let e0 = s.t_stall.div_ceil(tick);
+    let r = rises(&tr, 0);
+    // The motor's position when it stalled: 1,600 and the third move's steps before it.
+    let before = 1_600 + r.iter().filter(|&&c| c < e0).count() as i64 - 4_800;
+    let after: Vec<u64> = r.iter().copied().filter(|&c| c >= e0 && c < s.t_correct / tick).collect();
+    let stalled_counts = rig.counts(before);
+    assert_eq!(count0_at(&tr, e0 + 1_000) as i64, stalled_counts, "the rig's count at the stall");
+    let crossing = (1..).find(|&k| rig.counts(before + k) - stalled_counts > ENC_TOL as i64).unwrap();
+    assert_eq!(after.len() as i64, crossing, "STEP edges after the stall: the axis stops on the step that crosses the tolerance");
+    let (fail, irq_enc, busy) = (v(s.stalled[0]), v(s.stalled[1]), v(s.stalled[2]));
+    assert_eq!((fail, irq_enc & 1, busy & 1), (1, 1, 0), "ENC_FAIL, IRQ_ENC.FAIL and BUSY after the stall");
+    assert!(irq_edges(&tr).0.iter().any(|&c| c > *after.last().unwrap() && c < after.last().unwrap() + 200), "the irq line rose for IRQ_ENC.FAIL");
+    let pos = position(b, &tr, s.stalled_pos).unwrap();
+    assert_eq!(pos as i64, before + after.len() as i64, "position against the edges emitted");
+    assert_eq!(dev as i64, rig.counts(pos as i64) - stalled_counts, "ENC_DEV after the stop");
+
+    // The correction: the encoder where the steps commanded before it put the motor.
+    let (cr, cpos, cfail) = s.corrected.unwrap();
+    assert_eq!(v(cfail), 0, "ENC_FAIL after the align, the clear and the correction");
+    let cnt = ((v(cr[1]) as u32) << 16 | v(cr[0]) as u32) as i32;
+    assert!((cnt as i64 - rig.counts(pos as i64)).abs() <= 1, "after the correction the encoder reads {cnt}, the commanded position is {} counts", rig.counts(pos as i64));
+    assert_eq!(position(b, &tr, cpos), Some(pos + n), "the correction moved {n} steps");
+    assert_eq!(((v(cr[3]) as u32) << 16 | v(cr[2]) as u32) as i32, 0, "ENC_DEV after the correction (aligned)");
+
+    // The slip: ENC_FAIL and the stop within the latency the docs give.
+    let e_slip = s.t_slip.div_ceil(tick);
+    let last = *r.last().unwrap();
+    // The rig's lines reach a deviation above the tolerance within (TOL + 1) counts
+    // (steps only add to it), each count through the synchroniser and filter, seen
+    // by the next visit (K + 1 ticks), ENC_FAIL within K + FOLLOW_ERR_LATENCY, and the
+    // stop at once.
+    let bound = e_slip + 2 + (ENC_TOL as u64 + 1) * rig.gap as u64 + pin_to_level_ticks(2) + (K as u64 + 1) + K as u64 + FOLLOW_ERR_LATENCY + 1;
+    assert!(last > e_slip - 2 * ENC_PERIOD as u64 && last <= bound, "last STEP edge at {last}: slip at {e_slip}, bound {bound}");
+    assert_eq!((v(s.slipped[0]), v(s.slipped[1]) & 1), (1, 0), "ENC_FAIL and BUSY after the slip");
 }

@@ -37,7 +37,7 @@
 //!   flushed; `reset` (synchronous): the axes stop (a pulse in flight finishes) and
 //!   their counters and latches clear.
 
-use super::bit_insert::{BitInsert, BitPick};
+use super::bit_insert::{BitInsert, BitPick, FieldPlace};
 use super::pulse_stage::PulseStage;
 use super::ram_fifo::ENTRY_BITS;
 use super::step_gen::StepAxis;
@@ -83,6 +83,13 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     pub probe_latch: Signal<In, Bit>,
     pub lsel_axis: Signal<In, Bits<8>>,
     pub lsel_word: Signal<Out, Bits<LATCH_BITS>>,
+    /// Encoder feedback: axis `epos_axis`'s position on `epos` (combinational, a tree
+    /// of multiplexers; tied to 0 and unread it costs nothing).
+    pub epos_axis: Signal<In, Bits<4>>,
+    pub epos: Signal<Out, Bits<32>>,
+    epack: [FieldPlace<32, 512>; K],
+    e_all: Signal<Local, Bits<512>>,
+    e_shift: Signal<Local, Bits<512>>,
     axes: [StepAxis<DEPTH>; K],
     home_q: [DFF<Bits<32>>; K],
     probe_q: [DFF<Bits<32>>; K],
@@ -147,6 +154,11 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             probe_latch: Default::default(),
             lsel_axis: Default::default(),
             lsel_word: Default::default(),
+            epos_axis: Default::default(),
+            epos: Default::default(),
+            epack: std::array::from_fn(|i| FieldPlace::new(32 * i)),
+            e_all: Default::default(),
+            e_shift: Default::default(),
             axes: std::array::from_fn(|_| Default::default()),
             home_q: std::array::from_fn(|_| Default::default()),
             probe_q: std::array::from_fn(|_| Default::default()),
@@ -287,6 +299,19 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
             self.full_bus[i].bus_in.next = self.full_bus[i - 1].bus_out.val();
             self.sat_bus[i].bus_in.next = self.sat_bus[i - 1].bus_out.val();
         }
+        // Axis `epos_axis`'s position: the positions packed at a stride of 32 bits,
+        // picked by a shift (see `FieldPlace`).
+        self.epack[0].bus_in.next = 0.into();
+        for i in 1..K {
+            self.epack[i].bus_in.next = self.epack[i - 1].bus_out.val();
+        }
+        for i in 0..K {
+            self.epack[i].value.next = self.axes[i].position.val();
+            // (The last assignment, axis K − 1's, stands.)
+            self.e_all.next = self.epack[i].bus_out.val();
+        }
+        self.e_shift.next = self.e_all.val() >> (bit_cast::<16, 4>(self.epos_axis.val()) << 5);
+        self.epos.next = self.e_shift.val().get_bits::<32>(0);
         self.lsel_word.next = bit_cast::<LATCH_BITS, 32>(self.l_home.val())
             | (bit_cast::<LATCH_BITS, 32>(self.l_probe.val()) << 32)
             | (bit_cast::<LATCH_BITS, 1>(self.l_htog.val().into()) << 64)

@@ -63,6 +63,9 @@ pub struct Baseline<const K: usize, const R: usize, const DEPTH: usize, const QD
     pub probe_latch: Signal<In, Bit>,
     pub lsel_axis: Signal<In, Bits<8>>,
     pub lsel_word: Signal<Out, Bits<LATCH_BITS>>,
+    /// Encoder feedback: not in the baseline (`epos` reads 0).
+    pub epos_axis: Signal<In, Bits<4>>,
+    pub epos: Signal<Out, Bits<32>>,
     cores: [TdmCore<1, R, DEPTH, QDEPTH>; K],
     sync: SyncStart<K>,
     step_bus: [BitInsert<K>; K],
@@ -133,6 +136,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             probe_latch: Default::default(),
             lsel_axis: Default::default(),
             lsel_word: Default::default(),
+            epos_axis: Default::default(),
+            epos: Default::default(),
             start_failed: Default::default(),
             fail_tog: Default::default(),
             cores: std::array::from_fn(|_| TdmCore::new()),
@@ -176,10 +181,12 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
         self.sel_underruns.next = 0.into();
         self.sel_busy.next = false;
         self.lsel_word.next = 0.into();
+        self.epos.next = 0.into();
         for i in 0..K {
             self.cores[i].home_latch.next = 0.into();
             self.cores[i].probe_latch.next = false;
             self.cores[i].lsel_axis.next = 0.into();
+            self.cores[i].epos_axis.next = 0.into();
             self.cores[i].abort.next = self.abort.val();
             self.stop_pick[i].bus.next = self.stop_axes.val();
             self.cores[i].stop_axes.next = self.stop_pick[i].value.val().into();

@@ -214,6 +214,10 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     pub probe_latch: Signal<In, Bit>,
     pub lsel_axis: Signal<In, Bits<8>>,
     pub lsel_word: Signal<Out, Bits<LATCH_BITS>>,
+    /// Encoder feedback (tie to 0 without it): axis `epos_axis`'s position on `epos`,
+    /// combinationally (see [`AxisBank`]).
+    pub epos_axis: Signal<In, Bits<4>>,
+    pub epos: Signal<Out, Bits<32>>,
 
     /// Every axis's segment queue ([`SegQueue`]: one RAM, two counters per axis). Its
     /// registered read holds axis m's head from PICK into S_CHECK.
@@ -492,6 +496,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             probe_latch: Default::default(),
             lsel_axis: Default::default(),
             lsel_word: Default::default(),
+            epos_axis: Default::default(),
+            epos: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
             sel_queue: Default::default(),
@@ -1254,6 +1260,8 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
         self.bank.probe_latch.next = self.probe_latch.val();
         self.bank.lsel_axis.next = self.lsel_axis.val();
         self.lsel_word.next = self.bank.lsel_word.val();
+        self.bank.epos_axis.next = self.epos_axis.val();
+        self.epos.next = self.bank.epos.val();
         self.step.next = self.bank.step.val();
         self.dir.next = self.bank.dir.val();
         self.underrun.next = self.bank.underrun.val();

@@ -14,7 +14,9 @@
 //!   [`super::enc_extend::EncExtend`]'s `count1`).
 //! * `align`, `clear` (bit a, one cycle each): align axis a (its offset becomes the
 //!   value that makes its deviation 0 at its next visit; until that visit's write its
-//!   deviation reads 0 and cannot fail), clear its ENC_FAIL flag.
+//!   deviation reads 0, and from the align until then the axis cannot fail, from a
+//!   visit already in flight either: a clear right after an align sticks), clear its
+//!   ENC_FAIL flag.
 //! * `dev_axis` → `dev`: the last deviation computed for that axis (LUT RAM,
 //!   asynchronous read); `fail` (bit a, a register): axis a's |dev| exceeded a non-zero
 //!   tolerance since its flag was last cleared (or reset). An axis's `dev` is
@@ -276,8 +278,10 @@ impl<const K: usize> Logic for FollowErr<K> {
         // |dev| > tol, as dev > tol or dev < −tol (signed), each an unsigned compare
         // with the sign bit flipped.
         self.flip.next = self.s4_dev.q.val() ^ self.c_sign.val();
+        // (No fail while the axis's align is pending, from a visit in flight either.)
         self.over.next = self.s4_ok.q.val()
             & !self.s4_al.q.val()
+            & !((self.al_q.q.val() | self.align.val()) & self.oh4.val()).any()
             & self.s4_tol.q.val().any()
             & ((self.flip.val() > self.s4_hib.q.val()) | (self.flip.val() < self.s4_lob.q.val()));
         self.fail_q.d.next = self.fail_q.q.val() & !self.clear.val();

@@ -338,7 +338,7 @@ fn o4(name: &str) -> Constant<Bits<4>> {
 
 /// Reset values of the I/O registers do not depend on the core's parameters.
 const IO_PARAMS: regs::CoreParams =
-    regs::CoreParams { axes: 1, clock_hz: 1, queue_depth: 2, fifo_depth: 2, t_calc: 1, min_period: 2, io: true, io_omit: 0, scurve: false };
+    regs::CoreParams { axes: 1, clock_hz: 1, queue_depth: 2, fifo_depth: 2, t_calc: 1, min_period: 2, io: true, io_omit: 0, scurve: false, encoder: false };
 
 impl<const K: usize> IoRegs<K> {
     /// The registers of an export with the machine I/O groups `groups`

@@ -26,6 +26,7 @@
 //! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
 //! | one machine input: synchroniser, polarity, filter | `input_filter.rs` | 2 + n samples (pin to level) |
 //! | machine I/O and safety: input filters, e-stop latch, watchdog, hard-stop request, driver enables, latch strobes | `machine_io.rs` | as its filters; `hard_stop` 3 + n ticks from the e-stop pin |
+//! | encoder registers (bus clock) and their crossings: config, commands, ENC_FAIL, the window of one axis | `enc_regs.rs` | commands 3–4 clk; window copies every K·(3 clk + 3 bus clocks) |
 //! | the whole IP core, `tdm_stepper` (and its baseline form) | `top.rs` | — |
 //!
 //! Timing conventions, latencies, sizes and what each test proves: docs/architecture.md.
@@ -57,6 +58,7 @@ macro_rules! core_connect_ports {
             self.home_latch.connect();
             self.probe_latch.connect();
             self.lsel_axis.connect();
+            self.epos_axis.connect();
             self.connect_all();
         }
     };
@@ -82,6 +84,7 @@ pub mod divider;
 pub mod enc_bank;
 pub mod enc_decoder;
 pub mod enc_extend;
+pub mod enc_regs;
 pub mod exmc;
 pub mod follow_err;
 pub mod input_filter;

@@ -36,6 +36,8 @@
 use super::baseline::Baseline;
 use super::cdc::{AsyncFifo, BitSync};
 use super::core::{TdmCore, STATE_BITS};
+use super::enc_bank::EncoderBank;
+use super::enc_regs::EncRegs;
 use super::exmc::ExmcSlave;
 use super::io_regs::IoRegs;
 use super::machine_io::MachineIo;
@@ -50,7 +52,7 @@ use crate::regs::{CoreParams, ADDR_BITS};
 use rust_hdl::prelude::*;
 
 macro_rules! stepper_top {
-    ($name:ident, $core:ident, $doc:expr $(, $io:ident)?) => {
+    ($name:ident, $core:ident, $doc:expr $(, $io:ident)? $(; $enc:ident)?) => {
         #[doc = $doc]
         #[derive(LogicBlock)]
         pub struct $name<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, const S: usize = 0> {
@@ -96,6 +98,17 @@ macro_rules! stepper_top {
             c_start: DFF<Bit>,
             c_abort: DFF<Bit>,
             c_word: DFF<Bits<104>>,
+            /// The read bus, the irq and the per-axis hard stops of the register file
+            /// and the machine I/O; the encoder's (0 without it), ORed with them last.
+            rd_base: Signal<Local, Bits<16>>,
+            irq_base: Signal<Local, Bit>,
+            stop_base: Signal<Local, Bits<K>>,
+            e_rd: Signal<Local, Bits<16>>,
+            e_irq: Signal<Local, Bit>,
+            e_stop: Signal<Local, Bits<K>>,
+            e_stop_ev: Signal<Local, Bits<K>>,
+            /// The machine I/O's probe strobe, for the encoders' probe latch (0 without it).
+            io_probe: Signal<Local, Bit>,
             $(
                 /// Machine I/O (`export --io all`): the input pins, per axis (bit a = axis a)
                 /// and global, and the drivers' enables.
@@ -112,6 +125,17 @@ macro_rules! stepper_top {
                 pub stop_regs: StopRegs<K>,
                 /// The selected axis's BUSY, registered (see `update`).
                 busy_q: DFF<Bit>,
+            )?
+            $(
+                /// Encoder feedback (`export --encoder`): the quadrature pins (bit a = axis
+                /// a; asynchronous), the decoders with the shared following-error unit
+                /// ([`EncoderBank`]) in clk, held in reset with the core, and their
+                /// registers ([`EncRegs`]).
+                pub enc_a: Signal<In, Bits<K>>,
+                pub enc_b: Signal<In, Bits<K>>,
+                pub enc_z: Signal<In, Bits<K>>,
+                pub $enc: EncoderBank<K>,
+                pub enc_regs: EncRegs<K>,
             )?
         }
 
@@ -146,7 +170,15 @@ macro_rules! stepper_top {
                     cmd_fifo: Default::default(),
                     status: Default::default(),
                     // (The machine I/O's stops need the core's per-axis and controlled stops.)
-                    core: if false $(|| { let _ = stringify!($io); true })? { $core::new().with_controlled_stop() } else { $core::new() },
+                    // (The encoders' stop needs the core's per-axis stops.)
+                    core: {
+                        let c = if false $(|| { let _ = stringify!($io); true })? { $core::new().with_controlled_stop() } else { $core::new() };
+                        $(
+                            let _ = stringify!($enc);
+                            let c = c.with_axis_stops();
+                        )?
+                        c
+                    },
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
                     w_busy: Default::default(),
@@ -159,6 +191,21 @@ macro_rules! stepper_top {
                     c_extra: Default::default(),
                     c_pflag: Default::default(),
                     p_rd: Default::default(),
+                    rd_base: Default::default(),
+                    irq_base: Default::default(),
+                    stop_base: Default::default(),
+                    e_rd: Default::default(),
+                    e_irq: Default::default(),
+                    e_stop: Default::default(),
+                    e_stop_ev: Default::default(),
+                    io_probe: Default::default(),
+                    $(
+                        enc_a: Default::default(),
+                        enc_b: Default::default(),
+                        enc_z: Default::default(),
+                        $enc: Default::default(),
+                        enc_regs: Default::default(),
+                    )?
                     $(
                         estop_n: Default::default(),
                         probe: Default::default(),
@@ -196,6 +243,12 @@ macro_rules! stepper_top {
                     self.home.connect();
                     self.alarm.connect();
                 )?
+                $(
+                    let _ = stringify!($enc);
+                    self.enc_a.connect();
+                    self.enc_b.connect();
+                    self.enc_z.connect();
+                )?
                 self.connect_all();
             }
         }
@@ -204,6 +257,11 @@ macro_rules! stepper_top {
             #[hdl_gen]
             fn update(&mut self) {
                 dff_setup!(self, clk, c_push, c_start, c_abort, c_word, c_extra, c_pflag);
+                self.e_rd.next = 0.into();
+                self.e_irq.next = false;
+                self.e_stop.next = 0.into();
+                self.e_stop_ev.next = 0.into();
+                self.io_probe.next = false;
                 // Resets and the enable, into each domain.
                 self.rst_bus.clock.next = self.bus_clk.val();
                 self.rst_bus.sig_in.next = self.reset.val();
@@ -263,8 +321,8 @@ macro_rules! stepper_top {
                     self.xfifo[i].read.next = true;
                     self.c_extra.d.next = self.xfifo[i].data_out.val();
                 }
-                self.exmc.rd_data.next = self.regs.rd_data.val() | self.p_rd.val();
-                self.irq.next = self.regs.irq.val();
+                self.rd_base.next = self.regs.rd_data.val() | self.p_rd.val();
+                self.irq_base.next = self.regs.irq.val();
                 // The push guard is the machine I/O's.
                 self.regs.guard_code.next = 0.into();
 
@@ -335,13 +393,14 @@ macro_rules! stepper_top {
                 self.status.bclock.next = self.bus_clk.val();
                 self.status.breset.next = self.rst_bus.sig_out.val();
                 self.core.sel_axis.next = self.status.sel.val();
-                self.core.stop_axes.next = 0.into();
+                self.stop_base.next = 0.into();
                 self.core.cstop_axes.next = 0.into();
                 self.core.decel.next = 0.into();
                 // Position latches: only the machine I/O drives them.
                 self.core.home_latch.next = 0.into();
                 self.core.probe_latch.next = false;
                 self.core.lsel_axis.next = 0.into();
+                self.core.epos_axis.next = 0.into();
                 self.w_busy.next = self.core.sel_busy.val();
                 self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
                     | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
@@ -357,7 +416,6 @@ macro_rules! stepper_top {
                     // Machine I/O: its registers beside the register file (the read buses
                     // ORed: each reads 0 outside its addresses), its block in clk, held in
                     // reset with the core; its hard stop holds the core's abort.
-                    self.$io.clock.next = self.clk.val();
                     self.$io.reset.next = self.core_reset.val();
                     // The status word's BUSY a tick behind its position and counts: it
                     // cuts the selected axis's BUSY multiplexer from the word's register
@@ -407,12 +465,13 @@ macro_rules! stepper_top {
                     self.io_regs.creset.next = self.rst_core.sig_out.val();
                     self.core.home_latch.next = self.$io.home_latch.val();
                     self.core.probe_latch.next = self.$io.probe_latch.val();
+                    self.io_probe.next = self.$io.probe_latch.val();
                     self.core.lsel_axis.next = self.io_regs.lsel.val();
                     self.io_regs.lword.next = self.core.lsel_word.val();
                     // Limits, alarms and the stop on home stop their axes (hard here).
                     self.$io.dir.next = self.core.dir.val();
                     self.$io.active.next = self.core.active.val();
-                    self.core.stop_axes.next = self.$io.axis_stop.val();
+                    self.stop_base.next = self.$io.axis_stop.val();
                     self.io_regs.stop_tog.next = self.$io.stop_tog.val();
                     // The push guard: beside the check, on the status words, with the
                     // machine I/O's levels and stops.
@@ -445,8 +504,6 @@ macro_rules! stepper_top {
                     self.guard.lim_pos.next = self.io_regs.b_lpos.val();
                     self.guard.alarm.next = self.io_regs.b_alarm.val();
                     self.guard.held_all.next = self.io_regs.b_held.val();
-                    // (A controlled stop makes the plan stale as the limits' stops do.)
-                    self.guard.stop_ev.next = self.io_regs.b_stop_ev.val() | self.stop_regs.requested.val();
                     // The controlled stop's registers and their crossing.
                     self.stop_regs.bus_clock.next = self.bus_clk.val();
                     self.stop_regs.bus_reset.next = self.rst_bus.sig_out.val();
@@ -461,8 +518,8 @@ macro_rules! stepper_top {
                     self.$io.stop_mode.next = self.stop_regs.mode.val();
                     self.$io.home_stop.next = self.stop_regs.home_arm.val();
                     self.core.decel.next = self.stop_regs.decel.val();
-                    self.exmc.rd_data.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val() | self.stop_regs.rd_data.val() | self.p_rd.val();
-                    self.irq.next = self.regs.irq.val() | self.io_regs.irq.val();
+                    self.rd_base.next = self.regs.rd_data.val() | self.io_regs.rd_data.val() | self.guard.rd_data.val() | self.stop_regs.rd_data.val() | self.p_rd.val();
+                    self.irq_base.next = self.regs.irq.val() | self.io_regs.irq.val();
                     // The hard stop holds the abort, except in a cycle that brings a push:
                     // the queue takes it then and the next cycle's abort flushes it and
                     // counts it as taken (an abort and a push in one cycle would drop the
@@ -475,6 +532,55 @@ macro_rules! stepper_top {
                         & !self.$io.wd_tripped.val()
                         & !self.$io.estop_active.val();
                 )?
+                $(
+                    // Encoder feedback: the bank in clk, held in reset with the core, its
+                    // position port on the core's, its registers beside the register file.
+                    self.$enc.clock.next = self.clk.val();
+                    self.$enc.reset.next = self.core_reset.val();
+                    self.$enc.enc_a.next = self.enc_a.val();
+                    self.$enc.enc_b.next = self.enc_b.val();
+                    self.$enc.enc_z.next = self.enc_z.val();
+                    self.$enc.mode.next = self.enc_regs.mode.val();
+                    self.$enc.invert.next = self.enc_regs.invert.val();
+                    self.$enc.vel_prescale.next = self.enc_regs.vel_prescale.val();
+                    self.$enc.arm.next = self.enc_regs.arm.val();
+                    self.$enc.align.next = self.enc_regs.align.val();
+                    self.$enc.clear.next = self.enc_regs.clear.val();
+                    self.$enc.probe.next = self.io_probe.val();
+                    self.core.epos_axis.next = self.$enc.pos_axis.val();
+                    self.$enc.position.next = self.core.epos.val();
+                    self.enc_regs.pos_axis.next = self.$enc.pos_axis.val();
+                    self.$enc.ratio.next = self.enc_regs.ratio.val();
+                    self.$enc.tol.next = self.enc_regs.tol.val();
+                    self.$enc.sel.next = self.enc_regs.sel.val();
+                    self.enc_regs.word_lo.next = self.$enc.word_lo.val();
+                    self.enc_regs.word_hi.next = self.$enc.word_hi.val();
+                    self.enc_regs.fail.next = self.$enc.fail.val();
+                    self.enc_regs.bus_clock.next = self.bus_clk.val();
+                    self.enc_regs.bus_reset.next = self.rst_bus.sig_out.val();
+                    self.enc_regs.wr.next = self.exmc.wr.val();
+                    self.enc_regs.wr_addr.next = self.exmc.wr_addr.val();
+                    self.enc_regs.wr_data.next = self.exmc.wr_data.val();
+                    self.enc_regs.rd.next = self.exmc.rd.val();
+                    self.enc_regs.rd_addr.next = self.exmc.rd_addr.val();
+                    self.enc_regs.enable.next = self.regs.enable.val();
+                    self.enc_regs.clock.next = self.clk.val();
+                    self.enc_regs.creset.next = self.rst_core.sig_out.val();
+                    self.enc_regs.running.next = !self.core_reset.val();
+                    self.e_rd.next = self.enc_regs.rd_data.val();
+                    self.e_irq.next = self.enc_regs.irq.val();
+                    self.e_stop.next = self.enc_regs.stop.val();
+                    self.e_stop_ev.next = self.enc_regs.b_stop_ev.val();
+                )?
+                $(
+                    // (A controlled stop, or an encoder's, makes the plan stale as the
+                    // limits' stops do.)
+                    self.guard.stop_ev.next = self.io_regs.b_stop_ev.val() | self.stop_regs.requested.val() | self.e_stop_ev.val();
+                    self.$io.clock.next = self.clk.val();
+                )?
+                self.exmc.rd_data.next = self.rd_base.val() | self.e_rd.val();
+                self.irq.next = self.irq_base.val() | self.e_irq.val();
+                self.core.stop_axes.next = self.stop_base.val() | self.e_stop.val();
             }
         }
     };
@@ -482,6 +588,19 @@ macro_rules! stepper_top {
 
 stepper_top!(TdmStepper, TdmCore, "The exported IP core around the TDM core (module `tdm_stepper`).");
 stepper_top!(BaselineStepper, Baseline, "The same IP core around the non-TDM baseline, for the sweep.");
+stepper_top!(
+    TdmStepperEnc,
+    TdmCore,
+    "The exported IP core with encoder feedback (`export --encoder`): `TdmStepper` plus the pins `enc_a`, `enc_b`, `enc_z`, the `EncoderBank` (`enc`) and its registers (`EncRegs`).";
+    enc
+);
+stepper_top!(
+    TdmStepperIoEnc,
+    TdmCore,
+    "The exported IP core with the machine I/O and encoder feedback (`export --io all --encoder`).",
+    io;
+    enc
+);
 stepper_top!(
     TdmStepperIo,
     TdmCore,

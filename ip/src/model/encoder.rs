@@ -54,6 +54,40 @@ pub const FILTER_MAX: u8 = 15;
 /// The velocity registers' saturation value (16 bits).
 pub const VEL_MAX: u16 = 0xFFFF;
 
+/// ENC_RATIO after reset: 1.0 count per step (unsigned Q16.16).
+pub const RATIO_ONE: u32 = 1 << 16;
+/// ENC_RATIO's largest accepted value: 256 counts per step (a 10,000-line encoder's
+/// 40,000 counts per revolution against 200 full steps is 200); 0 is refused too.
+pub const RATIO_MAX: u32 = 1 << 24;
+
+/// Why the encoder registers refused a write (ENC_STATUS.CODE).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EncRefusal {
+    /// ENC_RATIO of 0 or above [`RATIO_MAX`].
+    Ratio = 1,
+    /// ENC_FILTER above [`FILTER_MAX`].
+    Filter = 2,
+    /// A configuration register written while CTRL.ENABLE = 1 or the core still ran.
+    Enabled = 3,
+    /// ENC_AXIS naming an axis the core lacks.
+    Axis = 4,
+}
+
+impl EncRefusal {
+    pub const ALL: [EncRefusal; 4] = [EncRefusal::Ratio, EncRefusal::Filter, EncRefusal::Enabled, EncRefusal::Axis];
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            EncRefusal::Ratio => "RATIO",
+            EncRefusal::Filter => "FILTER",
+            EncRefusal::Enabled => "ENABLED",
+            EncRefusal::Axis => "AXIS",
+        }
+    }
+}
+
 /// Clk edges from a pin change sampled at edge e0 to the filtered level: e0 + this.
 pub fn pin_to_level_ticks(filter: u8) -> u64 {
     2 + filter as u64
@@ -428,7 +462,10 @@ impl FollowErrModel {
             ov |= oh4;
         }
         let mag = if (s4.v as i32) < 0 { s4.v.wrapping_neg() } else { s4.v };
-        let over = s4.ok && !s4.al && s4.tol != 0 && mag > s4.tol as u32;
+        // No fail while the axis's align is pending: not even from a visit already in
+        // flight when the align came (it took the old offset), so that a clear right
+        // after an align sticks.
+        let over = s4.ok && !s4.al && (self.al | align) & oh4 == 0 && s4.tol != 0 && mag > s4.tol as u32;
         let mut fail = self.fail & !clear;
         if over {
             fail |= oh4;

@@ -139,7 +139,7 @@ pub(super) fn fmax_point(axes: usize, seed: u32, opts: &SweepOptions, nextpnr: &
     let mut synth_seconds = None;
     let result = (|| -> Result<(f64, Option<f64>), String> {
         std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, ..Default::default() })?;
+        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, ..Default::default() })?;
         let cached = fmax_inputs_match(&dir, &v, axes, opts.io) && dir.join("report.json").is_file();
         let ver = Command::new(nextpnr).arg("--version").output().map_err(|e| format!("{}: {e}", nextpnr.display()))?;
         tool = format!("{}{}", String::from_utf8_lossy(&ver.stdout).trim(), String::from_utf8_lossy(&ver.stderr).trim());

@@ -14,3 +14,4 @@ pub(crate) mod tb;
 pub use tb::{run, run_rust_hdl, run_rust_hdl_sparse, run_sparse, Change, Port, Simulator, TbSpec};
 pub mod system;
 pub mod bus;
+pub mod encoder;

@@ -58,6 +58,45 @@ static void update_home(void)
 }
 #endif
 
+#ifdef SHIM_ENC
+// With SHIM_ENC (an `--encoder` export): a motor per axis that takes a step at each
+// rising STEP edge (DIR says which way) unless the C program stalls it
+// (shim_enc_stall), and its encoder: ENC_NUM / 2^ENC_SHIFT counts per step (5/4), the
+// lines A and B moving one count every ENC_GAP clk ticks towards floor(steps x ratio),
+// A leading B when counting up; no index (Z low).
+#define ENC_NUM 5
+#define ENC_SHIFT 2
+#define ENC_GAP 4u
+static int64_t g_motor[16];
+static int64_t g_cnt[16];
+static unsigned g_gap[16];
+static uint32_t g_stall = 0;
+
+static int64_t floor_shift(int64_t v, unsigned sh) { return v >= 0 ? v >> sh : -((-v + (1 << sh) - 1) >> sh); }
+
+static void enc_tick(uint32_t rose, uint32_t dir)
+{
+    uint32_t a_bits = 0;
+    uint32_t b_bits = 0;
+    for (unsigned a = 0; a < 16; a++) {
+        if (((rose >> a) & 1u) && !((g_stall >> a) & 1u)) g_motor[a] += ((dir >> a) & 1u) ? -1 : 1;
+        int64_t target = floor_shift(g_motor[a] * ENC_NUM, ENC_SHIFT);
+        if (g_gap[a] != 0) {
+            g_gap[a]--;
+        } else if (g_cnt[a] != target) {
+            g_cnt[a] += target > g_cnt[a] ? 1 : -1;
+            g_gap[a] = ENC_GAP - 1;
+        }
+        unsigned ph = (unsigned)(g_cnt[a] & 3);
+        if (ph == 1 || ph == 2) a_bits |= 1u << a;
+        if (ph == 2 || ph == 3) b_bits |= 1u << a;
+    }
+    g_top->enc_a = a_bits;
+    g_top->enc_b = b_bits;
+    g_top->enc_z = 0;
+}
+#endif
+
 // FSMC timing in HCLK cycles: ADDSET = ceil(2 T_bus / T_hclk), DATAST = ceil(3 T_bus /
 // T_hclk) for writes and ceil(5 T_bus / T_hclk) for reads (docs/registers.md).
 static uint64_t hclk(uint64_t bus_periods) { return (bus_periods * BUS_HALF_PS + MCU_HALF_PS - 1) / MCU_HALF_PS; }
@@ -85,6 +124,9 @@ static void advance_to(uint64_t t)
 #endif
                     }
                 }
+#ifdef SHIM_ENC
+                enc_tick(s & ~g_last_step, (uint32_t)g_top->dir);
+#endif
                 g_last_step = s;
 #ifdef SHIM_IO
                 update_home();
@@ -107,6 +149,12 @@ unsigned long shim_accesses(void) { return g_accesses; }
 unsigned long long shim_clk_cycles(void) { return (unsigned long long)g_clk_cycles; }
 
 void shim_idle_ns(unsigned long ns) { advance_to(g_now + (uint64_t)ns * 1000u); }
+
+#ifdef SHIM_ENC
+void shim_enc_stall(uint32_t mask) { g_stall = mask; }
+long long shim_enc_count(unsigned axis) { return (long long)g_cnt[axis]; }
+long long shim_motor(unsigned axis) { return (long long)g_motor[axis]; }
+#endif
 
 #ifdef SHIM_IO
 void shim_home_switch(unsigned axis, int32_t at, int dir)
