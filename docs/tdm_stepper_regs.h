@@ -15,8 +15,9 @@
 #define TDM_T_CALC 22u
 #define TDM_MIN_PERIOD 44u /* ticks: no STEP period is shorter */
 #define TDM_MAX_RATE 95443717u /* RMAX = floor(2^32 / (TDM_MIN_PERIOD + 1)): the largest start or end rate, Q0.32 */
+#define TDM_OPTIONS 0x0000u /* ID_OPTIONS of this export: machine I/O groups 5:0, S-curve 8, encoder 9 */
 #define TDM_MAGIC 0x5453u
-#define TDM_VERSION 0x0103u
+#define TDM_VERSION 0x0104u
 
 #define TDM_AXIS_BASE 0x200u /* byte offset of axis 0's block */
 #define TDM_AXIS_STRIDE 0x20u /* bytes per axis block */
@@ -119,6 +120,15 @@
 
 /* ID_MAX_RATE_HI: The largest rate, high half. */
 #define TDM_ID_MAX_RATE_HI 0x02Cu
+
+/* ID_OPTIONS: The export's options: a core without an option reads 0 at that option's registers and ignores writes to them. The C driver's tdm_identify() refuses (TDM_E_CONFIG) a core whose options differ from its header's TDM_OPTIONS. */
+#define TDM_ID_OPTIONS 0x036u
+#define TDM_ID_OPTIONS_IO_SHIFT 0u
+#define TDM_ID_OPTIONS_IO_MASK 0x003Fu /* RO: the machine I/O groups (`export --io`): estop 0, probe 1, limits 2, home 3, alarm 4, watchdog 5; 0 without the option */
+#define TDM_ID_OPTIONS_SCURVE_SHIFT 8u
+#define TDM_ID_OPTIONS_SCURVE_MASK 0x0100u /* RO: the S-curve option (`export --profiles trapezoid,scurve`) */
+#define TDM_ID_OPTIONS_ENCODER_SHIFT 9u
+#define TDM_ID_OPTIONS_ENCODER_MASK 0x0200u /* RO: encoder feedback (`export --encoder`) */
 
 /* STEP_HIGH: Output timing: no STEP pulse is shorter. Written only while CTRL.ENABLE and GSTATUS.ENABLED are 0, and never 0 (else refused, GSTATUS.REFUSED). The pulse is half the period, clamped between max(STEP_HIGH, DIR_HOLD) and the period less max(STEP_LOW, DIR_SETUP), at most 65,535 ticks. */
 #define TDM_STEP_HIGH 0x02Eu

@@ -54,12 +54,13 @@ int tdm_identify(tdm_dev *dev)
     dev->min_period = tdm_read(dev, TDM_ID_MIN_PERIOD);
     dev->clock_hz = read32(dev, TDM_ID_CLOCK_HZ_LO, TDM_ID_CLOCK_HZ_HI);
     dev->max_rate = read32(dev, TDM_ID_MAX_RATE_LO, TDM_ID_MAX_RATE_HI);
+    dev->options = tdm_read(dev, TDM_ID_OPTIONS);
     if ((dev->version >> 8) != (TDM_VERSION >> 8) || (dev->version & 0xFFu) < (TDM_VERSION & 0xFFu)) {
         return TDM_E_VERSION;
     }
     if (dev->axes != TDM_AXES || dev->clock_hz != TDM_CLOCK_HZ || dev->queue_depth != TDM_QUEUE_DEPTH
         || dev->fifo_depth != TDM_FIFO_DEPTH || dev->min_period != TDM_MIN_PERIOD
-        || dev->max_rate != TDM_MAX_RATE || dev->axes == 0u || dev->axes > 16u) {
+        || dev->max_rate != TDM_MAX_RATE || dev->options != TDM_OPTIONS || dev->axes == 0u || dev->axes > 16u) {
         return TDM_E_CONFIG;
     }
     return 0;

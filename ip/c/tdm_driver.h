@@ -28,7 +28,7 @@ extern "C" {
 /* The driver's own errors (negative). */
 #define TDM_E_MAGIC (-1)      /* ID_MAGIC is not 0x5453: wrong bank, wiring or FSMC timing */
 #define TDM_E_VERSION (-2)    /* register map major version differs from the header's */
-#define TDM_E_CONFIG (-3)     /* K, clock, depths or minimum period differ from the header's */
+#define TDM_E_CONFIG (-3)     /* K, clock, depths, minimum period or options differ from the header's */
 #define TDM_E_AXIS (-4)       /* axis number >= K, or a mask with bits >= K */
 #define TDM_E_TIMEOUT (-5)    /* the core did not answer within the poll limit */
 #define TDM_E_REFUSED (-6)    /* the core refused the write (GSTATUS.REFUSED) */
@@ -72,6 +72,7 @@ typedef struct {
     uint16_t min_period;
     uint32_t clock_hz;
     uint32_t max_rate;
+    uint16_t options; /* ID_OPTIONS: machine I/O groups 5:0, S-curve 8, encoder 9 */
 #if defined(TDM_ENC_AXIS)
     /* Each axis's ENC_RATIO as tdm_enc_configure() wrote it (tdm_enc_correct uses it). */
     uint32_t enc_ratio[TDM_AXES];
@@ -104,7 +105,9 @@ uint16_t tdm_read(const tdm_dev *dev, uint32_t byte_offset);
 void tdm_write(const tdm_dev *dev, uint32_t byte_offset, uint16_t value);
 
 /* Reads the ID registers into dev and compares them with tdm_stepper_regs.h:
- * 0, TDM_E_MAGIC, TDM_E_VERSION or TDM_E_CONFIG. */
+ * 0, TDM_E_MAGIC, TDM_E_VERSION or TDM_E_CONFIG (also when ID_OPTIONS differs from
+ * TDM_OPTIONS: a header of an export with options the core lacks, or without
+ * options it has). */
 int tdm_identify(tdm_dev *dev);
 
 /* Writes the output timing (clk ticks, each 1..65535) while the core is disabled,

@@ -26,7 +26,7 @@ pub const MAX_QUEUE_DEPTH: usize = 16;
 /// ID_MAGIC's value, "TS".
 pub const MAGIC: u16 = 0x5453;
 /// ID_VERSION: major in the high byte, minor in the low byte.
-pub const VERSION: u16 = 0x0103;
+pub const VERSION: u16 = 0x0104;
 /// Bus clocks from NWE rising at the end of a push (the STEPS_HI write) until STATUS
 /// (ERROR, ERROR_CODE, LEVEL) and IRQ_ERROR show the push check's verdict: a STATUS read
 /// whose NOE falls this late sees it: NWE's first high sample comes ≤ 1 clock after it
@@ -91,6 +91,8 @@ pub enum Reset {
     MinPeriod,
     MaxRateLo,
     MaxRateHi,
+    /// ID_OPTIONS: [`CoreParams::options_word`].
+    Options,
 }
 
 /// The export option a register belongs to: every core has the base registers; the
@@ -176,6 +178,12 @@ impl CoreParams {
         groups == 0 || self.io_groups() & groups != 0
     }
 
+    /// ID_OPTIONS: the machine I/O groups (bits 5:0, [`IO_GROUPS`] bits), the S-curve
+    /// option (bit 8) and encoder feedback (bit 9) the core was exported with.
+    pub fn options_word(&self) -> u16 {
+        self.io_groups() as u16 | (u16::from(self.scurve) << 8) | (u16::from(self.encoder) << 9)
+    }
+
     /// RMAX, the largest start or end rate (Q0.32) a segment may have.
     pub fn max_rate(&self) -> u32 {
         crate::model::Limits { min_period_ticks: self.min_period }.max_rate()
@@ -198,6 +206,7 @@ impl Register {
             Reset::MinPeriod => p.min_period as u16,
             Reset::MaxRateLo => p.max_rate() as u16,
             Reset::MaxRateHi => (p.max_rate() >> 16) as u16,
+            Reset::Options => p.options_word(),
         }
     }
 
@@ -321,6 +330,15 @@ pub fn table() -> Vec<Register> {
         reg("ID_MAX_RATE_LO", 0x15, false, Reset::MaxRateLo, ro("bits 15:0 of RMAX = floor(2^32 / (ID_MIN_PERIOD + 1))"),
             "The largest start or end rate a segment may have (Q0.32 steps per tick), low half."),
         reg("ID_MAX_RATE_HI", 0x16, false, Reset::MaxRateHi, ro("bits 31:16 of RMAX"), "The largest rate, high half."),
+        reg(
+            "ID_OPTIONS", 0x1B, false, Reset::Options,
+            vec![
+                f("IO", 0, 6, Ro, "the machine I/O groups (`export --io`): estop 0, probe 1, limits 2, home 3, alarm 4, watchdog 5; 0 without the option"),
+                f("SCURVE", 8, 1, Ro, "the S-curve option (`export --profiles trapezoid,scurve`)"),
+                f("ENCODER", 9, 1, Ro, "encoder feedback (`export --encoder`)"),
+            ],
+            "The export's options: a core without an option reads 0 at that option's registers and ignores writes to them. The C driver's tdm_identify() refuses (TDM_E_CONFIG) a core whose options differ from its header's TDM_OPTIONS.",
+        ),
         reg("STEP_HIGH", 0x17, false, Reset::Value(1), vec![f("TICKS", 0, 16, Rw, "minimum STEP high time, clk ticks (1..65,535)")],
             "Output timing: no STEP pulse is shorter. Written only while CTRL.ENABLE and GSTATUS.ENABLED are 0, and never 0 (else refused, GSTATUS.REFUSED). The pulse is half the period, clamped between max(STEP_HIGH, DIR_HOLD) and the period less max(STEP_LOW, DIR_SETUP), at most 65,535 ticks."),
         reg("STEP_LOW", 0x18, false, Reset::Value(1), vec![f("TICKS", 0, 16, Rw, "minimum STEP low time between pulses, clk ticks")],
@@ -543,7 +561,12 @@ pub fn table() -> Vec<Register> {
             vec![f("COUNTS", 0, 16, Rw, "axis ENC_AXIS's tolerance, counts: ENC_FAIL when |deviation| exceeds it; 0 = no check (after reset); read while CTRL.ENABLE = 0 (0 while enabled)")],
             ENC_CONFIG_RULE,
         ),
-        enc_reg("ENC_STOP", 0x58, 0, vec![f("AXES", 0, 16, Rw, "bit a: axis a's ENC_FAIL stops it (a hard stop, held while ENC_FAIL is set: pushes meanwhile are flushed and counted as taken)")], ENC_CONFIG_RULE),
+        enc_reg("ENC_STOP", 0x58, 0, vec![f("AXES", 0, 16, Rw, "bit a: axis a's ENC_FAIL stops it (a hard stop, or the controlled stop with ENC_STOP_MODE.CONTROLLED; held while ENC_FAIL is set: pushes meanwhile are flushed and counted as taken)")], ENC_CONFIG_RULE),
+        enc_reg(
+            "ENC_STOP_MODE", 0x6B, 0,
+            vec![fg(IO_ALL, "CONTROLLED", 0, 1, Rw, "1: ENC_FAIL stops its axis with the controlled stop (a ramp at STOP_DECEL from the axis's speed, then held); 0: with the hard stop")],
+            "Which stop ENC_FAIL takes (with the machine I/O only: its controlled stop). Encoder configuration: written only while CTRL.ENABLE = 0 and the core is held in reset (else refused: ENC_STATUS.REFUSED, code 3).",
+        ),
         enc_reg("ENC_ARM", 0x59, 0, vec![f("AXES", 0, 16, Wo, "write 1 to bit a: axis a's count restarts at 0 at its next index (self-clearing; ENC_STATE.ARMED)")], "Encoder: home on the index. Each command reaches clk 3 to 4 clk ticks after the write commits."),
         enc_reg("ENC_ALIGN", 0x5A, 0, vec![f("AXES", 0, 16, Wo, "write 1 to bit a: axis a's deviation becomes 0 at its next visit (the offset takes the difference), and stays relative to that")], "Following error: align. Commands cross as ENC_ARM's."),
         enc_reg("ENC_CLEAR", 0x5B, 0, vec![f("AXES", 0, 16, Wo, "write 1 to bit a: clear axis a's ENC_FAIL (it sets again at the next visit if the deviation is still out of tolerance: align first)")], "Following error: clear ENC_FAIL. Commands cross as ENC_ARM's."),
@@ -678,6 +701,7 @@ pub fn c_header(p: &CoreParams) -> String {
             p.stop_decel_min()
         );
     }
+    let _ = writeln!(h, "#define TDM_OPTIONS 0x{:04X}u /* ID_OPTIONS of this export: machine I/O groups 5:0, S-curve 8, encoder 9 */", p.options_word());
     let _ = writeln!(h, "#define TDM_MAGIC 0x{MAGIC:04X}u");
     let _ = writeln!(h, "#define TDM_VERSION 0x{VERSION:04X}u\n");
     let _ = writeln!(h, "#define TDM_AXIS_BASE 0x{:03X}u /* byte offset of axis 0's block */", 2 * AXIS_BASE);

@@ -120,6 +120,48 @@ fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
     }
 }
 
+/// tdm_identify() compares ID_OPTIONS with the header's TDM_OPTIONS: against a bank in
+/// memory that answers this header's ID values, every other export's options word is
+/// refused with TDM_E_CONFIG and its own is taken. (The bus tests run tdm_identify on
+/// the exported cores, so each core's ID_OPTIONS equals its header's.)
+#[test]
+fn identify_refuses_a_core_whose_options_differ_from_the_header() {
+    let io = |s: &str| export::parse_io(s).unwrap();
+    let variants: Vec<(&str, ExportOptions)> = vec![
+        ("none", ExportOptions { axes: 2, ..Default::default() }),
+        ("io_all", ExportOptions { axes: 2, io: true, io_omit: io("all").omit, ..Default::default() }),
+        ("io_limits", ExportOptions { axes: 2, io: true, io_omit: io("limits").omit, ..Default::default() }),
+        ("scurve", ExportOptions { axes: 2, scurve: true, ..Default::default() }),
+        ("encoder", ExportOptions { axes: 2, encoder: true, ..Default::default() }),
+    ];
+    let words: Vec<u16> = variants.iter().map(|(_, o)| o.params().options_word()).collect();
+    let mut sorted = words.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), words.len(), "each export has its own options word: {words:x?}");
+    assert_eq!(words[0], 0, "a core without options reads ID_OPTIONS = 0");
+    for (i, (name, opts)) in variants.iter().enumerate() {
+        let dir = sim_dir(&format!("c_identify_{name}"), Simulator::Verilator);
+        let _ = std::fs::remove_dir_all(&dir);
+        export::export(opts, &dir).unwrap();
+        let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
+        assert!(header.contains(&format!("#define TDM_OPTIONS 0x{:04X}u", words[i])), "{name}: the header's TDM_OPTIONS");
+        let mut objs = vec![gcc_c(&dir, &tests_c().join("identify_check.c"), "c.o")];
+        for f in ["tdm_driver.c", "tdm_planner.c", "tdm_scurve.c"] {
+            if dir.join(f).is_file() {
+                objs.push(gcc_c(&dir, &dir.join(f), &f.replace(".c", ".o")));
+            }
+        }
+        let bin = dir.join("identify_check");
+        run(Command::new("gcc").args(&objs).arg("-lm").arg("-o").arg(&bin), "link identify_check");
+        for (j, w) in words.iter().enumerate() {
+            let out = run(Command::new(&bin).arg(format!("{w:x}")), "identify_check");
+            let want = if i == j { 0 } else { -3 };
+            assert_eq!(out.trim(), format!("IDENTIFY {want} {w:x}"), "header of {name}, core of {}", variants[j].0);
+        }
+    }
+}
+
 /// One planner result as the C programs print it: rc, bad phase, segments.
 fn c_form(r: &Result<Vec<Segment>, PlanError>) -> String {
     match r {

@@ -91,8 +91,149 @@ fn verilog_ports(v: &str) -> Vec<(String, String, usize)> {
         .collect()
 }
 
+/// Locals that a combinational process writes, reads into another signal and then
+/// writes again on one path through its branches: Verilog's blocking assignments give
+/// that read the first value, rust-hdl's simulation the last (it settles each signal to
+/// its final `next`), so the exported Verilog would differ from the simulation it was
+/// checked with (a trap of rust-hdl's generator: read after the last write, or use two
+/// locals). A line-based scan of the generated `always @(*)` blocks (one statement per
+/// line, `if`/`else` chains with `begin`/`end`, as rust-hdl writes them): branches of one
+/// chain exclude each other. Returns `(module, signal, line of the second write)`.
+fn rewritten_after_read(v: &str) -> Vec<(String, String, usize)> {
+    // Drops sized literals (32'h1f): their digits are not names.
+    let strip = |t: &str| -> String {
+        let mut out = String::new();
+        let b = t.as_bytes();
+        let mut i = 0;
+        while i < b.len() {
+            if b[i] == b'\'' && i + 1 < b.len() && b"hbdo".contains(&b[i + 1]) {
+                while out.ends_with(|c: char| c.is_ascii_digit()) {
+                    out.pop();
+                }
+                i += 2;
+                while i < b.len() && (b[i].is_ascii_hexdigit() || b[i] == b'_' || b[i] == b'x' || b[i] == b'z') {
+                    i += 1;
+                }
+                out.push(' ');
+            } else {
+                out.push(b[i] as char);
+                i += 1;
+            }
+        }
+        out
+    };
+    let names = |t: &str| -> Vec<String> {
+        let mut v = Vec::new();
+        let mut cur = String::new();
+        for c in t.chars().chain(std::iter::once(' ')) {
+            if c.is_ascii_alphanumeric() || c == '_' || c == '$' {
+                cur.push(c);
+            } else {
+                if cur.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_') {
+                    v.push(cur.clone());
+                }
+                cur.clear();
+            }
+        }
+        v
+    };
+    // A path: the (chain, branch) pairs of the enclosing ifs. Two lines can run in one
+    // pass unless some chain holds them in different branches.
+    type Path = Vec<(usize, usize)>;
+    let together = |a: &Path, b: &Path| !a.iter().any(|&(c, x)| b.iter().any(|&(d, y)| c == d && x != y));
+    let lines: Vec<&str> = v.lines().collect();
+    let mut found = Vec::new();
+    let mut module = String::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let l = lines[i].trim();
+        if let Some(m) = l.strip_prefix("module ") {
+            module = m.split('(').next().unwrap_or("").trim().to_string();
+        }
+        if !(l.starts_with("always @(*)") && l.ends_with("begin")) {
+            i += 1;
+            continue;
+        }
+        let mut path: Path = Vec::new();
+        let mut chains = 0usize;
+        let mut closed: Option<(usize, usize)> = None;
+        // Per signal: its writes, and reads that follow one of them, with their paths.
+        let mut writes = std::collections::HashMap::<String, Vec<(usize, Path)>>::new();
+        let mut reads = std::collections::HashMap::<String, Vec<(usize, Path)>>::new();
+        let mut j = i + 1;
+        while j < lines.len() {
+            let t = lines[j].trim();
+            j += 1;
+            if t == "end" {
+                match path.pop() {
+                    Some(p) => closed = Some(p),
+                    None => break,
+                }
+                continue;
+            }
+            let (cond, opens) = if let Some(c) = t.strip_prefix("else if") {
+                let (chain, branch) = closed.expect("else after an if");
+                path.push((chain, branch + 1));
+                (Some(c), true)
+            } else if t.starts_with("else") {
+                let (chain, branch) = closed.expect("else after an if");
+                path.push((chain, branch + 1));
+                (None, false)
+            } else if t.starts_with("if") {
+                (Some(t), true)
+            } else {
+                (None, false)
+            };
+            if let Some(c) = cond {
+                assert!(c.ends_with("begin"), "{module}: an if without begin: {t}");
+                for r in names(&strip(c)) {
+                    if writes.get(&r).is_some_and(|w| w.iter().any(|(_, p)| together(p, &path))) {
+                        reads.entry(r).or_default().push((j, path.clone()));
+                    }
+                }
+                if opens && t.starts_with("if") {
+                    chains += 1;
+                    path.push((chains, 0));
+                }
+                continue;
+            }
+            if t.starts_with("else") {
+                continue;
+            }
+            // An assignment: `name = ...;` or `name[...] = ...;`.
+            let Some(eq) = t.char_indices().find(|&(p, c)| c == '=' && t[p + 1..].chars().next() != Some('=') && !t[..p].ends_with(['=', '!', '<', '>'])).map(|(p, _)| p) else {
+                continue;
+            };
+            let lhs = t[..eq].split('[').next().unwrap_or("").trim().to_string();
+            for r in names(&strip(&t[eq + 1..])) {
+                if r != lhs && writes.get(&r).is_some_and(|w| w.iter().any(|(_, p)| together(p, &path))) {
+                    reads.entry(r).or_default().push((j, path.clone()));
+                }
+            }
+            let trap = reads.get(&lhs).is_some_and(|rs| {
+                rs.iter().any(|(r, rp)| together(rp, &path) && writes[&lhs].iter().any(|(w, wp)| w < r && together(wp, rp) && together(wp, &path)))
+            });
+            if trap {
+                found.push((module.clone(), lhs.clone(), j));
+            }
+            writes.entry(lhs).or_default().push((j, path.clone()));
+        }
+        i = j;
+    }
+    found
+}
+
 #[test]
 fn exported_verilog_lints_clean_and_has_the_documented_ports() {
+    // The scan itself: it finds the trap and passes an accumulator and a read after the last write.
+    let trap = "module m(a, y);\n    always @(*) begin\n        x = a;\n        y = x & 32'h1;\n        if (a) begin\n            x = 32'h0;\n        end\n    end\nendmodule\n";
+    assert_eq!(rewritten_after_read(trap), vec![("m".to_string(), "x".to_string(), 6)]);
+    let branches = "module m(a, y);\n    always @(*) begin\n        x = a;\n        if (a) begin\n            y = x;\n        end\n        else begin\n            x = 32'h0;\n            y = x;\n        end\n    end\nendmodule\n";
+    assert!(rewritten_after_read(branches).is_empty(), "a read and a write in exclusive branches");
+    let fine = "module m(a, y);\n    always @(*) begin\n        x = 32'h0;\n        x = x | a;\n        if (x == 32'h0) begin\n            x = a;\n        end\n    end\nendmodule\n";
+    assert_eq!(rewritten_after_read(fine).len(), 1, "a condition on x then a write of x is the trap too");
+    let fine = "module m(a, y);\n    always @(*) begin\n        x = 32'h0;\n        x = x | a;\n        y = x;\n    end\nendmodule\n";
+    assert!(rewritten_after_read(fine).is_empty());
     let cases = [
         (1, "tdm", "none", "trapezoid"),
         (2, "tdm", "none", "trapezoid"),
@@ -151,6 +292,8 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
             block.lines().map(|l| l.trim()).filter(|l| !l.is_empty()).all(|l| l.starts_with("q = ") && l.ends_with(';'))
         });
         assert!(inits, "K = {k}: an initial block does more than set a register's power-up value");
+        let rw = rewritten_after_read(&v);
+        assert!(rw.is_empty(), "K = {k} {arch} {io} {profiles}: locals written again after a read in one process (module, signal, line): {rw:?}");
         // The export folder alone: its own waiver file.
         let out = Command::new("verilator")
             .current_dir(&dir)

@@ -1995,7 +1995,7 @@ fn motion_count(ms: &[tdm_stepper::model::Motion], limits: &Limits) -> usize {
 /// bus events with the rig's pins beside them (`stall`, `slip`, `bounce`), watching
 /// step, dir, irq and axis 0's encoder position.
 fn verilator_enc<const K: usize>(name: &str, b: &BusModel, cycles: u64, rig: &tdm_stepper::verify::encoder::RigConfig, pins: &[(u64, Vec<u128>)]) -> SystemTrace {
-    let opts = tdm_stepper::export::ExportOptions { axes: K, encoder: true, ..Default::default() };
+    let opts = tdm_stepper::export::ExportOptions { axes: K, encoder: true, io: rig.io, ..Default::default() };
     let verilog = tdm_stepper::export::verilog(&opts).unwrap()
         + &tdm_stepper::verify::encoder::rig_verilog(tdm_stepper::export::TOP_MODULE, K, tdm_stepper::hdl::core::STATE_BITS, rig);
     let mut watch = stepper_watch(K);
@@ -2253,4 +2253,73 @@ fn encoder_feedback_through_the_bus_counts_trips_stops_and_corrects() {
     let bound = e_slip + 2 + (ENC_TOL as u64 + 1) * rig.gap as u64 + pin_to_level_ticks(2) + (K as u64 + 1) + K as u64 + FOLLOW_ERR_LATENCY + 1;
     assert!(last > e_slip - 2 * ENC_PERIOD as u64 && last <= bound, "last STEP edge at {last}: slip at {e_slip}, bound {bound}");
     assert_eq!((v(s.slipped[0]), v(s.slipped[1]) & 1), (1, 0), "ENC_FAIL and BUSY after the slip");
+}
+
+/// ENC_FAIL with ENC_STOP_MODE.CONTROLLED (an export with the machine I/O and the
+/// encoders, in Verilator against the rig's motors): the mode reads back and is refused
+/// while enabled; a stall in the cruise trips ENC_FAIL on the step that crosses the
+/// tolerance, and the axis ramps down at STOP_DECEL from its speed (every edge the
+/// model's cut of the move with a stop ramp), not at once; at rest ENC_FAIL and
+/// IRQ_ENC.FAIL are set, the axis is idle and its position is the edges emitted.
+#[test]
+fn a_stall_with_the_controlled_stop_ramps_the_axis_down() {
+    use tdm_stepper::model::encoder::EncRefusal;
+    use tdm_stepper::model::planner;
+    const K: usize = 2;
+    let rig = tdm_stepper::verify::encoder::RigConfig { io: true, ..Default::default() };
+    let tick = 2 * CLOCKS.clk_half_ps;
+    let limits = Limits::default();
+    let decel: u32 = 0xF000_0000;
+    let mut b = bus();
+    let q = rig.ratio_q16();
+    b.write_reg("ENC_RATIO_LO", 0, q as u16);
+    b.write_reg("ENC_RATIO_HI", 0, (q >> 16) as u16);
+    b.write_reg("ENC_TOL", 0, ENC_TOL);
+    b.write_reg("ENC_FILTER", 0, 2);
+    b.write_reg("ENC_STOP", 0, 0b01);
+    b.write_reg("ENC_STOP_MODE", 0, 1);
+    let mode = b.read_reg("ENC_STOP_MODE", 0);
+    b.write_reg("STOP_DECEL_LO", 0, decel as u16);
+    b.write_reg("STOP_DECEL_HI", 0, (decel >> 16) as u16);
+    b.write_reg("IRQ_MASK_ENC", 0, 0b001);
+    b.enable(ENABLE_WAIT);
+    b.write_reg("IO_CMD", 0, 1);
+    b.write_reg("ENC_STOP_MODE", 0, 0);
+    let mode_enabled = (b.read_reg("ENC_STATUS", 0), b.read_reg("ENC_STOP_MODE", 0));
+    b.write_reg("ENC_STATUS", 0, 1);
+    b.write_reg("ENC_ALIGN", 0, 0b01);
+    b.idle(200);
+    // 240 steps: accelerate, cruise at 250 ticks a step, decelerate; the stall at the
+    // cruise's 100th edge or so.
+    let m = planner::trapezoid_by_ticks(240, [20_000, 40_000, 20_000], &limits).unwrap();
+    let run = AxisRun::run(&m, &limits);
+    for seg in &m {
+        b.push_segment(0, seg);
+    }
+    b.idle(10);
+    let t_start = b.now_ps();
+    b.write_reg("START", 0, 0b01);
+    let t_stall = t_start + run.edge_ticks[100] * tick;
+    let pins = vec![(t_stall, vec![1u128, 0, 1])];
+    b.idle_until_ps(t_start + (run.edge_ticks.last().unwrap() + 200_000) * tick);
+    let rest = (b.read_reg("ENC_FAIL", 0), b.read_reg("IRQ_ENC", 0), b.read_reg("STATUS", 0), b.read_position(0));
+    let cycles = cycles_after(&b, 100);
+    let tr = verilator_enc::<K>("enc_controlled_stop", &b, cycles, &rig, &pins);
+    let v = |id| b.value(&tr, id).expect("read returned x");
+
+    assert_eq!(v(mode), 1, "ENC_STOP_MODE reads back");
+    let refused = 1 | (EncRefusal::Enabled.code() as u16) << 4;
+    assert_eq!((v(mode_enabled.0), v(mode_enabled.1)), (refused, 1), "ENC_STOP_MODE is refused while enabled");
+    let r: Vec<u64> = rises(&tr, 0).into_iter().filter(|&c| c >= clk_cycle_at(t_start)).collect();
+    let e0 = t_stall.div_ceil(tick);
+    let before = r.iter().filter(|&&c| c < e0).count() as i64;
+    let crossing = (1..).find(|&k| rig.counts(before + k) - rig.counts(before) > ENC_TOL as i64).unwrap();
+    let emitted = (before + crossing) as usize;
+    assert!(r.len() > emitted + 2, "a ramp, not the hard stop: {} edges, the tolerance crossed at edge {emitted}", r.len());
+    let cut = the_stop_ramp("Verilator", &r, &run, emitted, decel);
+    let (fail, irq_enc, st, pos) = rest;
+    assert_eq!((v(fail), v(irq_enc) & 1), (1, 1), "ENC_FAIL and IRQ_ENC.FAIL at rest");
+    assert_eq!(v(st) & 0x13F, 0, "the axis idle, nothing queued, no error");
+    assert_eq!(position(&b, &tr, pos), Some(cut.position as i32), "the position at rest is the edges emitted");
+    assert_eq!(cut.position, r.len() as i64, "the edges are all up");
 }

@@ -10,7 +10,9 @@
 //!   `irq` (IRQ_ENC under IRQ_MASK_ENC, registered), `b_stop_ev` (bit a for one cycle
 //!   when axis a's ENC_FAIL rises while ENC_STOP names it: the push guard's stop event);
 //! * configuration to `clk`: `mode` (ENC_FILTER and ENC_INDEX_MODE as the decoders'
-//!   mode word), `invert`, `vel_prescale`, `stop` (ENC_STOP under the bank's `fail`),
+//!   mode word), `invert`, `vel_prescale`, `stop` (ENC_STOP under the bank's `fail`;
+//!   `cstop` instead with ENC_STOP_MODE.CONTROLLED, which only a block built
+//!   [`EncRegs::with_io`] has: the machine I/O's controlled stop),
 //!   and per axis the ratio and tolerance, in bus-clock LUT RAM read at `pos_axis`
 //!   (`ratio`, `tol`): all written only while CTRL.ENABLE = 0 and the core is held in
 //!   reset (`running`, synchronised, is 0), so static whenever the bank, held in reset
@@ -74,6 +76,9 @@ pub struct EncRegs<const K: usize> {
     pub word_hi: Signal<In, Bits<49>>,
     pub fail: Signal<In, Bits<K>>,
     pub stop: Signal<Out, Bits<K>>,
+    /// The controlled stop's request on ENC_FAIL (ENC_STOP under `fail` with
+    /// ENC_STOP_MODE.CONTROLLED; only [`EncRegs::with_io`] has the register, else 0).
+    pub cstop: Signal<Out, Bits<K>>,
     // Bus clock: configuration.
     axis_r: DFF<Bits<4>>,
     filt: DFF<Bits<4>>,
@@ -81,6 +86,10 @@ pub struct EncRegs<const K: usize> {
     inv: DFF<Bits<K>>,
     pre: DFF<Bits<16>>,
     stop_m: DFF<Bits<K>>,
+    /// ENC_STOP_MODE.CONTROLLED (with the machine I/O's controlled stop: `c_io`).
+    smode: DFF<Bit>,
+    c_io: Constant<Bit>,
+    a_smode: Constant<Bits<ADDR_BITS>>,
     rlo: DFF<Bits<16>>,
     ratio_ram: LutRam<32, 4>,
     tol_ram: LutRam<16, 4>,
@@ -206,6 +215,10 @@ impl<const K: usize> Default for EncRegs<K> {
             inv: Default::default(),
             pre: Default::default(),
             stop_m: Default::default(),
+            smode: Default::default(),
+            c_io: Constant::new(false),
+            a_smode: c9("ENC_STOP_MODE"),
+            cstop: Default::default(),
             rlo: Default::default(),
             ratio_ram: Default::default(),
             tol_ram: Default::default(),
@@ -290,11 +303,20 @@ impl<const K: usize> Default for EncRegs<K> {
     }
 }
 
+impl<const K: usize> EncRegs<K> {
+    /// With the machine I/O's controlled stop: the ENC_STOP_MODE register (without it
+    /// the register reads 0, ignores writes and `cstop` is 0).
+    pub fn with_io(mut self, io: bool) -> Self {
+        self.c_io = Constant::new(io);
+        self
+    }
+}
+
 impl<const K: usize> Logic for EncRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, bus_clock, axis_r, filt, imode, inv, pre, stop_m, rlo, rset, tset, refused, code, nxt, mask, tog, fail_prev, win,
+            self, bus_clock, axis_r, filt, imode, inv, pre, stop_m, smode, rlo, rset, tset, refused, code, nxt, mask, tog, fail_prev, win,
             hi_latch, seen, events, emask, irq_q
         );
         dff_setup!(self, clock, tprev);
@@ -333,6 +355,7 @@ impl<const K: usize> Logic for EncRegs<K> {
                 | (self.wr_addr.val() == self.a_rhi.val())
                 | (self.wr_addr.val() == self.a_tol.val())
                 | (self.wr_addr.val() == self.a_stop.val())
+                | ((self.wr_addr.val() == self.a_smode.val()) & self.c_io.val())
             {
                 if !self.may_config.val() {
                     self.refused.d.next = true;
@@ -357,6 +380,9 @@ impl<const K: usize> Logic for EncRegs<K> {
                     }
                     if self.wr_addr.val() == self.a_stop.val() {
                         self.stop_m.d.next = self.wr_data.val().get_bits::<K>(0);
+                    }
+                    if (self.wr_addr.val() == self.a_smode.val()) & self.c_io.val() {
+                        self.smode.d.next = self.wr_data.val().get_bit(0);
                     }
                     if self.wr_addr.val() == self.a_rhi.val() {
                         if !self.staged.val().any() | (self.staged.val() > self.c_rmax.val()) {
@@ -437,7 +463,14 @@ impl<const K: usize> Logic for EncRegs<K> {
             self.clear.next = self.mask.q.val().get_bits::<K>(32);
         }
         // The stop on ENC_FAIL (clk: `fail` is a register, ENC_STOP static).
+        // Hard, or (ENC_STOP_MODE.CONTROLLED) the controlled stop's request, held while
+        // the flag is set.
         self.stop.next = self.fail.val() & self.stop_m.q.val();
+        self.cstop.next = 0.into();
+        if self.smode.q.val() {
+            self.stop.next = 0.into();
+            self.cstop.next = self.fail.val() & self.stop_m.q.val();
+        }
 
         // ---- status: ENC_FAIL and the window ----
         self.fail_s.clock.next = self.bus_clock.val();
@@ -517,6 +550,9 @@ impl<const K: usize> Logic for EncRegs<K> {
         if (self.rd_addr.val() == self.a_tol.val()) & !self.enable.val() {
             self.rd_data.next = self.t_val.val();
         }
+        if (self.rd_addr.val() == self.a_smode.val()) & self.c_io.val() {
+            self.rd_data.next = bit_cast::<16, 1>(self.smode.q.val().into());
+        }
         if self.rd_addr.val() == self.a_stop.val() {
             self.rd_data.next = bit_cast::<16, K>(self.stop_m.q.val());
         }
@@ -583,6 +619,7 @@ impl<const K: usize> Logic for EncRegs<K> {
             self.inv.d.next = 0.into();
             self.pre.d.next = 0.into();
             self.stop_m.d.next = 0.into();
+            self.smode.d.next = false;
             self.rset.d.next = 0.into();
             self.tset.d.next = 0.into();
             self.refused.d.next = false;

@@ -114,6 +114,10 @@ pub struct PushCheck<const S: usize = 0> {
     in_poly: Signal<Local, Bit>,
     p_valid: Signal<Local, Bit>,
     p_code: Signal<Local, Bits<4>>,
+    /// The polynomial check's own code (0 without the S-curve option); `p_code` is it,
+    /// or the further check's when it is 0. (Two locals: a local written, read and
+    /// written again in one process reads differently in Verilog and rust-hdl.)
+    p_own: Signal<Local, Bits<4>>,
     c_rmax: Constant<Bits<32>>,
     c_rmax1: Constant<Bits<32>>,
     c_max_t: Constant<Bits<32>>,
@@ -182,6 +186,7 @@ impl<const S: usize> PushCheck<S> {
             in_poly: Default::default(),
             p_valid: Default::default(),
             p_code: Default::default(),
+            p_own: Default::default(),
             c_rmax: Constant::new(rmax.into()),
             c_rmax1: Constant::new((rmax + 1).into()),
             c_max_t: Constant::new((MAX_T_TICKS as u64).into()),
@@ -295,7 +300,7 @@ impl<const S: usize> Logic for PushCheck<S> {
             self.p_ext.d.next = self.ext_code.val();
         }
         self.p_valid.next = false;
-        self.p_code.next = 0.into();
+        self.p_own.next = 0.into();
         for i in 0..S {
             self.pc[i].clock.next = self.clock.val();
             self.pc[i].reset.next = self.reset.val();
@@ -306,10 +311,11 @@ impl<const S: usize> Logic for PushCheck<S> {
             self.pc[i].in_v1.next = self.in_extra.val().get_bits::<32>(0);
             self.pc[i].in_a.next = self.in_extra.val().get_bits::<64>(32);
             self.p_valid.next = self.pc[i].out_valid.val();
-            self.p_code.next = self.pc[i].out_code.val();
+            self.p_own.next = self.pc[i].out_code.val();
         }
         // The segment's own code first, then the further check's.
-        if self.p_code.val() == 0 {
+        self.p_code.next = self.p_own.val();
+        if self.p_own.val() == 0 {
             self.p_code.next = self.p_ext.q.val();
         }
         // Cycles 1 to 5 of a polynomial push (PolyCheck ignores an offer then).

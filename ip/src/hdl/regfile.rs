@@ -282,6 +282,7 @@ pub struct RegFile<const K: usize, const S: usize = 0> {
     v_minp: Constant<Bits<16>>,
     v_rmax_lo: Constant<Bits<16>>,
     v_rmax_hi: Constant<Bits<16>>,
+    v_opts: Constant<Bits<16>>,
     a_magic: Constant<Bits<ADDR_BITS>>,
     a_version: Constant<Bits<ADDR_BITS>>,
     a_axes: Constant<Bits<ADDR_BITS>>,
@@ -291,6 +292,7 @@ pub struct RegFile<const K: usize, const S: usize = 0> {
     a_clk_lo: Constant<Bits<ADDR_BITS>>,
     a_clk_hi: Constant<Bits<ADDR_BITS>>,
     a_minp: Constant<Bits<ADDR_BITS>>,
+    a_opts: Constant<Bits<ADDR_BITS>>,
     a_t_high: Constant<Bits<ADDR_BITS>>,
     a_t_low: Constant<Bits<ADDR_BITS>>,
     a_t_setup: Constant<Bits<ADDR_BITS>>,
@@ -481,6 +483,7 @@ impl<const K: usize, const S: usize> RegFile<K, S> {
             v_minp: v("ID_MIN_PERIOD"),
             v_rmax_lo: v("ID_MAX_RATE_LO"),
             v_rmax_hi: v("ID_MAX_RATE_HI"),
+            v_opts: v("ID_OPTIONS"),
             a_magic: c9("ID_MAGIC"),
             a_version: c9("ID_VERSION"),
             a_axes: c9("ID_AXES"),
@@ -490,6 +493,7 @@ impl<const K: usize, const S: usize> RegFile<K, S> {
             a_clk_lo: c9("ID_CLOCK_HZ_LO"),
             a_clk_hi: c9("ID_CLOCK_HZ_HI"),
             a_minp: c9("ID_MIN_PERIOD"),
+            a_opts: c9("ID_OPTIONS"),
             a_t_high: c9("STEP_HIGH"),
             a_t_low: c9("STEP_LOW"),
             a_t_setup: c9("DIR_SETUP"),
@@ -1030,6 +1034,9 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
             }
             if self.rd_addr.val() == self.a_minp.val() {
                 self.g_data.next = self.g_data.val() | self.v_minp.val();
+            }
+            if self.rd_addr.val() == self.a_opts.val() {
+                self.g_data.next = self.g_data.val() | self.v_opts.val();
             }
             if self.rd_addr.val() == self.a_t_high.val() {
                 self.g_data.next = self.g_data.val() | self.t_high.q.val();

@@ -92,6 +92,9 @@ macro_rules! stepper_top {
             core_reset: Signal<Local, Bit>,
             /// The status word's BUSY bit (with the machine I/O, registered).
             w_busy: Signal<Local, Bit>,
+            /// The selected axis's BUSY, registered (see `update`; unread without options,
+            /// and removed by synthesis then).
+            busy_q: DFF<Bit>,
             /// The command stage: the FIFO's head, decoded and registered on its way
             /// to the core (push, START, ABORT and the entry's 104 data bits).
             c_push: DFF<Bit>,
@@ -106,6 +109,8 @@ macro_rules! stepper_top {
             e_rd: Signal<Local, Bits<16>>,
             e_irq: Signal<Local, Bit>,
             e_stop: Signal<Local, Bits<K>>,
+            cstop_base: Signal<Local, Bits<K>>,
+            e_cstop: Signal<Local, Bits<K>>,
             e_stop_ev: Signal<Local, Bits<K>>,
             /// The machine I/O's probe strobe, for the encoders' probe latch (0 without it).
             io_probe: Signal<Local, Bit>,
@@ -123,8 +128,6 @@ macro_rules! stepper_top {
                 pub io_regs: IoRegs<K>,
                 pub guard: PushGuard<K>,
                 pub stop_regs: StopRegs<K>,
-                /// The selected axis's BUSY, registered (see `update`).
-                busy_q: DFF<Bit>,
             )?
             $(
                 /// Encoder feedback (`export --encoder`): the quadrature pins (bit a = axis
@@ -146,6 +149,8 @@ macro_rules! stepper_top {
                 assert_eq!(params.queue_depth, QDEPTH, "queue depth parameter");
                 assert_eq!(params.fifo_depth, DEPTH, "period FIFO depth parameter");
                 assert_eq!(params.scurve, S == 1, "S-curve parameter");
+                let has_io = false $(|| { let _ = stringify!($io); true })?;
+                let _ = has_io;
                 $name {
                     clk: Default::default(),
                     bus_clk: Default::default(),
@@ -182,6 +187,7 @@ macro_rules! stepper_top {
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
                     w_busy: Default::default(),
+                    busy_q: Default::default(),
                     c_push: Default::default(),
                     c_start: Default::default(),
                     c_abort: Default::default(),
@@ -197,6 +203,8 @@ macro_rules! stepper_top {
                     e_rd: Default::default(),
                     e_irq: Default::default(),
                     e_stop: Default::default(),
+                    cstop_base: Default::default(),
+                    e_cstop: Default::default(),
                     e_stop_ev: Default::default(),
                     io_probe: Default::default(),
                     $(
@@ -204,7 +212,7 @@ macro_rules! stepper_top {
                         enc_b: Default::default(),
                         enc_z: Default::default(),
                         $enc: Default::default(),
-                        enc_regs: Default::default(),
+                        enc_regs: EncRegs::default().with_io(has_io),
                     )?
                     $(
                         estop_n: Default::default(),
@@ -218,7 +226,6 @@ macro_rules! stepper_top {
                         io_regs: IoRegs::default().with_groups(params.io_groups()),
                         guard: Default::default(),
                         stop_regs: StopRegs::new(params.stop_decel_min()).with_groups(params.io_groups()),
-                        busy_q: Default::default(),
                     )?
                 }
             }
@@ -394,7 +401,8 @@ macro_rules! stepper_top {
                 self.status.breset.next = self.rst_bus.sig_out.val();
                 self.core.sel_axis.next = self.status.sel.val();
                 self.stop_base.next = 0.into();
-                self.core.cstop_axes.next = 0.into();
+                self.cstop_base.next = 0.into();
+                self.e_cstop.next = 0.into();
                 self.core.decel.next = 0.into();
                 // Position latches: only the machine I/O drives them.
                 self.core.home_latch.next = 0.into();
@@ -402,12 +410,8 @@ macro_rules! stepper_top {
                 self.core.lsel_axis.next = 0.into();
                 self.core.epos_axis.next = 0.into();
                 self.w_busy.next = self.core.sel_busy.val();
-                self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
-                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
-                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_done.val()) << 40)
-                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_underruns.val()) << 48)
-                    | (bit_cast::<STATUS_BITS, 1>(self.w_busy.val().into()) << 56)
-                    | (bit_cast::<STATUS_BITS, 1>((!self.core_reset.val()).into()) << 57);
+                self.busy_q.clock.next = self.clk.val();
+                self.busy_q.d.next = self.core.sel_busy.val();
                 self.regs.st_valid.next = self.status.valid.val();
                 self.regs.st_axis.next = self.status.axis.val();
                 self.regs.st_word.next = self.status.word.val();
@@ -423,8 +427,6 @@ macro_rules! stepper_top {
                     // word with BUSY = 0 is still exact: BUSY was 0 a tick earlier, so
                     // no edge moved the position and nothing was taken in between (an
                     // axis with anything queued is BUSY); BUSY = 1 only delays a resync.
-                    self.busy_q.clock.next = self.clk.val();
-                    self.busy_q.d.next = self.core.sel_busy.val();
                     self.w_busy.next = self.busy_q.q.val();
                     self.$io.run.next = !self.core_reset.val();
                     self.$io.estop_n.next = self.estop_n.val();
@@ -514,7 +516,7 @@ macro_rules! stepper_top {
                     self.stop_regs.enable.next = self.regs.enable.val();
                     self.stop_regs.clock.next = self.clk.val();
                     // The host's STOP, and the sources STOP_MODE puts in controlled mode.
-                    self.core.cstop_axes.next = self.stop_regs.cstop.val() | self.$io.axis_cstop.val();
+                    self.cstop_base.next = self.stop_regs.cstop.val() | self.$io.axis_cstop.val();
                     self.$io.stop_mode.next = self.stop_regs.mode.val();
                     self.$io.home_stop.next = self.stop_regs.home_arm.val();
                     self.core.decel.next = self.stop_regs.decel.val();
@@ -536,6 +538,9 @@ macro_rules! stepper_top {
                     // Encoder feedback: the bank in clk, held in reset with the core, its
                     // position port on the core's, its registers beside the register file.
                     self.$enc.clock.next = self.clk.val();
+                    // The status word's BUSY registered, as with the machine I/O (the
+                    // option's placement stretches the same path).
+                    self.w_busy.next = self.busy_q.q.val();
                     self.$enc.reset.next = self.core_reset.val();
                     self.$enc.enc_a.next = self.enc_a.val();
                     self.$enc.enc_b.next = self.enc_b.val();
@@ -570,6 +575,7 @@ macro_rules! stepper_top {
                     self.e_rd.next = self.enc_regs.rd_data.val();
                     self.e_irq.next = self.enc_regs.irq.val();
                     self.e_stop.next = self.enc_regs.stop.val();
+                    self.e_cstop.next = self.enc_regs.cstop.val();
                     self.e_stop_ev.next = self.enc_regs.b_stop_ev.val();
                 )?
                 $(
@@ -578,9 +584,18 @@ macro_rules! stepper_top {
                     self.guard.stop_ev.next = self.io_regs.b_stop_ev.val() | self.stop_regs.requested.val() | self.e_stop_ev.val();
                     self.$io.clock.next = self.clk.val();
                 )?
+                // The status word last: it reads `w_busy`, which the options rewrite (a
+                // local written again after a read reads differently in Verilog).
+                self.status.word_in.next = bit_cast::<STATUS_BITS, 32>(self.core.sel_position.val())
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_taken.val()) << 32)
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_done.val()) << 40)
+                    | (bit_cast::<STATUS_BITS, 8>(self.core.sel_underruns.val()) << 48)
+                    | (bit_cast::<STATUS_BITS, 1>(self.w_busy.val().into()) << 56)
+                    | (bit_cast::<STATUS_BITS, 1>((!self.core_reset.val()).into()) << 57);
                 self.exmc.rd_data.next = self.rd_base.val() | self.e_rd.val();
                 self.irq.next = self.irq_base.val() | self.e_irq.val();
                 self.core.stop_axes.next = self.stop_base.val() | self.e_stop.val();
+                self.core.cstop_axes.next = self.cstop_base.val() | self.e_cstop.val();
             }
         }
     };

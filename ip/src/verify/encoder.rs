@@ -9,7 +9,8 @@
 //! high at the counts ≡ `index_at` (mod `cpr`). With `bounce` high, A bounces: a
 //! one-tick glitch three ticks after each count, shorter than a filter of 2 or more.
 //!
-//! Ports: those of `tdm_stepper` but the encoder pins, then `stall`, `slip` (K bits)
+//! Ports: those of `tdm_stepper` but the encoder pins (and the machine I/O's, tied
+//! inactive, with [`RigConfig::io`]), then `stall`, `slip` (K bits)
 //! and `bounce` (inputs), and `count0` (axis 0's encoder position, counts; an output
 //! to watch).
 
@@ -28,11 +29,14 @@ pub struct RigConfig {
     pub index_at: i32,
     /// Steps a slip throws the motor back.
     pub slip_steps: i32,
+    /// The core has the machine I/O (`export --io all`): its inputs tied inactive
+    /// (estop_n high, the others low), drv_enable left open.
+    pub io: bool,
 }
 
 impl Default for RigConfig {
     fn default() -> Self {
-        RigConfig { num: 5, shift: 2, gap: 6, cpr: 4000, index_at: 1000, slip_steps: 40 }
+        RigConfig { num: 5, shift: 2, gap: 6, cpr: 4000, index_at: 1000, slip_steps: 40, io: false }
     }
 }
 
@@ -63,7 +67,12 @@ pub fn rig_verilog(core: &str, axes: usize, state_bits: usize, cfg: &RigConfig) 
     let _ = writeln!(v, "  wire [{}:0] ea;\n  wire [{0}:0] eb;\n  wire [{0}:0] ez;", k - 1);
     let _ = writeln!(
         v,
-        "  {core} dut(.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe), .addr(addr), .data_in(data_in), .data_out(data_out), .data_oe(data_oe), .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state), .enc_a(ea), .enc_b(eb), .enc_z(ez));"
+        "  {core} dut(.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe), .addr(addr), .data_in(data_in), .data_out(data_out), .data_oe(data_oe), .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state), .enc_a(ea), .enc_b(eb), .enc_z(ez){io});",
+        io = if cfg.io {
+            format!(", .estop_n(1'b1), .probe(1'b0), .limit_neg({k}'d0), .limit_pos({k}'d0), .home({k}'d0), .alarm({k}'d0), .drv_enable()")
+        } else {
+            String::new()
+        }
     );
     let _ = writeln!(v, "  genvar i;\n  generate for (i = 0; i < {k}; i = i + 1) begin : m");
     v.push_str("    reg sp, slp;\n    reg signed [31:0] mpos, cnt;\n    reg [15:0] gap;\n    reg [3:0] gl;\n");
