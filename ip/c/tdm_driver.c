@@ -702,6 +702,11 @@ int tdm_enc_configure(tdm_dev *dev, const tdm_enc_config *cfg)
     if (cfg == 0 || cfg->filter > TDM_ENC_FILTER_MAX || cfg->index_mode > 15u) {
         return TDM_E_ARG;
     }
+#if defined(TDM_ENC_STOP_MODE)
+    if (cfg->stop_controlled > 1u) {
+        return TDM_E_ARG;
+    }
+#endif
     for (a = 0; a < dev->axes; a++) {
         if (cfg->ratio[a] == 0u || cfg->ratio[a] > TDM_ENC_RATIO_MAX) {
             return TDM_E_ARG;
@@ -719,6 +724,9 @@ int tdm_enc_configure(tdm_dev *dev, const tdm_enc_config *cfg)
     tdm_write(dev, TDM_ENC_INVERT, cfg->invert);
     tdm_write(dev, TDM_ENC_VEL_PRESCALE, cfg->vel_prescale);
     tdm_write(dev, TDM_ENC_STOP, cfg->stop);
+#if defined(TDM_ENC_STOP_MODE)
+    tdm_write(dev, TDM_ENC_STOP_MODE, cfg->stop_controlled);
+#endif
     for (a = 0; a < dev->axes; a++) {
         dev->enc_ratio[a] = cfg->ratio[a];
         tdm_write(dev, TDM_ENC_AXIS, (uint16_t)a);

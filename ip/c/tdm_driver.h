@@ -276,7 +276,10 @@ typedef struct {
     uint8_t index_mode;      /* ENC_INDEX_MODE: Z_LOW, GATE, GATE_A, GATE_B */
     uint16_t invert;         /* bit a: axis a counts down when A leads B */
     uint16_t vel_prescale;   /* ENC_PERIOD and ENC_AGE count a tick every vel_prescale + 1 clk ticks */
-    uint16_t stop;           /* bit a: axis a's ENC_FAIL stops it (hard) */
+    uint16_t stop;           /* bit a: axis a's ENC_FAIL stops it (hard, or see stop_controlled) */
+#if defined(TDM_ENC_STOP_MODE)
+    uint8_t stop_controlled; /* 1: that stop is the controlled stop (a ramp at STOP_DECEL); with the machine I/O only */
+#endif
     uint32_t ratio[TDM_AXES]; /* counts per step, Q16.16 (TDM_ENC_RATIO_ONE = 1.0), 1..TDM_ENC_RATIO_MAX */
     uint16_t tol[TDM_AXES];  /* following-error tolerance, counts; 0 = no check */
 } tdm_enc_config;
@@ -294,7 +297,7 @@ typedef struct {
 
 /* Writes the configuration and keeps the ratios in dev. The core must be disabled.
  * TDM_E_ARG (a filter above TDM_ENC_FILTER_MAX, an index mode above 15, a ratio of 0 or
- * above TDM_ENC_RATIO_MAX) and TDM_E_AXIS (a mask bit >= K) without touching the bus;
+ * above TDM_ENC_RATIO_MAX, stop_controlled above 1) and TDM_E_AXIS (a mask bit >= K) without touching the bus;
  * TDM_E_REFUSED if the core is enabled (nothing written) or refused a write. */
 int tdm_enc_configure(tdm_dev *dev, const tdm_enc_config *cfg);
 

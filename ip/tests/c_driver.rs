@@ -123,7 +123,8 @@ fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
 /// tdm_identify() compares ID_OPTIONS with the header's TDM_OPTIONS: against a bank in
 /// memory that answers this header's ID values, every other export's options word is
 /// refused with TDM_E_CONFIG and its own is taken. (The bus tests run tdm_identify on
-/// the exported cores, so each core's ID_OPTIONS equals its header's.)
+/// the exported cores, so each core's ID_OPTIONS equals its header's.) Each driver
+/// compiles without warnings with its header (the machine I/O with the encoders too).
 #[test]
 fn identify_refuses_a_core_whose_options_differ_from_the_header() {
     let io = |s: &str| export::parse_io(s).unwrap();
@@ -133,6 +134,7 @@ fn identify_refuses_a_core_whose_options_differ_from_the_header() {
         ("io_limits", ExportOptions { axes: 2, io: true, io_omit: io("limits").omit, ..Default::default() }),
         ("scurve", ExportOptions { axes: 2, scurve: true, ..Default::default() }),
         ("encoder", ExportOptions { axes: 2, encoder: true, ..Default::default() }),
+        ("io_encoder", ExportOptions { axes: 2, io: true, encoder: true, ..Default::default() }),
     ];
     let words: Vec<u16> = variants.iter().map(|(_, o)| o.params().options_word()).collect();
     let mut sorted = words.clone();

@@ -9,7 +9,7 @@ use common::*;
 use rust_hdl::prelude::*;
 use tdm_stepper::vectors::paper_experiment_segments;
 use tdm_stepper::hdl::core::t_calc_sqrt;
-use tdm_stepper::hdl::top::{TdmStepper, TdmStepperIo};
+use tdm_stepper::hdl::top::{TdmStepper, TdmStepperEnc, TdmStepperIo};
 use tdm_stepper::model::{pulse, AxisRun, Limits, PulseTiming, Segment};
 use tdm_stepper::regs::{self, CoreParams};
 use tdm_stepper::verify::bus::{
@@ -2322,4 +2322,101 @@ fn a_stall_with_the_controlled_stop_ramps_the_axis_down() {
     assert_eq!(v(st) & 0x13F, 0, "the axis idle, nothing queued, no error");
     assert_eq!(position(&b, &tr, pos), Some(cut.position as i32), "the position at rest is the edges emitted");
     assert_eq!(cut.position, r.len() as i64, "the edges are all up");
+}
+
+/// The encoder top's registers in rust-hdl and in Verilator on one script, the encoder
+/// pins driven by the script (no motor): a refusal, ratio, tolerance and stop written
+/// while disabled; 24 counts up at one every 10 ticks with an index at the tenth, bounce
+/// on A shorter than the filter; ENC_COUNT, ENC_INDEX, ENC_DEV (the position 0 against
+/// 24 counts), ENC_FAIL and IRQ_ENC; ENC_ALIGN and ENC_CLEAR; then a move with the
+/// lines still: the deviation grows 1.25 counts a step and ENC_STOP stops the axis on
+/// the step that takes it above the tolerance. Both traces are equal, and say so.
+#[test]
+fn encoder_registers_rust_hdl_equals_verilator() {
+    const K: usize = 2;
+    const TOL: u16 = 6;
+    let tick = 2 * CLOCKS.clk_half_ps;
+    let mut b = bus();
+    let mut pins: Vec<(u64, Vec<u128>)> = Vec::new();
+    b.write_reg("ENC_FILTER", 0, 16);
+    let refused = b.read_reg("ENC_STATUS", 0);
+    b.write_reg("ENC_STATUS", 0, 1);
+    b.write_reg("ENC_FILTER", 0, 2);
+    b.write_reg("ENC_RATIO_LO", 0, 0x4000);
+    b.write_reg("ENC_RATIO_HI", 0, 1);
+    b.write_reg("ENC_TOL", 0, TOL);
+    b.write_reg("ENC_STOP", 0, 0b01);
+    b.write_reg("IRQ_MASK_ENC", 0, 0b001);
+    b.enable(ENABLE_WAIT);
+    b.idle(100);
+    let quad = [(0u128, 0u128), (1, 0), (1, 1), (0, 1)];
+    let mut t = b.now_ps();
+    for i in 1..=24usize {
+        t += 10 * tick;
+        let (a, bb) = quad[i % 4];
+        pins.push((t, vec![a, bb, (i == 10) as u128]));
+        // A one-tick glitch on A three ticks later (the filter is 2).
+        pins.push((t + 3 * tick, vec![a ^ 1, bb, (i == 10) as u128]));
+        pins.push((t + 4 * tick, vec![a, bb, (i == 10) as u128]));
+    }
+    b.idle_until_ps(t + 300 * tick);
+    let counted = [
+        b.read_reg("ENC_COUNT_LO", 0),
+        b.read_reg("ENC_COUNT_HI", 0),
+        b.read_reg("ENC_INDEX_LO", 0),
+        b.read_reg("ENC_INDEX_HI", 0),
+        b.read_reg("ENC_DEV_LO", 0),
+        b.read_reg("ENC_DEV_HI", 0),
+        b.read_reg("ENC_FAIL", 0),
+        b.read_reg("IRQ_ENC", 0),
+        b.read_reg("ENC_STATE", 0),
+    ];
+    b.write_reg("ENC_ALIGN", 0, 0b01);
+    b.write_reg("ENC_CLEAR", 0, 0b01);
+    b.write_reg("IRQ_ENC", 0, 0b111);
+    b.idle(100);
+    let aligned = [b.read_reg("ENC_FAIL", 0), b.read_reg("ENC_DEV_LO", 0), b.read_reg("ENC_DEV_HI", 0), b.read_reg("IRQ_ENC", 0)];
+    b.push_segment(0, &uniform(20 * 400, 20));
+    b.write_reg("START", 0, 0b01);
+    b.idle_until_ps(b.now_ps() + (20 * 400 + 1_000) * tick);
+    let stopped = [b.read_reg("ENC_FAIL", 0), b.read_reg("BUSY", 0), b.read_reg("IRQ_ENC", 0)];
+    let pos = b.read_position(0);
+    let cycles = cycles_after(&b, 50);
+
+    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &[0, 0, 0], &pins);
+    let mut u = TdmStepperEnc::<K, R, DEPTH, QDEPTH>::new(CoreParams { encoder: true, ..params::<K>() });
+    u.connect_ports();
+    let t0 = std::time::Instant::now();
+    let mut rh = tdm_stepper::verify::bus::run_stepper_enc_rust_hdl(&mut u, &CLOCKS, &events, cycles);
+    eprintln!("rust-hdl: {cycles} clk cycles of the encoder top in {:.1} s", t0.elapsed().as_secs_f64());
+    samples_to_bus_events(&mut rh, &index);
+    let opts = tdm_stepper::export::ExportOptions { axes: K, encoder: true, ..Default::default() };
+    let verilog = tdm_stepper::export::verilog(&opts).unwrap();
+    let mut spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(K));
+    for n in ["enc_a", "enc_b", "enc_z"] {
+        spec.inputs.push(Port::new(n, K));
+    }
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let mut vt = run_system_with(&sim_dir("enc_regs_three_ways", Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
+    samples_to_bus_events(&mut vt, &index);
+
+    for (sim, tr) in [("rust-hdl", &rh), ("Verilator", &vt)] {
+        let v = |id| b.value(tr, id).unwrap_or_else(|| panic!("{sim}: read returned x"));
+        let word = |lo, hi| ((v(hi) as u32) << 16 | v(lo) as u32) as i32;
+        assert_eq!(v(refused), 1 | 2 << 4, "{sim}: ENC_FILTER = 16 refused, code 2");
+        assert_eq!(word(counted[0], counted[1]), 24, "{sim}: ENC_COUNT");
+        assert_eq!(word(counted[2], counted[3]), 10, "{sim}: ENC_INDEX, the count at the index");
+        assert_eq!(word(counted[4], counted[5]), -24, "{sim}: ENC_DEV, position 0 against 24 counts");
+        assert_eq!((v(counted[6]), v(counted[7])), (1, 0b101), "{sim}: ENC_FAIL; IRQ_ENC FAIL and INDEX, no ILLEGAL");
+        assert_eq!(v(counted[8]) & 0xFF, 0, "{sim}: no illegal transition (the glitch is shorter than the filter)");
+        assert_eq!((v(aligned[0]), word(aligned[1], aligned[2]), v(aligned[3])), (0, 0, 0), "{sim}: after ENC_ALIGN and ENC_CLEAR");
+        let crossing = (1..).find(|&k: &i64| (k * 5) >> 2 > TOL as i64).unwrap();
+        assert_eq!(position(&b, tr, pos), Some(crossing as i32), "{sim}: the stop on the step that crosses the tolerance");
+        assert_eq!((v(stopped[0]), v(stopped[1]) & 1, v(stopped[2]) & 1), (1, 0, 1), "{sim}: ENC_FAIL, BUSY, IRQ_ENC.FAIL after the stop");
+    }
+    let strip = |t: &SystemTrace| -> SystemTrace {
+        let from = clk_cycle_at(b.events()[2].time_ps) + 10;
+        SystemTrace { changes: t.changes.iter().filter(|c| c.0 >= from).cloned().collect(), samples: t.samples.clone(), probes: vec![] }
+    };
+    assert_eq!(strip(&rh), strip(&vt), "rust-hdl and Verilator traces differ");
 }

@@ -10,7 +10,7 @@
 //! `nwe`, `addr`, `data_in`.
 
 use super::system::{run_system_rust_hdl, BusEvent, Clocks, SystemSpec, SystemTrace};
-use crate::hdl::top::{TdmStepper, TdmStepperIo};
+use crate::hdl::top::{TdmStepper, TdmStepperEnc, TdmStepperIo};
 use rust_hdl::prelude::*;
 use super::tb::Port;
 use crate::model::Segment;
@@ -141,6 +141,33 @@ pub fn run_stepper_io_rust_hdl<const K: usize, const R: usize, const D: usize, c
             u.alarm.next = (p[11] as u64).into();
         },
         |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128, u.drv_enable.val().to_u64() as u128],
+        |u| u.data_out.val().to_u64() as u128,
+    )
+}
+
+/// [`run_stepper_rust_hdl`] for the core with encoder feedback: each event holds the
+/// bus pins, then enc_a, enc_b and enc_z (as [`with_extra_inputs`] adds them).
+pub fn run_stepper_enc_rust_hdl<const K: usize, const R: usize, const D: usize, const Q: usize>(
+    u: &mut TdmStepperEnc<K, R, D, Q>,
+    clocks: &Clocks,
+    events: &[BusEvent],
+    cycles: u64,
+) -> SystemTrace {
+    run_system_rust_hdl(
+        u,
+        clocks,
+        events,
+        cycles,
+        &[],
+        false,
+        |u, c, bc| clock_stepper!(u, c, bc),
+        |u, p| {
+            drive_bus_pins!(u, p);
+            u.enc_a.next = (p[6] as u64).into();
+            u.enc_b.next = (p[7] as u64).into();
+            u.enc_z.next = (p[8] as u64).into();
+        },
+        |u| vec![u.step.val().to_u64() as u128, u.dir.val().to_u64() as u128, u.irq.val() as u128],
         |u| u.data_out.val().to_u64() as u128,
     )
 }
