@@ -23,8 +23,9 @@
 //! Ports:
 //! * `ax`: the axis visited at the last edge (the parent's sample register), `ok`: the
 //!   sample was taken out of reset (else nothing is written); `next_ax`: the axis
-//!   visited now (whose "visited since reset" bit is registered for the next cycle,
-//!   out of the arithmetic's path); the parent drives the
+//!   visited now (whose "visited since reset" bit and last count and age are read from
+//!   memory and registered for the next cycle, out of the arithmetic's path; the
+//!   parent's `ax` at the next edge); the parent drives the
 //!   sample of that axis's decoder outputs `count`, `index_count`, `probe_count`,
 //!   `period`, `age` (8 bits), `cnew`, `inew`, `iafter`, `pnew`, `pafter`, `enew`,
 //!   `e2` and `live` (`model::encoder::live_word`: illegal 7..0, armed 8, last
@@ -40,7 +41,8 @@
 //! Latency: a visit's sample is written at the next edge; what the bus reads is at
 //! most K + 1 ticks old.
 //! Cost: eight 16-word LUT RAMs (the count and the age twice, for their two read
-//! addresses; the latches; the period; the live words: 189 bits), a 32-bit register,
+//! addresses; the latches; the period; the live words: 189 bits), 80 bits of
+//! registers (the count for the following error, the next axis's count and age),
 //! five 8-bit subtractors, three 32-bit and two 17-bit adders, and 3 flip-flops per
 //! axis.
 
@@ -113,6 +115,12 @@ pub struct EncExtend<const K: usize> {
     x_p: Signal<Local, Bits<32>>,
     /// The velocity: the last age, the narrow growths, their saturating sums.
     a_old: Signal<Local, Bits<16>>,
+    /// The count's and the age's memory words of the next sample's axis, read a cycle
+    /// ahead at `next_ax` (or the words written now, when that is the same axis), so no
+    /// LUT RAM read is in front of the arithmetic.
+    cnt_pre: DFF<Bits<32>>,
+    age_pre: DFF<Bits<16>>,
+    same: Signal<Local, Bit>,
     d_a: Signal<Local, Bits<8>>,
     g_a: Signal<Local, Bits<17>>,
     d_q: Signal<Local, Bits<8>>,
@@ -183,6 +191,9 @@ impl<const K: usize> Default for EncExtend<K> {
             d_p: Default::default(),
             x_p: Default::default(),
             a_old: Default::default(),
+            cnt_pre: Default::default(),
+            age_pre: Default::default(),
+            same: Default::default(),
             d_a: Default::default(),
             g_a: Default::default(),
             d_q: Default::default(),
@@ -196,7 +207,7 @@ impl<const K: usize> Default for EncExtend<K> {
 impl<const K: usize> Logic for EncExtend<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, valid, itog, ptog, c1, v_q);
+        dff_setup!(self, clock, valid, itog, ptog, c1, v_q, cnt_pre, age_pre);
         self.cnt_ram.clock.next = self.clock.val();
         self.cnt_sel.clock.next = self.clock.val();
         self.idx_ram.clock.next = self.clock.val();
@@ -210,11 +221,11 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.v.next = self.v_q.q.val();
         // The next sample's axis: visited since reset, or written now.
         self.v_q.d.next = (self.valid.q.val() & (self.c_one.val() << self.next_ax.val())).any() | (self.ok.val() & (self.ax.val() == self.next_ax.val()));
-        self.cnt_ram.raddr.next = self.ax.val();
+        self.cnt_ram.raddr.next = self.next_ax.val();
         // The count: from the last one, or from 0 (a clear, or the first visit).
         self.b_c.next = 0.into();
         if self.v.val() & !self.cnew.val() {
-            self.b_c.next = self.cnt_ram.rdata.val();
+            self.b_c.next = self.cnt_pre.q.val();
         }
         self.d_c.next = self.count.val() - self.b_c.val().get_bits::<8>(0);
         self.x_c.next = bit_cast::<32, 8>(self.d_c.val());
@@ -225,7 +236,7 @@ impl<const K: usize> Logic for EncExtend<K> {
         // The latches: the same from the count at the last visit (or from 0).
         self.b_i.next = 0.into();
         if self.v.val() & !self.iafter.val() {
-            self.b_i.next = self.cnt_ram.rdata.val();
+            self.b_i.next = self.cnt_pre.q.val();
         }
         self.d_i.next = self.index_count.val() - self.b_i.val().get_bits::<8>(0);
         self.x_i.next = bit_cast::<32, 8>(self.d_i.val());
@@ -234,7 +245,7 @@ impl<const K: usize> Logic for EncExtend<K> {
         }
         self.b_p.next = 0.into();
         if self.v.val() & !self.pafter.val() {
-            self.b_p.next = self.cnt_ram.rdata.val();
+            self.b_p.next = self.cnt_pre.q.val();
         }
         self.d_p.next = self.probe_count.val() - self.b_p.val().get_bits::<8>(0);
         self.x_p.next = bit_cast::<32, 8>(self.d_p.val());
@@ -243,10 +254,10 @@ impl<const K: usize> Logic for EncExtend<K> {
         }
 
         // The velocity: from the last age (0 before the first visit).
-        self.age_ram.raddr.next = self.ax.val();
+        self.age_ram.raddr.next = self.next_ax.val();
         self.a_old.next = 0.into();
         if self.v.val() {
-            self.a_old.next = self.age_ram.rdata.val();
+            self.a_old.next = self.age_pre.q.val();
         }
         self.d_a.next = self.age.val() - self.a_old.val().get_bits::<8>(0);
         self.g_a.next = bit_cast::<17, 16>(self.a_old.val()) + bit_cast::<17, 8>(self.d_a.val());
@@ -278,6 +289,13 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.cnt_ram.we.next = self.ok.val();
         self.cnt_ram.waddr.next = self.ax.val();
         self.cnt_ram.wdata.next = self.e_c.val();
+        self.same.next = self.ok.val() & (self.ax.val() == self.next_ax.val());
+        self.cnt_pre.d.next = self.cnt_ram.rdata.val();
+        self.age_pre.d.next = self.age_ram.rdata.val();
+        if self.same.val() {
+            self.cnt_pre.d.next = self.e_c.val();
+            self.age_pre.d.next = self.a_new.val();
+        }
         self.cnt_sel.we.next = self.ok.val();
         self.cnt_sel.waddr.next = self.ax.val();
         self.cnt_sel.wdata.next = self.e_c.val();

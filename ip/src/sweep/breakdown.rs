@@ -10,7 +10,7 @@ pub fn block_of(module: &str) -> &'static str {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
     };
-    const BLOCKS: [(&str, &str); 18] = [
+    const BLOCKS: [(&str, &str); 19] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
         ("core$ctx_ram", "per-axis contexts (current and next segment)"),
         ("core$queues", "segment queues (one RAM for every axis, two counters each)"),
@@ -26,6 +26,7 @@ pub fn block_of(module: &str) -> &'static str {
         ),
         ("regs", "register file: staging, status mirror, IRQ"),
         ("status", "status crossing (core to bus clock)"),
+        ("busy_q", "status crossing (core to bus clock)"),
         ("cmd_fifo", "command FIFO and stage (bus to core clock)"),
         ("c_", "command FIFO and stage (bus to core clock)"),
         ("exmc", "EXMC slave"),
