@@ -761,6 +761,7 @@ int tdm_enc_read(tdm_dev *dev, unsigned axis, tdm_enc_status *st, unsigned long 
     }
     st->count = read_latched(dev, TDM_ENC_COUNT_LO, TDM_ENC_COUNT_HI);
     st->index = read_latched(dev, TDM_ENC_INDEX_LO, TDM_ENC_INDEX_HI);
+    st->index_pos = read_latched(dev, TDM_ENC_INDEX_POS_LO, TDM_ENC_INDEX_POS_HI);
     st->probe = read_latched(dev, TDM_ENC_PROBE_LO, TDM_ENC_PROBE_HI);
     st->deviation = read_latched(dev, TDM_ENC_DEV_LO, TDM_ENC_DEV_HI);
     st->period = tdm_read(dev, TDM_ENC_PERIOD);

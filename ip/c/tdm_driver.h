@@ -288,6 +288,7 @@ typedef struct {
 typedef struct {
     int32_t count;     /* counts, signed */
     int32_t index;     /* the count the index latch took */
+    int32_t index_pos; /* the step position at that index (0 before an index since reset) */
     int32_t probe;     /* the count the probe latched (with the machine I/O's probe) */
     int32_t deviation; /* position x ratio + offset - count: positive when the encoder lags */
     uint16_t period;   /* velocity ticks between the last two edges (saturating) */

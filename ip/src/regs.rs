@@ -530,7 +530,7 @@ pub fn table() -> Vec<Register> {
         // Encoder feedback (export --encoder).
         enc_reg(
             "ENC_AXIS", 0x50, 0,
-            vec![f("AXIS", 0, 4, Rw, "the axis ENC_RATIO, ENC_TOL and the window registers (ENC_COUNT .. ENC_STATE) address; a write of an axis the core lacks is refused (code 4). Writing it empties the window until the axis's next copy (ENC_STATE.VALID)")],
+            vec![f("AXIS", 0, 4, Rw, "the axis ENC_RATIO, ENC_TOL and the window registers (ENC_COUNT .. ENC_STATE and ENC_INDEX_POS) address; a write of an axis the core lacks is refused (code 4). Writing it empties the window until the axis's next copy (ENC_STATE.VALID)")],
             "Encoder: the axis the window registers address.",
         ),
         enc_reg("ENC_FILTER", 0x51, 0, vec![f("TICKS", 0, 16, Rw, "A, B and Z filter, clk ticks (0..15, 0 = off): a new level is taken once seen at TICKS + 1 consecutive ticks; a larger value is refused (code 2)")], ENC_CONFIG_RULE),
@@ -593,6 +593,8 @@ pub fn table() -> Vec<Register> {
         enc_reg("ENC_COUNT_HI", 0x61, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_COUNT_LO read")], "Encoder window: the count, high half."),
         enc_reg("ENC_INDEX_LO", 0x62, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the count the index latch took; reading it latches bits 31:16 for ENC_INDEX_HI")], "Encoder window: the index latch, low half."),
         enc_reg("ENC_INDEX_HI", 0x63, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_INDEX_LO read")], "Encoder window: the index latch, high half."),
+        enc_reg("ENC_INDEX_POS_LO", 0x6C, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of axis ENC_AXIS's step position at its last index (the tick the index latch took the count; 0 before an index since the core left reset); reading it latches bits 31:16 for ENC_INDEX_POS_HI")], "Encoder window: the step position at the index, low half."),
+        enc_reg("ENC_INDEX_POS_HI", 0x6D, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_INDEX_POS_LO read")], "Encoder window: the step position at the index, high half."),
         enc_reg("ENC_PROBE_LO", 0x64, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the count the machine I/O's probe latched (0 without it); reading it latches bits 31:16 for ENC_PROBE_HI")], "Encoder window: the probe latch, low half."),
         enc_reg("ENC_PROBE_HI", 0x65, 0, vec![f("VALUE", 0, 16, Ro, "bits 31:16 as latched by the last ENC_PROBE_LO read")], "Encoder window: the probe latch, high half."),
         enc_reg("ENC_DEV_LO", 0x66, 0, vec![f("VALUE", 0, 16, Ro, "bits 15:0 of the deviation ⌊position·ratio/2^16⌋ + offset − count (signed counts, positive when the encoder lags the steps); reading it latches bits 31:16 for ENC_DEV_HI")], "Encoder window: the following error, low half."),
@@ -854,7 +856,7 @@ fn contract(m: &mut String, p: &CoreParams) {
              (plus the count's way through the synchroniser and filter, 2 + n ticks). ENC_RATIO \
              takes 0x1 to 0x{RATIO_MAX:X} (Q16.16 counts per step, at most 256); the deviation is \
              ⌊position·ratio/2^16⌋ + offset − count, where ENC_ALIGN sets the offset that makes it 0. \
-             The window registers (ENC_COUNT .. ENC_STATE) show a copy of axis ENC_AXIS refreshed at \
+             The window registers (ENC_COUNT .. ENC_STATE and ENC_INDEX_POS) show a copy of axis ENC_AXIS refreshed at \
              least every K·(3 clk + 3 bus clocks); reading a *_LO half latches its *_HI half.",
             r0 = max_count_rate_ticks(0),
             f0 = p.clock_hz as f64 / max_count_rate_ticks(0) as f64 / 1e6,

@@ -704,7 +704,10 @@ fn readme_encoder_example_corrects_lost_steps_through_the_driver() {
     let counts = |steps: i64| (steps * 5).div_euclid(4);
     let read = one("READ");
     assert_eq!(read, [0, counts(2000 - lost), counts(2000) - counts(2000 - lost), 1, 0], "the encoder behind by the lost steps' counts, ENC_FAIL, no illegal transition");
-    assert_eq!(one("SERVICE"), [1, 1], "tdm_enc_service: IRQ_ENC.FAIL, ENC_FAIL of axis 0");
+    // The encoder's index at 1,000 counts: 800 motor steps, 800 + the lost steps on
+    // the core's position (the stall came before it).
+    assert_eq!(one("INDEX"), [1000, 800 + lost], "ENC_INDEX and ENC_INDEX_POS: the count and the step position at the index");
+    assert_eq!(one("SERVICE"), [0b101, 1], "tdm_enc_service: IRQ_ENC.FAIL and INDEX, ENC_FAIL of axis 0");
     let c = one("CORRECT");
     assert_eq!((c[0], c[1]), (0, lost), "the correction moved the lost steps");
     assert!((c[2] - counts(2000)).abs() <= 1, "after the correction the encoder reads {}, the commanded position is {} counts", c[2], counts(2000));

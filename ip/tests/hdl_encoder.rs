@@ -24,10 +24,10 @@ fn decoder_uut() -> EncDecoder {
     u
 }
 
-/// Input columns: reset, a, b, z, mode, arm, probe, vel_tick, invert, ack.
-const IN_COLS: [(&str, usize); 10] =
-    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 8), ("arm", 1), ("probe", 1), ("vel_tick", 1), ("invert", 1), ("ack", 1)];
-const OUT_COLS: [(&str, usize); 19] = [
+/// Input columns: reset, a, b, z, mode, arm, probe, vel_tick, invert, ack, position.
+const IN_COLS: [(&str, usize); 11] =
+    [("reset", 1), ("a", 1), ("b", 1), ("z", 1), ("mode", 8), ("arm", 1), ("probe", 1), ("vel_tick", 1), ("invert", 1), ("ack", 1), ("position", 8)];
+const OUT_COLS: [(&str, usize); 20] = [
     ("count", 8),
     ("index_count", 8),
     ("probe_count", 8),
@@ -47,6 +47,7 @@ const OUT_COLS: [(&str, usize); 19] = [
     ("lev_a", 1),
     ("lev_b", 1),
     ("lev_z", 1),
+    ("index_pos", 8),
 ];
 
 /// The narrow view the HDL decoder shows.
@@ -72,6 +73,7 @@ fn model_outputs(m: &EncoderModel) -> Vec<u128> {
         (o.levels & 1) as u128,
         (o.levels >> 1 & 1) as u128,
         (o.levels >> 2 & 1) as u128,
+        o.index_pos as u128,
     ]
 }
 
@@ -126,6 +128,7 @@ fn random_rows(seed: u64, phases: u64) -> Vec<Vec<u128>> {
                 (k % every == 0) as u128,
                 cfg.invert as u128,
                 (k % visit == 0) as u128,
+                (rng.next() % 256) as u128,
             ]);
         }
     }
@@ -143,7 +146,7 @@ fn decoder_equals_the_model_three_ways() {
         // The synchroniser's flip-flops are undefined in Verilog until reset loads the levels.
         want.push(model_outputs(&m).into_iter().map(|v| (r >= 3).then_some(v)).collect::<Vec<_>>());
         let pins = EncPins { a: row[1] == 1, b: row[2] == 1, z: row[3] == 1 };
-        m.clock_visit(&config_of(row[4], row[8]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[9] == 1, row[0] == 1);
+        m.clock_visit(&config_of(row[4], row[8]), pins, row[5] == 1, row[6] == 1, row[7] == 1, row[9] == 1, row[10] as u32, row[0] == 1);
         let after = m.outputs();
         if row[0] == 0 {
             counted += (after.count != before.count) as u64;
@@ -177,6 +180,7 @@ fn decoder_equals_the_model_three_ways() {
             u.vel_tick.next = r[7] == 1;
             u.invert.next = r[8] == 1;
             u.ack.next = r[9] == 1;
+            u.position.next = (r[10] as u64).into();
         },
         |u| {
             vec![
@@ -199,6 +203,7 @@ fn decoder_equals_the_model_three_ways() {
                 u.lev_a.val() as u128,
                 u.lev_b.val() as u128,
                 u.lev_z.val() as u128,
+                u.index_pos.val().to_u64() as u128,
             ]
         },
         &spec,
@@ -665,6 +670,7 @@ fn bank_three_ways<const BK: usize>(cycles: usize, rest_cycles: std::ops::Range<
         inp.probe = rng.next() % 400 == 0;
         let pa = m.pos_axis();
         inp.position = pos[pa] as u32;
+        inp.pos_low = (0..BK).fold(0u128, |w, a| w | ((pos[a] as u32 & 0xFF) as u128) << (8 * a));
         inp.ratio = ratios[pa];
         inp.tol = tols[pa];
         let sel = (rng.next() % BK as u64) as usize;
@@ -687,6 +693,7 @@ fn bank_three_ways<const BK: usize>(cycles: usize, rest_cycles: std::ops::Range<
             inp.ratio as u128,
             inp.tol as u128,
             sel as u128,
+            inp.pos_low,
         ]);
         let before = (m.fe.fail(), m.dec[0].outputs().count);
         m.clock(&inp, reset);
@@ -696,7 +703,7 @@ fn bank_three_ways<const BK: usize>(cycles: usize, rest_cycles: std::ops::Range<
     }
     let want_saturated = if rest_cycles.is_empty() { 0 } else { 100 };
     assert!(fails > 10 * cycles as u32 / 92_000 && counts > 2000 * cycles as u32 / 92_000 && saturated >= want_saturated, "K = {BK}: stimulus too thin: {fails} fails, {counts} counts, {saturated} saturated ages");
-    let cols: [(&str, usize); 15] = [
+    let cols: [(&str, usize); 16] = [
         ("reset", 1),
         ("enc_a", BK),
         ("enc_b", BK),
@@ -712,11 +719,12 @@ fn bank_three_ways<const BK: usize>(cycles: usize, rest_cycles: std::ops::Range<
         ("ratio", 32),
         ("tol", 16),
         ("sel", 8),
+        ("pos_low", 128),
     ];
     let spec = TbSpec {
         clock: "clock".into(),
         inputs: cols.iter().map(|(n, w)| Port::new(n, *w)).collect(),
-        outputs: vec![Port::new("pos_axis", 4), Port::new("word_lo", 128), Port::new("word_hi", 49), Port::new("fail", BK)],
+        outputs: vec![Port::new("pos_axis", 4), Port::new("word_lo", 128), Port::new("word_hi", 81), Port::new("fail", BK)],
     };
     three_ways(
         name,
@@ -742,12 +750,13 @@ fn bank_three_ways<const BK: usize>(cycles: usize, rest_cycles: std::ops::Range<
             u.ratio.next = (r[12] as u64).into();
             u.tol.next = (r[13] as u64).into();
             u.sel.next = (r[14] as u64).into();
+            u.pos_low.next = tdm_stepper::hdl::u128_to_bits(r[15]);
         },
         |u| {
             vec![
                 u.pos_axis.val().to_u64() as u128,
                 bits_to_u128(u.word_lo.val()),
-                u.word_hi.val().to_u64() as u128,
+                bits_to_u128(u.word_hi.val()),
                 u.fail.val().to_u64() as u128,
             ]
         },

@@ -2029,7 +2029,7 @@ struct EncScript {
     r_default: (ReadId, ReadId, ReadId),
     r_enabled: (ReadId, ReadId, ReadId),
     out: [ReadId; 4],
-    out_idx: [ReadId; 4],
+    out_idx: [ReadId; 6],
     back: [ReadId; 4],
     back_state: [ReadId; 3],
     back_pos: (ReadId, ReadId),
@@ -2090,7 +2090,14 @@ fn enc_script(rig: &tdm_stepper::verify::encoder::RigConfig, correction: Option<
     b.write_reg("START", 0, 0b01);
     b.idle_until_ps(b.now_ps() + (3_200 * ENC_PERIOD as u64 + 2_000) * tick);
     let out = count_reads(&mut b);
-    let out_idx = [b.read_reg("ENC_INDEX_LO", 0), b.read_reg("ENC_INDEX_HI", 0), b.read_reg("IRQ_ENC", 0), b.read_reg("ENC_STATE", 0)];
+    let out_idx = [
+        b.read_reg("ENC_INDEX_LO", 0),
+        b.read_reg("ENC_INDEX_HI", 0),
+        b.read_reg("IRQ_ENC", 0),
+        b.read_reg("ENC_STATE", 0),
+        b.read_reg("ENC_INDEX_POS_LO", 0),
+        b.read_reg("ENC_INDEX_POS_HI", 0),
+    ];
     b.write_reg("IRQ_ENC", 0, 0b110);
     b.push_segment(0, &uniform(1_600 * ENC_PERIOD, -1_600));
     b.write_reg("START", 0, 0b01);
@@ -2206,8 +2213,12 @@ fn encoder_feedback_through_the_bus_counts_trips_stops_and_corrects() {
     let out = [v(s.out[0]), v(s.out[1]), v(s.out[2]), v(s.out[3])];
     assert_eq!(((out[1] as u32) << 16 | out[0] as u32) as i32, rig.counts(3_200) as i32, "ENC_COUNT after 3,200 steps");
     assert_eq!(((out[3] as u32) << 16 | out[2] as u32) as i32, 0, "ENC_DEV after 3,200 steps");
-    let idx = [v(s.out_idx[0]), v(s.out_idx[1]), v(s.out_idx[2]), v(s.out_idx[3])];
+    let idx: Vec<u16> = s.out_idx.iter().map(|&r| v(r)).collect();
     assert_eq!(((idx[1] as u32) << 16 | idx[0] as u32) as i32, rig.index_at, "ENC_INDEX: the count at the index");
+    // The first step whose counts reach the index's (the motor's counts follow within
+    // a few ticks, the steps are ENC_PERIOD apart).
+    let at_index_steps = (0..).find(|&k| rig.counts(k) >= rig.index_at as i64).unwrap();
+    assert_eq!(((idx[5] as u32) << 16 | idx[4] as u32) as i32 as i64, at_index_steps, "ENC_INDEX_POS: the step position at the index");
     assert_eq!(idx[2] & 0b110, 0b100, "IRQ_ENC: INDEX, no ILLEGAL");
     assert_eq!(idx[3] & 0xFF, 0, "ENC_STATE.ILLEGAL: bounce shorter than the filter is no fault");
     assert_eq!(idx[3] >> 15, 1, "ENC_STATE.VALID");
@@ -2378,9 +2389,15 @@ fn encoder_registers_rust_hdl_equals_verilator() {
     let aligned = [b.read_reg("ENC_FAIL", 0), b.read_reg("ENC_DEV_LO", 0), b.read_reg("ENC_DEV_HI", 0), b.read_reg("IRQ_ENC", 0)];
     b.push_segment(0, &uniform(20 * 400, 20));
     b.write_reg("START", 0, 0b01);
+    // An index pulse (20 ticks) while the axis steps, the lines still: the index
+    // position takes the step position then.
+    let t_z = b.now_ps() + 1_300 * tick;
+    pins.push((t_z, vec![0, 0, 1]));
+    pins.push((t_z + 20 * tick, vec![0, 0, 0]));
     b.idle_until_ps(b.now_ps() + (20 * 400 + 1_000) * tick);
     let stopped = [b.read_reg("ENC_FAIL", 0), b.read_reg("BUSY", 0), b.read_reg("IRQ_ENC", 0)];
     let pos = b.read_position(0);
+    let index_pos = [b.read_reg("ENC_INDEX_POS_LO", 0), b.read_reg("ENC_INDEX_POS_HI", 0), b.read_reg("ENC_INDEX_LO", 0), b.read_reg("ENC_INDEX_HI", 0)];
     let cycles = cycles_after(&b, 50);
 
     let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &[0, 0, 0], &pins);
@@ -2413,6 +2430,15 @@ fn encoder_registers_rust_hdl_equals_verilator() {
         let crossing = (1..).find(|&k: &i64| (k * 5) >> 2 > TOL as i64).unwrap();
         assert_eq!(position(&b, tr, pos), Some(crossing as i32), "{sim}: the stop on the step that crosses the tolerance");
         assert_eq!((v(stopped[0]), v(stopped[1]) & 1, v(stopped[2]) & 1), (1, 0, 1), "{sim}: ENC_FAIL, BUSY, IRQ_ENC.FAIL after the stop");
+        // The steps before the pulse's latch (2 synchroniser + 2 filter ticks after the
+        // pin), none near it.
+        let z_cycle = clk_cycle_at(t_z) + 4;
+        let r = rises(tr, 0);
+        assert!(r.iter().all(|&c| c.abs_diff(z_cycle) > 8), "{sim}: a step edge next to the index pulse: {r:?} against {z_cycle}");
+        let before = r.iter().filter(|&&c| c < z_cycle).count() as i32;
+        assert!(before >= 2 && (before as i64) < crossing, "{sim}: the pulse falls within the move ({before} steps before it)");
+        assert_eq!(word(index_pos[0], index_pos[1]), before, "{sim}: ENC_INDEX_POS, the step position at the second index");
+        assert_eq!(word(index_pos[2], index_pos[3]), 24, "{sim}: ENC_INDEX, the count at the second index (the lines still)");
     }
     let strip = |t: &SystemTrace| -> SystemTrace {
         let from = clk_cycle_at(b.events()[2].time_ps) + 10;

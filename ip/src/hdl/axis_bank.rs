@@ -87,6 +87,10 @@ pub struct AxisBank<const K: usize, const DEPTH: usize> {
     /// of multiplexers; tied to 0 and unread it costs nothing).
     pub epos_axis: Signal<In, Bits<4>>,
     pub epos: Signal<Out, Bits<32>>,
+    /// Encoder feedback: every axis's position's low byte (byte a = axis a's; wires,
+    /// for the index latches; unread it costs nothing).
+    pub pos_low: Signal<Out, Bits<128>>,
+    lpack: [FieldPlace<8, 128>; K],
     epack: [FieldPlace<32, 512>; K],
     e_all: Signal<Local, Bits<512>>,
     e_shift: Signal<Local, Bits<512>>,
@@ -156,6 +160,8 @@ impl<const K: usize, const DEPTH: usize> Default for AxisBank<K, DEPTH> {
             lsel_word: Default::default(),
             epos_axis: Default::default(),
             epos: Default::default(),
+            pos_low: Default::default(),
+            lpack: std::array::from_fn(|i| FieldPlace::new(8 * i)),
             epack: std::array::from_fn(|i| FieldPlace::new(32 * i)),
             e_all: Default::default(),
             e_shift: Default::default(),
@@ -302,13 +308,17 @@ impl<const K: usize, const DEPTH: usize> Logic for AxisBank<K, DEPTH> {
         // Axis `epos_axis`'s position: the positions packed at a stride of 32 bits,
         // picked by a shift (see `FieldPlace`).
         self.epack[0].bus_in.next = 0.into();
+        self.lpack[0].bus_in.next = 0.into();
         for i in 1..K {
             self.epack[i].bus_in.next = self.epack[i - 1].bus_out.val();
+            self.lpack[i].bus_in.next = self.lpack[i - 1].bus_out.val();
         }
         for i in 0..K {
             self.epack[i].value.next = self.axes[i].position.val();
+            self.lpack[i].value.next = self.axes[i].position.val().get_bits::<8>(0);
             // (The last assignment, axis K − 1's, stands.)
             self.e_all.next = self.epack[i].bus_out.val();
+            self.pos_low.next = self.lpack[i].bus_out.val();
         }
         self.e_shift.next = self.e_all.val() >> (bit_cast::<16, 4>(self.epos_axis.val()) << 5);
         self.epos.next = self.e_shift.val().get_bits::<32>(0);

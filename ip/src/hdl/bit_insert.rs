@@ -90,3 +90,30 @@ impl<const W: usize, const N: usize> Logic for FieldPlace<W, N> {
         self.bus_out.next = self.bus_in.val() | (bit_cast::<N, W>(self.value.val()) << self.offset.val());
     }
 }
+
+/// Picks the W-bit field at bit `offset` of an N-bit bus (a constant offset: wires).
+/// `bus.get_bits::<W>(offset)` with a loop's index as the offset would be one of the
+/// generator's traps (the index is not a Verilog constant there); this block takes it
+/// as a constant.
+#[derive(LogicBlock)]
+pub struct FieldPick<const W: usize, const N: usize> {
+    pub bus: Signal<In, Bits<N>>,
+    pub value: Signal<Out, Bits<W>>,
+    shifted: Signal<Local, Bits<N>>,
+    offset: Constant<Bits<16>>,
+}
+
+impl<const W: usize, const N: usize> FieldPick<W, N> {
+    pub fn new(offset: usize) -> Self {
+        assert!(offset + W <= N && N < 1 << 16);
+        FieldPick { bus: Default::default(), value: Default::default(), shifted: Default::default(), offset: Constant::new((offset as u64).into()) }
+    }
+}
+
+impl<const W: usize, const N: usize> Logic for FieldPick<W, N> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.shifted.next = self.bus.val() >> self.offset.val();
+        self.value.next = self.shifted.val().get_bits::<W>(0);
+    }
+}

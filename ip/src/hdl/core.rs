@@ -218,6 +218,8 @@ pub struct TdmCore<const K: usize, const R: usize, const DEPTH: usize, const QDE
     /// combinationally (see [`AxisBank`]).
     pub epos_axis: Signal<In, Bits<4>>,
     pub epos: Signal<Out, Bits<32>>,
+    /// Encoder feedback: every axis's position's low byte (byte a = axis a's, wires).
+    pub pos_low: Signal<Out, Bits<128>>,
 
     /// Every axis's segment queue ([`SegQueue`]: one RAM, two counters per axis). Its
     /// registered read holds axis m's head from PICK into S_CHECK.
@@ -498,6 +500,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
             lsel_word: Default::default(),
             epos_axis: Default::default(),
             epos: Default::default(),
+            pos_low: Default::default(),
             sel_axis: Default::default(),
             sel_position: Default::default(),
             sel_queue: Default::default(),
@@ -1262,6 +1265,7 @@ impl<const K: usize, const R: usize, const DEPTH: usize, const QDEPTH: usize, co
         self.lsel_word.next = self.bank.lsel_word.val();
         self.bank.epos_axis.next = self.epos_axis.val();
         self.epos.next = self.bank.epos.val();
+        self.pos_low.next = self.bank.pos_low.val();
         self.step.next = self.bank.step.val();
         self.dir.next = self.bank.dir.val();
         self.underrun.next = self.bank.underrun.val();

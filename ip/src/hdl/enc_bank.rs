@@ -19,14 +19,17 @@
 //!   I/O's probe strobe (0 without it);
 //! * the following error's inputs: `pos_axis` (a register) names the axis whose step
 //!   position the parent drives on `position` (the core's) and whose `ratio` and `tol`
-//!   it drives, combinationally, in the same cycle;
+//!   it drives, combinationally, in the same cycle; `pos_low` (byte a: the low byte
+//!   of axis a's step position, wires from the core's position registers) for the
+//!   index latches;
 //! * `sel` → `word_lo`, `word_hi` (the status word of [`ENC_WORD_BITS`] = {hi, lo},
 //!   read from the extension's and the deviation's LUT RAMs; `sel` < K): axis `sel`'s
 //!   count 31..0, index latch 63..32, probe latch 95..64, deviation 127..96
 //!   (`word_lo`), period 143..128, age 159..144, illegal transitions 167..160, and the
 //!   flags armed 168, last direction 169, filtered A, B, Z 170..172, ENC_FAIL 173,
 //!   index toggle 174, probe toggle 175 (each flips when a new latch is written),
-//!   valid 176 (`word_hi`, bit 128 of the word is its bit 0). All but ENC_FAIL are as
+//!   valid 176, the step position at the index 208..177 (`word_hi`, bit 128 of the
+//!   word is its bit 0). All but ENC_FAIL are as
 //!   the last visit of the axis saw them, at most K + 1 ticks old; before the axis's
 //!   first visit since reset is written (K + 1 ticks), valid is 0 and the rest
 //!   undefined;
@@ -36,7 +39,7 @@
 //! (the last visit); ENC_FAIL within K + 4 ticks of the
 //! crossing ([`super::follow_err::FOLLOW_ERR_LATENCY`]).
 
-use super::bit_insert::{BitPick, FieldPlace};
+use super::bit_insert::{BitPick, FieldPick, FieldPlace};
 use super::enc_decoder::EncDecoder;
 use super::enc_extend::{EncExtend, LIVE_BITS};
 use super::follow_err::FollowErr;
@@ -46,7 +49,7 @@ use rust_hdl::prelude::*;
 const PACK_BITS: usize = 1024;
 
 /// Width of an axis's status word ({`word_hi`, `word_lo`}).
-pub const ENC_WORD_BITS: usize = 177;
+pub const ENC_WORD_BITS: usize = 209;
 
 #[derive(LogicBlock)]
 pub struct EncoderBank<const K: usize> {
@@ -64,11 +67,12 @@ pub struct EncoderBank<const K: usize> {
     pub probe: Signal<In, Bit>,
     pub pos_axis: Signal<Out, Bits<4>>,
     pub position: Signal<In, Bits<32>>,
+    pub pos_low: Signal<In, Bits<128>>,
     pub ratio: Signal<In, Bits<32>>,
     pub tol: Signal<In, Bits<16>>,
     pub sel: Signal<In, Bits<8>>,
     pub word_lo: Signal<Out, Bits<128>>,
-    pub word_hi: Signal<Out, Bits<49>>,
+    pub word_hi: Signal<Out, Bits<81>>,
     pub fail: Signal<Out, Bits<K>>,
     dec: [EncDecoder; K],
     a_pick: [BitPick<K>; K],
@@ -86,6 +90,12 @@ pub struct EncoderBank<const K: usize> {
     all_vis: Signal<Local, Bits<PACK_BITS>>,
     shifted: Signal<Local, Bits<PACK_BITS>>,
     v_word: Signal<Local, Bits<64>>,
+    /// The decoders' index positions packed at a stride of 8 bits, the visited axis's.
+    ipack: [FieldPlace<8, 128>; K],
+    ip_all: Signal<Local, Bits<128>>,
+    ip_shift: Signal<Local, Bits<128>>,
+    vis_ip: DFF<Bits<8>>,
+    pos_pick: [FieldPick<8, 128>; K],
     /// The visit's sample: the visited axis's bits, the axis, taken out of reset.
     vis_q: DFF<Bits<64>>,
     vis_ax: DFF<Bits<4>>,
@@ -128,6 +138,7 @@ impl<const K: usize> Default for EncoderBank<K> {
             probe: Default::default(),
             pos_axis: Default::default(),
             position: Default::default(),
+            pos_low: Default::default(),
             ratio: Default::default(),
             tol: Default::default(),
             sel: Default::default(),
@@ -149,6 +160,11 @@ impl<const K: usize> Default for EncoderBank<K> {
             all_vis: Default::default(),
             shifted: Default::default(),
             v_word: Default::default(),
+            ipack: std::array::from_fn(|i| FieldPlace::new(8 * i)),
+            ip_all: Default::default(),
+            ip_shift: Default::default(),
+            vis_ip: Default::default(),
+            pos_pick: std::array::from_fn(|i| FieldPick::new(8 * i)),
             vis_q: Default::default(),
             vis_ax: Default::default(),
             vis_ok: Default::default(),
@@ -191,6 +207,7 @@ impl<const K: usize> EncoderBank<K> {
         self.clear.connect();
         self.probe.connect();
         self.position.connect();
+        self.pos_low.connect();
         self.ratio.connect();
         self.tol.connect();
         self.sel.connect();
@@ -201,7 +218,7 @@ impl<const K: usize> EncoderBank<K> {
 impl<const K: usize> Logic for EncoderBank<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, clock, pre, vis_q, vis_ax, vis_ok);
+        dff_setup!(self, clock, pre, vis_q, vis_ax, vis_ok, vis_ip);
         // The velocity ticks, shared.
         self.tick.next = self.pre.q.val() >= self.vel_prescale.val();
         if self.tick.val() | self.reset.val() {
@@ -226,8 +243,10 @@ impl<const K: usize> Logic for EncoderBank<K> {
         // decoder's 60 bits packed at a stride of 64, the axis's picked by a shift
         // (a tree of multiplexers on `ax`'s bits, see `FieldPlace`).
         self.pack[0].bus_in.next = 0.into();
+        self.ipack[0].bus_in.next = 0.into();
         for i in 1..K {
             self.pack[i].bus_in.next = self.pack[i - 1].bus_out.val();
+            self.ipack[i].bus_in.next = self.ipack[i - 1].bus_out.val();
         }
         for i in 0..K {
             self.a_pick[i].bus.next = self.enc_a.val();
@@ -245,17 +264,23 @@ impl<const K: usize> Logic for EncoderBank<K> {
             self.dec[i].arm.next = self.arm_pick[i].value.val();
             self.dec[i].probe.next = self.probe.val();
             self.dec[i].vel_tick.next = self.tick.val();
+            self.pos_pick[i].bus.next = self.pos_low.val();
+            self.dec[i].position.next = self.pos_pick[i].value.val();
             self.dec[i].ack.next = false;
             if self.fe.ax.val().index() == i {
                 self.dec[i].ack.next = true;
             }
             self.pack[i].value.next = self.dec[i].visit.val();
+            self.ipack[i].value.next = self.dec[i].index_pos.val();
             // (The last assignment, axis K − 1's, stands.)
             self.all_vis.next = self.pack[i].bus_out.val();
+            self.ip_all.next = self.ipack[i].bus_out.val();
         }
         self.shifted.next = self.all_vis.val() >> (bit_cast::<16, 4>(self.fe.ax.val()) << 6);
         self.v_word.next = self.shifted.val().get_bits::<64>(0);
         self.vis_q.d.next = self.v_word.val();
+        self.ip_shift.next = self.ip_all.val() >> (bit_cast::<16, 4>(self.fe.ax.val()) << 3);
+        self.vis_ip.d.next = self.ip_shift.val().get_bits::<8>(0);
         self.vis_ax.d.next = self.fe.ax.val();
         self.vis_ok.d.next = !self.reset.val();
         self.v_count.next = self.vis_q.q.val().get_bits::<8>(0);
@@ -293,6 +318,8 @@ impl<const K: usize> Logic for EncoderBank<K> {
         self.ext.e2.next = self.v_e2.val();
         self.ext.period.next = self.v_period.val();
         self.ext.age.next = self.v_age.val();
+        self.ext.index_pos.next = self.vis_ip.q.val();
+        self.ext.pos.next = self.fe.pos1.val();
         self.ext.live.next = bit_cast::<LIVE_BITS, 8>(self.v_ill.val())
             | (bit_cast::<LIVE_BITS, 1>(self.v_armed.val().into()) << 8)
             | (bit_cast::<LIVE_BITS, 1>(self.v_dir.val().into()) << 9)
@@ -307,12 +334,13 @@ impl<const K: usize> Logic for EncoderBank<K> {
             | (bit_cast::<128, 32>(self.ext.s_index.val()) << 32)
             | (bit_cast::<128, 32>(self.ext.s_probe.val()) << 64)
             | (bit_cast::<128, 32>(self.fe.dev.val()) << 96);
-        self.word_hi.next = bit_cast::<49, 16>(self.ext.s_period.val())
-            | (bit_cast::<49, 16>(self.ext.s_age.val()) << 16)
-            | (bit_cast::<49, LIVE_BITS>(self.ext.s_live.val()) << 32)
-            | (bit_cast::<49, 1>(self.w_fail.val().into()) << 45)
-            | (bit_cast::<49, 1>(self.ext.s_itog.val().into()) << 46)
-            | (bit_cast::<49, 1>(self.ext.s_ptog.val().into()) << 47)
-            | (bit_cast::<49, 1>(self.ext.s_valid.val().into()) << 48);
+        self.word_hi.next = bit_cast::<81, 16>(self.ext.s_period.val())
+            | (bit_cast::<81, 16>(self.ext.s_age.val()) << 16)
+            | (bit_cast::<81, LIVE_BITS>(self.ext.s_live.val()) << 32)
+            | (bit_cast::<81, 1>(self.w_fail.val().into()) << 45)
+            | (bit_cast::<81, 1>(self.ext.s_itog.val().into()) << 46)
+            | (bit_cast::<81, 1>(self.ext.s_ptog.val().into()) << 47)
+            | (bit_cast::<81, 1>(self.ext.s_valid.val().into()) << 48)
+            | (bit_cast::<81, 32>(self.ext.s_ipos.val()) << 49);
     }
 }

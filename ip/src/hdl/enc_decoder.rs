@@ -11,6 +11,8 @@
 //! * `mode` (quasi-static, `EncConfig::word`, shared by the axes): filter ticks 3..0
 //!   (0 = off), Z active low 4, index gated by A and B 5, the gate's A and B levels
 //!   7..6; `invert` (quasi-static, the axis's own): count down when A leads B.
+//! * `position` (8 bits): the low byte of the axis's step position (the core's
+//!   position register); the index latches it (`index_pos`, the model's narrow view).
 //! * `arm` (one cycle): arm the clear of the count on the next index. `probe` (one
 //!   cycle): the probe latch's strobe (tie to 0 without the probe: its latch is
 //!   constant and synthesis removes it). `vel_tick`: the shared velocity prescaler's
@@ -28,7 +30,8 @@
 //!   `lev_b`, `lev_z`; `visit`: what the extension takes, packed (count 7..0, index
 //!   15..8, probe 23..16, period 31..24, age 39..32, illegal 47..40, cnew 48, inew
 //!   49, iafter 50, pnew 51, pafter 52, enew 53, e2 54, armed 55, last direction 56,
-//!   A, B, Z 59..57).
+//!   A, B, Z 59..57); `index_pos` (8 bits, beside `visit`: the stride of the packed
+//!   visit words stays 64).
 //!
 //! Two choices keep the logic per bit to the adders: the armed clear takes effect a
 //! tick after the index, as a zero operand of the count's adder (a clear in the
@@ -42,7 +45,7 @@
 //! rate keeps `model::encoder::max_count_rate_ticks` ticks between edges.
 //!
 //! Cost: 9 flip-flops for the lines (synchroniser and level), 12 for the filters, 8
-//! for the count, 8 per latch, 8 for `illegal`, 16 for the velocity and 10 more.
+//! for the count, 8 per latch (the index position's too), 8 for `illegal`, 16 for the velocity and 10 more.
 
 use rust_hdl::prelude::*;
 
@@ -59,6 +62,7 @@ pub struct EncDecoder {
     pub probe: Signal<In, Bit>,
     pub vel_tick: Signal<In, Bit>,
     pub ack: Signal<In, Bit>,
+    pub position: Signal<In, Bits<8>>,
     pub count: Signal<Out, Bits<8>>,
     pub index_count: Signal<Out, Bits<8>>,
     pub probe_count: Signal<Out, Bits<8>>,
@@ -79,6 +83,7 @@ pub struct EncDecoder {
     pub lev_b: Signal<Out, Bit>,
     pub lev_z: Signal<Out, Bit>,
     pub visit: Signal<Out, Bits<64>>,
+    pub index_pos: Signal<Out, Bits<8>>,
     a1: DFF<Bit>,
     a2: DFF<Bit>,
     b1: DFF<Bit>,
@@ -93,6 +98,7 @@ pub struct EncDecoder {
     fz: DFF<Bits<4>>,
     cnt: DFF<Bits<8>>,
     idx: DFF<Bits<8>>,
+    ipos: DFF<Bits<8>>,
     prb: DFF<Bits<8>>,
     ill: DFF<Bits<8>>,
     cnew_q: DFF<Bit>,
@@ -140,6 +146,7 @@ impl Default for EncDecoder {
             probe: Default::default(),
             vel_tick: Default::default(),
             ack: Default::default(),
+            position: Default::default(),
             count: Default::default(),
             index_count: Default::default(),
             probe_count: Default::default(),
@@ -160,6 +167,7 @@ impl Default for EncDecoder {
             lev_b: Default::default(),
             lev_z: Default::default(),
             visit: Default::default(),
+            index_pos: Default::default(),
             a1: Default::default(),
             a2: Default::default(),
             b1: Default::default(),
@@ -174,6 +182,7 @@ impl Default for EncDecoder {
             fz: Default::default(),
             cnt: Default::default(),
             idx: Default::default(),
+            ipos: Default::default(),
             prb: Default::default(),
             ill: Default::default(),
             cnew_q: Default::default(),
@@ -220,6 +229,7 @@ impl EncDecoder {
         self.probe.connect();
         self.vel_tick.connect();
         self.ack.connect();
+        self.position.connect();
         self.connect_all();
     }
 }
@@ -228,7 +238,7 @@ impl Logic for EncDecoder {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, prb, ill, cnew_q, inew_q, iafter_q, pnew_q,
+            self, clock, a1, a2, b1, b2, z1, z2, la, lb, lz, fa, fb, fz, cnt, idx, ipos, prb, ill, cnew_q, inew_q, iafter_q, pnew_q,
             pafter_q, arm_q, clr_q, per, agec, enew_q, e2_q, ldir
         );
         self.a1.d.next = self.a.val();
@@ -312,9 +322,11 @@ impl Logic for EncDecoder {
         self.inew_q.d.next = self.index.val() | (self.inew_q.q.val() & !self.ack.val());
         self.pnew_q.d.next = self.probe.val() | (self.pnew_q.q.val() & !self.ack.val());
         self.idx.d.next = self.idx.q.val();
+        self.ipos.d.next = self.ipos.q.val();
         self.iafter_q.d.next = self.iafter_q.q.val() & !self.ack.val();
         if self.index.val() {
             self.idx.d.next = self.after.val();
+            self.ipos.d.next = self.position.val();
             self.iafter_q.d.next = self.cl_old.val();
         }
         self.clr_q.d.next = self.index.val() & self.arm_q.q.val();
@@ -353,6 +365,7 @@ impl Logic for EncDecoder {
             self.fz.d.next = 0.into();
             self.cnt.d.next = 0.into();
             self.idx.d.next = 0.into();
+            self.ipos.d.next = 0.into();
             self.prb.d.next = 0.into();
             self.ill.d.next = 0.into();
             self.cnew_q.d.next = false;
@@ -371,6 +384,7 @@ impl Logic for EncDecoder {
 
         self.count.next = self.cnt.q.val();
         self.index_count.next = self.idx.q.val();
+        self.index_pos.next = self.ipos.q.val();
         self.probe_count.next = self.prb.q.val();
         self.illegal.next = self.ill.q.val();
         self.cnew.next = self.cnew_q.q.val();

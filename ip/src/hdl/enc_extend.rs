@@ -31,8 +31,14 @@
 //!   `e2` and `live` (`model::encoder::live_word`: illegal 7..0, armed 8, last
 //!   direction 9, levels A, B, Z 12..10), registered at the visit, and acknowledged
 //!   the visit to the decoder then.
+//! * `index_pos` (8 bits, the sample's, with `count`): the low byte of the step
+//!   position the axis's decoder latched at its last index; `pos` (a register in the
+//!   parent, the following error's stage 1): the axis's step position in the cycle
+//!   the sample was taken. With `inew` (or at the first visit) the index position
+//!   `pos − sext(pos − index_pos mod 2^8)` is written: exact while the axis moved
+//!   fewer than 2^7 steps since the index, which came at most K + 1 ticks earlier.
 //! * `count1` (a register): the count of the sample taken at the last edge.
-//! * `sel` → `s_count`, `s_index`, `s_probe` (32 bits), `s_period`, `s_age` (16
+//! * `sel` → `s_count`, `s_index`, `s_probe`, `s_ipos` (32 bits), `s_period`, `s_age` (16
 //!   bits), `s_live`, `s_itog`, `s_ptog`
 //!   (flip each time a new latch is written), `s_valid` (the axis was visited since
 //!   reset: before that the words are undefined): axis `sel`'s words, read from LUT
@@ -40,11 +46,11 @@
 //!
 //! Latency: a visit's sample is written at the next edge; what the bus reads is at
 //! most K + 1 ticks old.
-//! Cost: eight 16-word LUT RAMs (the count and the age twice, for their two read
-//! addresses; the latches; the period; the live words: 189 bits), 80 bits of
+//! Cost: nine 16-word LUT RAMs (the count and the age twice, for their two read
+//! addresses; the three latches; the period; the live words: 221 bits), 80 bits of
 //! registers (the count for the following error, the next axis's count and age),
-//! five 8-bit subtractors, three 32-bit and two 17-bit adders, and 3 flip-flops per
-//! axis.
+//! six 8-bit subtractors, three 32-bit adders, a 32-bit subtractor and two 17-bit
+//! adders, and 3 flip-flops per axis.
 
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
@@ -72,11 +78,14 @@ pub struct EncExtend<const K: usize> {
     pub period: Signal<In, Bits<8>>,
     pub age: Signal<In, Bits<8>>,
     pub live: Signal<In, Bits<LIVE_BITS>>,
+    pub index_pos: Signal<In, Bits<8>>,
+    pub pos: Signal<In, Bits<32>>,
     pub count1: Signal<Out, Bits<32>>,
     pub sel: Signal<In, Bits<4>>,
     pub s_count: Signal<Out, Bits<32>>,
     pub s_index: Signal<Out, Bits<32>>,
     pub s_probe: Signal<Out, Bits<32>>,
+    pub s_ipos: Signal<Out, Bits<32>>,
     pub s_period: Signal<Out, Bits<16>>,
     pub s_age: Signal<Out, Bits<16>>,
     pub s_live: Signal<Out, Bits<LIVE_BITS>>,
@@ -87,6 +96,7 @@ pub struct EncExtend<const K: usize> {
     cnt_sel: LutRam<32, 4>,
     idx_ram: LutRam<32, 4>,
     prb_ram: LutRam<32, 4>,
+    ipos_ram: LutRam<32, 4>,
     per_ram: LutRam<16, 4>,
     age_ram: LutRam<16, 4>,
     age_sel: LutRam<16, 4>,
@@ -113,6 +123,9 @@ pub struct EncExtend<const K: usize> {
     b_p: Signal<Local, Bits<32>>,
     d_p: Signal<Local, Bits<8>>,
     x_p: Signal<Local, Bits<32>>,
+    /// The index position: the position's low byte less the latched one, extended.
+    d_ip: Signal<Local, Bits<8>>,
+    x_ip: Signal<Local, Bits<32>>,
     /// The velocity: the last age, the narrow growths, their saturating sums.
     a_old: Signal<Local, Bits<16>>,
     /// The count's and the age's memory words of the next sample's axis, read a cycle
@@ -151,11 +164,14 @@ impl<const K: usize> Default for EncExtend<K> {
             period: Default::default(),
             age: Default::default(),
             live: Default::default(),
+            index_pos: Default::default(),
+            pos: Default::default(),
             count1: Default::default(),
             sel: Default::default(),
             s_count: Default::default(),
             s_index: Default::default(),
             s_probe: Default::default(),
+            s_ipos: Default::default(),
             s_period: Default::default(),
             s_age: Default::default(),
             s_live: Default::default(),
@@ -166,6 +182,7 @@ impl<const K: usize> Default for EncExtend<K> {
             cnt_sel: Default::default(),
             idx_ram: Default::default(),
             prb_ram: Default::default(),
+            ipos_ram: Default::default(),
             per_ram: Default::default(),
             age_ram: Default::default(),
             age_sel: Default::default(),
@@ -190,6 +207,8 @@ impl<const K: usize> Default for EncExtend<K> {
             b_p: Default::default(),
             d_p: Default::default(),
             x_p: Default::default(),
+            d_ip: Default::default(),
+            x_ip: Default::default(),
             a_old: Default::default(),
             cnt_pre: Default::default(),
             age_pre: Default::default(),
@@ -212,6 +231,7 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.cnt_sel.clock.next = self.clock.val();
         self.idx_ram.clock.next = self.clock.val();
         self.prb_ram.clock.next = self.clock.val();
+        self.ipos_ram.clock.next = self.clock.val();
         self.live_ram.clock.next = self.clock.val();
         self.per_ram.clock.next = self.clock.val();
         self.age_ram.clock.next = self.clock.val();
@@ -251,6 +271,11 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.x_p.next = bit_cast::<32, 8>(self.d_p.val());
         if self.d_p.val().get_bit(7) {
             self.x_p.next = bit_cast::<32, 8>(self.d_p.val()) | self.c_hi.val();
+        }
+        self.d_ip.next = self.pos.val().get_bits::<8>(0) - self.index_pos.val();
+        self.x_ip.next = bit_cast::<32, 8>(self.d_ip.val());
+        if self.d_ip.val().get_bit(7) {
+            self.x_ip.next = bit_cast::<32, 8>(self.d_ip.val()) | self.c_hi.val();
         }
 
         // The velocity: from the last age (0 before the first visit).
@@ -302,6 +327,9 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.idx_ram.we.next = self.ok.val() & (self.inew.val() | !self.v.val());
         self.idx_ram.waddr.next = self.ax.val();
         self.idx_ram.wdata.next = self.b_i.val() + self.x_i.val();
+        self.ipos_ram.we.next = self.ok.val() & (self.inew.val() | !self.v.val());
+        self.ipos_ram.waddr.next = self.ax.val();
+        self.ipos_ram.wdata.next = self.pos.val() - self.x_ip.val();
         self.prb_ram.we.next = self.ok.val() & (self.pnew.val() | !self.v.val());
         self.prb_ram.waddr.next = self.ax.val();
         self.prb_ram.wdata.next = self.b_p.val() + self.x_p.val();
@@ -334,6 +362,7 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.cnt_sel.raddr.next = self.sel.val();
         self.idx_ram.raddr.next = self.sel.val();
         self.prb_ram.raddr.next = self.sel.val();
+        self.ipos_ram.raddr.next = self.sel.val();
         self.live_ram.raddr.next = self.sel.val();
         self.per_ram.raddr.next = self.sel.val();
         self.age_sel.raddr.next = self.sel.val();
@@ -342,6 +371,7 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.s_count.next = self.cnt_sel.rdata.val();
         self.s_index.next = self.idx_ram.rdata.val();
         self.s_probe.next = self.prb_ram.rdata.val();
+        self.s_ipos.next = self.ipos_ram.rdata.val();
         self.s_live.next = self.live_ram.rdata.val();
         self.s_itog.next = (self.itog.q.val() & self.ohs.val()).any();
         self.s_ptog.next = (self.ptog.q.val() & self.ohs.val()).any();

@@ -73,7 +73,7 @@ pub struct EncRegs<const K: usize> {
     pub tol: Signal<Out, Bits<16>>,
     pub sel: Signal<Out, Bits<8>>,
     pub word_lo: Signal<In, Bits<128>>,
-    pub word_hi: Signal<In, Bits<49>>,
+    pub word_hi: Signal<In, Bits<81>>,
     pub fail: Signal<In, Bits<K>>,
     pub stop: Signal<Out, Bits<K>>,
     /// The controlled stop's request on ENC_FAIL (ENC_STOP under `fail` with
@@ -168,6 +168,8 @@ pub struct EncRegs<const K: usize> {
     a_ilo: Constant<Bits<ADDR_BITS>>,
     a_ihi: Constant<Bits<ADDR_BITS>>,
     a_plo: Constant<Bits<ADDR_BITS>>,
+    a_xlo: Constant<Bits<ADDR_BITS>>,
+    a_xhi: Constant<Bits<ADDR_BITS>>,
     a_phi: Constant<Bits<ADDR_BITS>>,
     a_dlo: Constant<Bits<ADDR_BITS>>,
     a_dhi: Constant<Bits<ADDR_BITS>>,
@@ -293,6 +295,8 @@ impl<const K: usize> Default for EncRegs<K> {
             a_ilo: c9("ENC_INDEX_LO"),
             a_ihi: c9("ENC_INDEX_HI"),
             a_plo: c9("ENC_PROBE_LO"),
+            a_xlo: c9("ENC_INDEX_POS_LO"),
+            a_xhi: c9("ENC_INDEX_POS_HI"),
             a_phi: c9("ENC_PROBE_HI"),
             a_dlo: c9("ENC_DEV_LO"),
             a_dhi: c9("ENC_DEV_HI"),
@@ -480,7 +484,7 @@ impl<const K: usize> Logic for EncRegs<K> {
         self.b_stop_ev.next = self.fail_new.val() & self.stop_m.q.val();
         self.wsync.cclock.next = self.clock.val();
         self.wsync.creset.next = self.creset.val();
-        self.wsync.word_in.next = bit_cast::<ENC_WORD_BITS, 128>(self.word_lo.val()) | (bit_cast::<ENC_WORD_BITS, 49>(self.word_hi.val()) << 128);
+        self.wsync.word_in.next = bit_cast::<ENC_WORD_BITS, 128>(self.word_lo.val()) | (bit_cast::<ENC_WORD_BITS, 81>(self.word_hi.val()) << 128);
         self.sel.next = self.wsync.sel.val();
         self.wsync.bclock.next = self.bus_clock.val();
         self.wsync.breset.next = self.bus_reset.val();
@@ -580,7 +584,11 @@ impl<const K: usize> Logic for EncRegs<K> {
         if self.rd_addr.val() == self.a_dlo.val() {
             self.rd_data.next = self.win.q.val().get_bits::<16>(96);
         }
+        if self.rd_addr.val() == self.a_xlo.val() {
+            self.rd_data.next = self.win.q.val().get_bits::<16>(177);
+        }
         if (self.rd_addr.val() == self.a_chi.val())
+            | (self.rd_addr.val() == self.a_xhi.val())
             | (self.rd_addr.val() == self.a_ihi.val())
             | (self.rd_addr.val() == self.a_phi.val())
             | (self.rd_addr.val() == self.a_dhi.val())
@@ -610,6 +618,9 @@ impl<const K: usize> Logic for EncRegs<K> {
             }
             if self.rd_addr.val() == self.a_dlo.val() {
                 self.hi_latch.d.next = self.win.q.val().get_bits::<16>(112);
+            }
+            if self.rd_addr.val() == self.a_xlo.val() {
+                self.hi_latch.d.next = self.win.q.val().get_bits::<16>(193);
             }
         }
         if self.bus_reset.val() {

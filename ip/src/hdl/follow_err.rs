@@ -11,7 +11,8 @@
 //!   tolerance, counts; 0 = no check) combinationally from registers or static memory.
 //!   `ax2` (a register): the axis `ax` named two cycles earlier; the parent drives
 //!   `count` with its encoder count as it was in that cycle (the extension's register,
-//!   [`super::enc_extend::EncExtend`]'s `count1`).
+//!   [`super::enc_extend::EncExtend`]'s `count1`). `pos1` (a register): the
+//!   `position` taken a cycle earlier (stage 1's; the extension's index position).
 //! * `align`, `clear` (bit a, one cycle each): align axis a (its offset becomes the
 //!   value that makes its deviation 0 at its next visit; until that visit's write its
 //!   deviation reads 0, and from the align until then the axis cannot fail, from a
@@ -58,6 +59,7 @@ pub struct FollowErr<const K: usize> {
     pub clear: Signal<In, Bits<K>>,
     pub dev_axis: Signal<In, Bits<4>>,
     pub dev: Signal<Out, Bits<32>>,
+    pub pos1: Signal<Out, Bits<32>>,
     pub fail: Signal<Out, Bits<K>>,
     axq: DFF<Bits<4>>,
     s1_pos: DFF<Bits<32>>,
@@ -126,6 +128,7 @@ impl<const K: usize> Default for FollowErr<K> {
             clear: Default::default(),
             dev_axis: Default::default(),
             dev: Default::default(),
+            pos1: Default::default(),
             fail: Default::default(),
             axq: Default::default(),
             s1_pos: Default::default(),
@@ -231,6 +234,7 @@ impl<const K: usize> Logic for FollowErr<K> {
         // Stages 1 to 3: the product, and offset − count less ratio·2^16 for a
         // negative position (the multiplier takes the position as unsigned).
         self.ax2.next = self.s2_ax.q.val();
+        self.pos1.next = self.s1_pos.q.val();
         self.mul.a.next = self.s1_pos.q.val();
         self.mul.b.next = self.s1_ratio.q.val();
         self.corr.next = 0.into();

@@ -71,6 +71,11 @@ pub fn bits_to_u128<const N: usize>(x: rust_hdl::prelude::Bits<N>) -> u128 {
     d.first().copied().unwrap_or(0) as u128 | (d.get(1).copied().unwrap_or(0) as u128) << 64
 }
 
+/// A u128 as a rust-hdl value of up to 128 bits (the inverse of [`bits_to_u128`]).
+pub fn u128_to_bits<const N: usize>(x: u128) -> rust_hdl::prelude::Bits<N> {
+    num_bigint::BigUint::from(x).into()
+}
+
 pub mod axis_bank;
 pub mod axis_view;
 pub mod baseline;

@@ -554,6 +554,7 @@ macro_rules! stepper_top {
                     self.$enc.probe.next = self.io_probe.val();
                     self.core.epos_axis.next = self.$enc.pos_axis.val();
                     self.$enc.position.next = self.core.epos.val();
+                    self.$enc.pos_low.next = self.core.pos_low.val();
                     self.enc_regs.pos_axis.next = self.$enc.pos_axis.val();
                     self.$enc.ratio.next = self.enc_regs.ratio.val();
                     self.$enc.tol.next = self.enc_regs.tol.val();

@@ -34,6 +34,12 @@
 //! I/O's probe latch) `probe_count` takes the count as it was before the tick and
 //! `probe_tog` flips.
 //!
+//! **Index position.** At the strobe `index_pos` also takes the axis's step position
+//! as the decoder's `position` input shows it in that tick (the position register
+//! before the tick's edge), 0 after reset. The HDL decoder keeps its low 8 bits; the
+//! extension makes it 32 bits from the axis's position at its next visit, which is at
+//! most K + 1 ≤ 17 ticks later: with at most a step a tick, fewer than 2^7 steps.
+//!
 //! **Velocity.** `age` counts velocity ticks (`vel_tick`, one clk tick in
 //! `prescale + 1`, shared by the axes) since the last counted edge (or the reset),
 //! saturating at [`VEL_MAX`]; at a counted edge `period` takes age + this tick's
@@ -140,6 +146,8 @@ pub struct EncOutputs {
     pub count: u32,
     pub index_count: u32,
     pub probe_count: u32,
+    /// The step position input at the last index strobe (0 after reset).
+    pub index_pos: u32,
     pub illegal: u8,
     pub index_tog: bool,
     pub probe_tog: bool,
@@ -186,6 +194,7 @@ impl EncOutputs {
             count: self.count & m,
             index_count: self.index_count & m,
             probe_count: self.probe_count & m,
+            index_pos: self.index_pos & m,
             age: self.age8 as u16,
             period: self.per8 as u16,
             ..*self
@@ -227,9 +236,9 @@ impl EncoderModel {
     /// One clk edge. `arm` arms the clear on the next index, `probe` is the probe
     /// latch's strobe, `vel_tick` the velocity prescaler's tick; `reset` is
     /// synchronous (the synchroniser keeps running). No visit (see
-    /// [`Self::clock_visit`]).
+    /// [`Self::clock_visit`]) and a step position of 0.
     pub fn clock(&mut self, cfg: &EncConfig, pins: EncPins, arm: bool, probe: bool, vel_tick: bool, reset: bool) {
-        self.clock_visit(cfg, pins, arm, probe, vel_tick, false, reset);
+        self.clock_visit(cfg, pins, arm, probe, vel_tick, false, 0, reset);
     }
 
     /// One clk edge, `ack` when the extension visits the axis in this cycle (it reads
@@ -238,8 +247,10 @@ impl EncoderModel {
     /// an index (the last one's count in `index_count`; `iafter`: it came with or
     /// after such a clear, so it counts from the clear), `pnew` and `pafter` the same
     /// for the probe. An event in the visit's own cycle is the next visit's.
+    /// `position`: the axis's step position in this tick (`index_pos` takes it at an
+    /// index).
     #[allow(clippy::too_many_arguments)]
-    pub fn clock_visit(&mut self, cfg: &EncConfig, pins: EncPins, arm: bool, probe: bool, vel_tick: bool, ack: bool, reset: bool) {
+    pub fn clock_visit(&mut self, cfg: &EncConfig, pins: EncPins, arm: bool, probe: bool, vel_tick: bool, ack: bool, position: u32, reset: bool) {
         let x = self.s2;
         self.s2 = self.s1;
         self.s1 = pins.a as u8 | (pins.b as u8) << 1 | (pins.z as u8) << 2;
@@ -304,6 +315,7 @@ impl EncoderModel {
         o.clearing = index && o.armed;
         if index {
             o.index_count = after;
+            o.index_pos = position;
             o.index_tog = !o.index_tog;
         }
         o.armed = arm || (o.armed && !index);
@@ -531,6 +543,8 @@ pub struct ExtendModel {
     pub cnt: [u32; 16],
     pub idx: [u32; 16],
     pub prb: [u32; 16],
+    /// The step position at the index.
+    pub ipos: [u32; 16],
     pub per: [u16; 16],
     pub age: [u16; 16],
     pub live: [u16; 16],
@@ -540,14 +554,17 @@ pub struct ExtendModel {
 
 impl Default for ExtendModel {
     fn default() -> Self {
-        ExtendModel { valid: 0, itog: 0, ptog: 0, cnt: [0; 16], idx: [0; 16], prb: [0; 16], per: [0; 16], age: [0; 16], live: [0; 16], count1: 0 }
+        ExtendModel { valid: 0, itog: 0, ptog: 0, cnt: [0; 16], idx: [0; 16], prb: [0; 16], ipos: [0; 16], per: [0; 16], age: [0; 16], live: [0; 16], count1: 0 }
     }
 }
 
 impl ExtendModel {
     /// One clk edge with the sample `o` of axis `ax`'s narrow view taken at the last
-    /// edge; `ok`: the sample was taken out of reset (else nothing is written).
-    pub fn clock(&mut self, ax: usize, o: &EncOutputs, ok: bool, reset: bool) {
+    /// edge and the axis's step position `pos` of that cycle; `ok`: the sample was
+    /// taken out of reset (else nothing is written). The index position is
+    /// `pos − sext(pos − index_pos mod 2^8)`: exact while the axis moved fewer than
+    /// 2^7 steps since the index (the index came after the last visit).
+    pub fn clock(&mut self, ax: usize, o: &EncOutputs, pos: u32, ok: bool, reset: bool) {
         if !ok {
             if reset {
                 self.valid = 0;
@@ -567,6 +584,7 @@ impl ExtendModel {
         self.cnt[ax] = count;
         if o.inew || !valid {
             self.idx[ax] = ext(o.index_count, o.iafter);
+            self.ipos[ax] = pos.wrapping_sub(sext_narrow(pos.wrapping_sub(o.index_pos) & m));
         }
         if o.pnew || !valid {
             self.prb[ax] = ext(o.probe_count, o.pafter);
@@ -606,6 +624,9 @@ pub struct BankInputs {
     pub probe: bool,
     /// For the axis [`EncoderBankModel::pos_axis`] names.
     pub position: u32,
+    /// Every axis's step position's low byte (byte a = axis a's, for the index
+    /// latches).
+    pub pos_low: u128,
     pub ratio: u32,
     pub tol: u16,
 }
@@ -619,13 +640,14 @@ pub struct EncoderBankModel {
     pub ext: ExtendModel,
     pub fe: FollowErrModel,
     pre: u16,
-    /// The visit's sample register: axis, narrow view, taken out of reset.
-    vis: (usize, EncOutputs, bool),
+    /// The visit's sample register: axis, narrow view, taken out of reset, and the
+    /// following error's register of the axis's position.
+    vis: (usize, EncOutputs, bool, u32),
 }
 
 impl EncoderBankModel {
     pub fn new(k: usize) -> Self {
-        EncoderBankModel { dec: vec![EncoderModel::new(); k], ext: ExtendModel::default(), fe: FollowErrModel::new(k), pre: 0, vis: (0, EncOutputs::default(), false) }
+        EncoderBankModel { dec: vec![EncoderModel::new(); k], ext: ExtendModel::default(), fe: FollowErrModel::new(k), pre: 0, vis: (0, EncOutputs::default(), false, 0) }
     }
 
     /// The configuration of axis `a` from the shared mode and its invert bit.
@@ -653,7 +675,8 @@ impl EncoderBankModel {
             | ((self.fe.fail() >> sel & 1) as u128) << 45
             | ((e.itog >> sel & 1) as u128) << 46
             | ((e.ptog >> sel & 1) as u128) << 47
-            | 1 << 48;
+            | 1 << 48
+            | (e.ipos[sel] as u128) << 49;
         (lo, Some(hi))
     }
 
@@ -661,12 +684,12 @@ impl EncoderBankModel {
         let tick = self.pre >= i.vel_prescale;
         let ax = self.fe.ax();
         self.fe.clock(i.position, self.ext.count1, i.ratio, i.tol, i.align, i.clear, reset);
-        let (pax, view, ok) = self.vis;
-        self.ext.clock(pax, &view, ok, reset);
-        self.vis = (ax, self.dec[ax].outputs().narrow(), !reset);
+        let (pax, view, ok, pos) = self.vis;
+        self.ext.clock(pax, &view, pos, ok, reset);
+        self.vis = (ax, self.dec[ax].outputs().narrow(), !reset, i.position);
         for (a, d) in self.dec.iter_mut().enumerate() {
             let pins = EncPins { a: i.a >> a & 1 == 1, b: i.b >> a & 1 == 1, z: i.z >> a & 1 == 1 };
-            d.clock_visit(&Self::config(i.mode, i.invert >> a & 1 == 1), pins, i.arm >> a & 1 == 1, i.probe, tick, a == ax, reset);
+            d.clock_visit(&Self::config(i.mode, i.invert >> a & 1 == 1), pins, i.arm >> a & 1 == 1, i.probe, tick, a == ax, (i.pos_low >> (8 * a)) as u32 & 0xFF, reset);
         }
         self.pre = if tick || reset { 0 } else { self.pre + 1 };
     }
@@ -767,15 +790,19 @@ mod tests {
             seed ^= seed << 17;
             seed
         };
-        let mut checked = [0u64; 5];
+        let mut checked = [0u64; 6];
         for k in 1..=16usize {
             let mut bank = EncoderBankModel::new(k);
             let mut pos = vec![0i64; k];
+            // The step positions (0 at reset, a step a tick at most) and each axis's
+            // position at its last index.
+            let mut steps = vec![0u32; k];
+            let mut at_index = vec![0u32; k];
             let mut target = vec![0i64; k];
             // Some runs hold every axis still for longer than the velocity saturates.
             let long = [1, 5, 16].contains(&k);
             let stall = |t: u64| long && (6_000..74_000).contains(&t);
-            let mut visit = (0, EncOutputs::default(), false);
+            let mut visit = (0, EncOutputs::default(), false, 0u32);
             for t in 0..if long { 80_000 } else { 6_000 } {
                 let reset = t < 3 || (!stall(t) && rng() % 3_000 == 0);
                 let vel_prescale = if long || k % 3 == 0 { 0 } else { 3 };
@@ -806,15 +833,40 @@ mod tests {
                     }
                 }
                 i.probe = rng() % 25 == 0;
+                if reset {
+                    steps.iter_mut().for_each(|s| *s = 0);
+                    at_index.iter_mut().for_each(|s| *s = 0);
+                } else if !stall(t) {
+                    for (a, s) in steps.iter_mut().enumerate() {
+                        // Runs one way and the other; some axes step every tick.
+                        let r = rng() % 8;
+                        if a % 5 == 1 || r < 3 {
+                            *s = if (t / 1_500 + a as u64) % 2 == 0 { s.wrapping_add(1) } else { s.wrapping_sub(1) };
+                        }
+                    }
+                }
+                i.position = steps[bank.pos_axis()];
+                i.pos_low = steps.iter().enumerate().fold(0u128, |w, (a, &s)| w | ((s & 0xFF) as u128) << (8 * a));
                 // The visit's sample, written by the next edge.
-                let (ax, full, ok) = visit;
-                visit = (bank.fe.ax(), bank.dec[bank.fe.ax()].outputs(), !reset);
+                let (ax, full, ok, at_idx) = visit;
+                visit = (bank.fe.ax(), bank.dec[bank.fe.ax()].outputs(), !reset, at_index[bank.fe.ax()]);
+                let togs: Vec<bool> = bank.dec.iter().map(|d| d.outputs().index_tog).collect();
                 bank.clock(&i, reset);
+                for a in 0..k {
+                    if bank.dec[a].outputs().index_tog != togs[a] && !reset {
+                        at_index[a] = steps[a];
+                    }
+                }
                 if ok && !reset {
                     let e = &bank.ext;
                     assert_eq!(e.cnt[ax], full.count, "K {k}, tick {t}, axis {ax}: the count");
                     assert_eq!(e.idx[ax], full.index_count, "K {k}, tick {t}, axis {ax}: the index latch");
                     assert_eq!(e.prb[ax], full.probe_count, "K {k}, tick {t}, axis {ax}: the probe latch");
+                    if full.inew {
+                        assert_eq!(e.ipos[ax], at_idx, "K {k}, tick {t}, axis {ax}: the index's step position");
+                        checked[5] += ((at_idx as i32).unsigned_abs() > 300) as u64;
+                    }
+                    assert_eq!(e.ipos[ax], at_idx, "K {k}, tick {t}, axis {ax}: the index position held");
                     assert_eq!(e.live[ax], live_word(&full));
                     assert_eq!((e.per[ax], e.age[ax]), (full.period, full.age), "K {k}, tick {t}, axis {ax}: the velocity");
                     checked[3] += (full.age == VEL_MAX) as u64;

@@ -64,6 +64,7 @@ int driver_check_main(int argc, char **argv)
     printf("MOVE %d %ld\n", rc, (long)tdm_position(&dev, 0));
     rc = tdm_enc_read(&dev, 0, &st, 1000ul);
     printf("READ %d %ld %ld %u %u\n", rc, (long)st.count, (long)st.deviation, (unsigned)(st.state >> 13 & 1u), (unsigned)(st.state & 0xFFu));
+    printf("INDEX %ld %ld\n", (long)st.index, (long)st.index_pos);
     irq = tdm_enc_service(&dev, &failed);
     printf("SERVICE %u %u\n", (unsigned)irq, (unsigned)failed);
     rc = check_and_correct(&dev, &moved);

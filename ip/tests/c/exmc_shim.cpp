@@ -63,10 +63,13 @@ static void update_home(void)
 // rising STEP edge (DIR says which way) unless the C program stalls it
 // (shim_enc_stall), and its encoder: ENC_NUM / 2^ENC_SHIFT counts per step (5/4), the
 // lines A and B moving one count every ENC_GAP clk ticks towards floor(steps x ratio),
-// A leading B when counting up; no index (Z low).
+// A leading B when counting up; an index (Z high) while the count is ENC_INDEX_AT
+// modulo ENC_CPR (4,000 counts per revolution).
 #define ENC_NUM 5
 #define ENC_SHIFT 2
 #define ENC_GAP 4u
+#define ENC_CPR 4000
+#define ENC_INDEX_AT 1000
 static int64_t g_motor[16];
 static int64_t g_cnt[16];
 static unsigned g_gap[16];
@@ -78,6 +81,7 @@ static void enc_tick(uint32_t rose, uint32_t dir)
 {
     uint32_t a_bits = 0;
     uint32_t b_bits = 0;
+    uint32_t z_bits = 0;
     for (unsigned a = 0; a < 16; a++) {
         if (((rose >> a) & 1u) && !((g_stall >> a) & 1u)) g_motor[a] += ((dir >> a) & 1u) ? -1 : 1;
         int64_t target = floor_shift(g_motor[a] * ENC_NUM, ENC_SHIFT);
@@ -90,10 +94,11 @@ static void enc_tick(uint32_t rose, uint32_t dir)
         unsigned ph = (unsigned)(g_cnt[a] & 3);
         if (ph == 1 || ph == 2) a_bits |= 1u << a;
         if (ph == 2 || ph == 3) b_bits |= 1u << a;
+        if ((g_cnt[a] - ENC_INDEX_AT) % ENC_CPR == 0) z_bits |= 1u << a;
     }
     g_top->enc_a = a_bits;
     g_top->enc_b = b_bits;
-    g_top->enc_z = 0;
+    g_top->enc_z = z_bits;
 }
 #endif
 
