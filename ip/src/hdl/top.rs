@@ -150,7 +150,6 @@ macro_rules! stepper_top {
                 assert_eq!(params.fifo_depth, DEPTH, "period FIFO depth parameter");
                 assert_eq!(params.scurve, S == 1, "S-curve parameter");
                 let has_io = false $(|| { let _ = stringify!($io); true })?;
-                let _ = has_io;
                 $name {
                     clk: Default::default(),
                     bus_clk: Default::default(),
@@ -177,7 +176,7 @@ macro_rules! stepper_top {
                     // (The machine I/O's stops need the core's per-axis and controlled stops.)
                     // (The encoders' stop needs the core's per-axis stops.)
                     core: {
-                        let c = if false $(|| { let _ = stringify!($io); true })? { $core::new().with_controlled_stop() } else { $core::new() };
+                        let c = if has_io { $core::new().with_controlled_stop() } else { $core::new() };
                         $(
                             let _ = stringify!($enc);
                             let c = c.with_axis_stops();
