@@ -89,7 +89,12 @@ macro_rules! stepper_top {
             c_pflag: DFF<Bit>,
             p_rd: Signal<Local, Bits<16>>,
             cmd_kind: Signal<Local, Bits<2>>,
+            /// The core's reset: the core held while the reset pin or CTRL.ENABLE = 0,
+            /// from a flip-flop (`core_run`, its inverse, so it powers up holding), so
+            /// no gate sits between a register and a net that reaches every flip-flop
+            /// of the core and its options (a K = 16 `clk` path across the die).
             core_reset: Signal<Local, Bit>,
+            core_run: DFF<Bit>,
             /// The status word's BUSY bit (with the machine I/O, registered).
             w_busy: Signal<Local, Bit>,
             /// The selected axis's BUSY, registered (see `update`; unread without options,
@@ -185,6 +190,7 @@ macro_rules! stepper_top {
                     },
                     cmd_kind: Default::default(),
                     core_reset: Default::default(),
+                    core_run: Default::default(),
                     w_busy: Default::default(),
                     busy_q: Default::default(),
                     c_push: Default::default(),
@@ -275,7 +281,9 @@ macro_rules! stepper_top {
                 self.rst_core.sig_in.next = self.reset.val();
                 self.en_core.clock.next = self.clk.val();
                 self.en_core.sig_in.next = self.regs.enable.val();
-                self.core_reset.next = self.rst_core.sig_out.val() | !self.en_core.sig_out.val();
+                self.core_run.clock.next = self.clk.val();
+                self.core_run.d.next = !self.rst_core.sig_out.val() & self.en_core.sig_out.val();
+                self.core_reset.next = !self.core_run.q.val();
                 // A cancelled START: the core's toggle across (one event per change).
                 self.fail_sync.clock.next = self.bus_clk.val();
                 self.fail_sync.sig_in.next = self.core.start_failed.val();
