@@ -1,5 +1,8 @@
-//! Builds a K-bit bus from one bit per axis without a combinational self-reference.
+//! Small wiring blocks for buses: a bit or field placed or picked at a constant offset
+//! and a sign extension, each a block because the expression inline would hit one of
+//! rust-hdl's generator traps (named at each block).
 //!
+//! `BitInsert` builds a K-bit bus from one bit per axis without a combinational self-reference:
 //! `bus_out = bus_in` with bit `index` replaced by `value`. Chained (bus_in of element i
 //! from bus_out of element i − 1), K of them assemble a bus. Assigning
 //! `x = x.replace_bit(i, ..)` in a loop instead would read `x` while writing it, which
@@ -115,5 +118,45 @@ impl<const W: usize, const N: usize> Logic for FieldPick<W, N> {
     fn update(&mut self) {
         self.shifted.next = self.bus.val() >> self.offset.val();
         self.value.next = self.shifted.val().get_bits::<W>(0);
+    }
+}
+
+/// Sign-extends an N-bit value to M bits (M ≤ 64): the M − N high bits copy bit N − 1.
+/// Combinational, no latency. Its sign is an OR-reduction under a one-hot mask, not
+/// `get_bit(N - 1)`: an expression of a const generic in a bit index is not exported.
+#[derive(LogicBlock)]
+pub struct SignExtend<const N: usize, const M: usize> {
+    pub value: Signal<In, Bits<N>>,
+    pub wide: Signal<Out, Bits<M>>,
+    sign: Constant<Bits<N>>,
+    hi: Constant<Bits<M>>,
+}
+
+impl<const N: usize, const M: usize> SignExtend<N, M> {
+    pub fn new() -> Self {
+        assert!(0 < N && N < M && M <= 64);
+        let mask = if M == 64 { u64::MAX } else { (1u64 << M) - 1 };
+        SignExtend {
+            value: Default::default(),
+            wide: Default::default(),
+            sign: Constant::new((1u64 << (N - 1)).into()),
+            hi: Constant::new(((u64::MAX << N) & mask).into()),
+        }
+    }
+}
+
+impl<const N: usize, const M: usize> Default for SignExtend<N, M> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize, const M: usize> Logic for SignExtend<N, M> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.wide.next = bit_cast::<M, N>(self.value.val());
+        if (self.value.val() & self.sign.val()).any() {
+            self.wide.next = bit_cast::<M, N>(self.value.val()) | self.hi.val();
+        }
     }
 }

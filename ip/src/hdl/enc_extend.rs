@@ -52,6 +52,7 @@
 //! six 8-bit subtractors, three 32-bit adders, a 32-bit subtractor and two 17-bit
 //! adders, and 3 flip-flops per axis.
 
+use super::bit_insert::SignExtend;
 use super::lut_ram::LutRam;
 use rust_hdl::prelude::*;
 
@@ -108,24 +109,23 @@ pub struct EncExtend<const K: usize> {
     /// Axis `ax`'s bit of `valid`, registered a cycle ahead.
     v_q: DFF<Bit>,
     c_one: Constant<Bits<K>>,
-    c_hi: Constant<Bits<32>>,
     oh: Signal<Local, Bits<K>>,
     ohs: Signal<Local, Bits<K>>,
     v: Signal<Local, Bit>,
-    /// Per value: the base, the narrow difference, its sign extension, the sum.
+    /// Per value: the base, the narrow difference, its sign extension (a block), the sum.
     b_c: Signal<Local, Bits<32>>,
     d_c: Signal<Local, Bits<8>>,
-    x_c: Signal<Local, Bits<32>>,
+    x_c: SignExtend<8, 32>,
     e_c: Signal<Local, Bits<32>>,
     b_i: Signal<Local, Bits<32>>,
     d_i: Signal<Local, Bits<8>>,
-    x_i: Signal<Local, Bits<32>>,
+    x_i: SignExtend<8, 32>,
     b_p: Signal<Local, Bits<32>>,
     d_p: Signal<Local, Bits<8>>,
-    x_p: Signal<Local, Bits<32>>,
+    x_p: SignExtend<8, 32>,
     /// The index position: the position's low byte less the latched one, extended.
     d_ip: Signal<Local, Bits<8>>,
-    x_ip: Signal<Local, Bits<32>>,
+    x_ip: SignExtend<8, 32>,
     /// The velocity: the last age, the narrow growths, their saturating sums.
     a_old: Signal<Local, Bits<16>>,
     /// The count's and the age's memory words of the next sample's axis, read a cycle
@@ -193,22 +193,21 @@ impl<const K: usize> Default for EncExtend<K> {
             c1: Default::default(),
             v_q: Default::default(),
             c_one: Constant::new(1.into()),
-            c_hi: Constant::new(0xFFFF_FF00u64.into()),
             oh: Default::default(),
             ohs: Default::default(),
             v: Default::default(),
             b_c: Default::default(),
             d_c: Default::default(),
-            x_c: Default::default(),
+            x_c: SignExtend::new(),
             e_c: Default::default(),
             b_i: Default::default(),
             d_i: Default::default(),
-            x_i: Default::default(),
+            x_i: SignExtend::new(),
             b_p: Default::default(),
             d_p: Default::default(),
-            x_p: Default::default(),
+            x_p: SignExtend::new(),
             d_ip: Default::default(),
-            x_ip: Default::default(),
+            x_ip: SignExtend::new(),
             a_old: Default::default(),
             cnt_pre: Default::default(),
             age_pre: Default::default(),
@@ -248,35 +247,23 @@ impl<const K: usize> Logic for EncExtend<K> {
             self.b_c.next = self.cnt_pre.q.val();
         }
         self.d_c.next = self.count.val() - self.b_c.val().get_bits::<8>(0);
-        self.x_c.next = bit_cast::<32, 8>(self.d_c.val());
-        if self.d_c.val().get_bit(7) {
-            self.x_c.next = bit_cast::<32, 8>(self.d_c.val()) | self.c_hi.val();
-        }
-        self.e_c.next = self.b_c.val() + self.x_c.val();
+        self.x_c.value.next = self.d_c.val();
+        self.e_c.next = self.b_c.val() + self.x_c.wide.val();
         // The latches: the same from the count at the last visit (or from 0).
         self.b_i.next = 0.into();
         if self.v.val() & !self.iafter.val() {
             self.b_i.next = self.cnt_pre.q.val();
         }
         self.d_i.next = self.index_count.val() - self.b_i.val().get_bits::<8>(0);
-        self.x_i.next = bit_cast::<32, 8>(self.d_i.val());
-        if self.d_i.val().get_bit(7) {
-            self.x_i.next = bit_cast::<32, 8>(self.d_i.val()) | self.c_hi.val();
-        }
+        self.x_i.value.next = self.d_i.val();
         self.b_p.next = 0.into();
         if self.v.val() & !self.pafter.val() {
             self.b_p.next = self.cnt_pre.q.val();
         }
         self.d_p.next = self.probe_count.val() - self.b_p.val().get_bits::<8>(0);
-        self.x_p.next = bit_cast::<32, 8>(self.d_p.val());
-        if self.d_p.val().get_bit(7) {
-            self.x_p.next = bit_cast::<32, 8>(self.d_p.val()) | self.c_hi.val();
-        }
+        self.x_p.value.next = self.d_p.val();
         self.d_ip.next = self.pos.val().get_bits::<8>(0) - self.index_pos.val();
-        self.x_ip.next = bit_cast::<32, 8>(self.d_ip.val());
-        if self.d_ip.val().get_bit(7) {
-            self.x_ip.next = bit_cast::<32, 8>(self.d_ip.val()) | self.c_hi.val();
-        }
+        self.x_ip.value.next = self.d_ip.val();
 
         // The velocity: from the last age (0 before the first visit).
         self.age_ram.raddr.next = self.next_ax.val();
@@ -326,13 +313,13 @@ impl<const K: usize> Logic for EncExtend<K> {
         self.cnt_sel.wdata.next = self.e_c.val();
         self.idx_ram.we.next = self.ok.val() & (self.inew.val() | !self.v.val());
         self.idx_ram.waddr.next = self.ax.val();
-        self.idx_ram.wdata.next = self.b_i.val() + self.x_i.val();
+        self.idx_ram.wdata.next = self.b_i.val() + self.x_i.wide.val();
         self.ipos_ram.we.next = self.ok.val() & (self.inew.val() | !self.v.val());
         self.ipos_ram.waddr.next = self.ax.val();
-        self.ipos_ram.wdata.next = self.pos.val() - self.x_ip.val();
+        self.ipos_ram.wdata.next = self.pos.val() - self.x_ip.wide.val();
         self.prb_ram.we.next = self.ok.val() & (self.pnew.val() | !self.v.val());
         self.prb_ram.waddr.next = self.ax.val();
-        self.prb_ram.wdata.next = self.b_p.val() + self.x_p.val();
+        self.prb_ram.wdata.next = self.b_p.val() + self.x_p.wide.val();
         self.live_ram.we.next = self.ok.val();
         self.live_ram.waddr.next = self.ax.val();
         self.live_ram.wdata.next = self.live.val();
