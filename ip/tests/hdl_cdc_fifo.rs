@@ -1,5 +1,5 @@
-//! AsyncFifo three ways: a model of its pointers and synchronisers, rust-hdl, and the
-//! exported Verilog in Verilator and Icarus. Both sides run on one clock here (a
+//! AsyncFifo and MaskCross three ways: a model of their pointers, toggles and
+//! synchronisers, rust-hdl, and the exported Verilog in Verilator and Icarus. Both sides run on one clock here (a
 //! wrapper ties `wclock` and `rclock` together), so each synchroniser is exactly two
 //! edges: the writer sees the reader's pointer two cycles late and the reader the
 //! writer's. Random writes (also while full) and reads (also while empty): every entry
@@ -11,7 +11,7 @@ mod common;
 use common::*;
 use rust_hdl::prelude::*;
 use std::collections::VecDeque;
-use tdm_stepper::hdl::cdc::{AsyncFifo, ASYNC_FIFO_DEPTH};
+use tdm_stepper::hdl::cdc::{AsyncFifo, MaskCross, ASYNC_FIFO_DEPTH};
 use tdm_stepper::verify::{run_rust_hdl, Port, TbSpec};
 
 /// The FIFO with both clocks on one input, so the common testbench can drive it.
@@ -137,4 +137,127 @@ fn async_fifo_flags_and_order_three_ways() {
     assert!(out_vals.len() + 4 >= in_vals.len(), "drained at the end");
 
     verilog_matches_rust_hdl("cdc_fifo", &generate_verilog(&uut()), &spec(), &rows, &out, 3);
+}
+
+/// The mask crossing with both clocks on one input.
+#[derive(LogicBlock, Default)]
+struct OneClockMask {
+    pub clock: Signal<In, Clock>,
+    pub reset: Signal<In, Bit>,
+    pub req: Signal<In, Bits<8>>,
+    pub out: Signal<Out, Bits<8>>,
+    x: MaskCross<8>,
+}
+
+impl Logic for OneClockMask {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.x.bus_clock.next = self.clock.val();
+        self.x.clock.next = self.clock.val();
+        self.x.bus_reset.next = self.reset.val();
+        self.x.req.next = self.req.val();
+        self.out.next = self.x.out.val();
+    }
+}
+
+fn mask_uut() -> OneClockMask {
+    let mut u = OneClockMask::default();
+    u.clock.connect();
+    u.reset.connect();
+    u.req.connect();
+    u.connect_all();
+    u
+}
+
+/// MaskCross: requests in bursts and alone, a reset dropping a pending one (and not the
+/// mask already crossing). Every cycle equals a model of its toggle and synchronisers;
+/// after the reset every
+/// requested bit leaves within 11 cycles, in a one-cycle mask of bits requested and not
+/// yet sent, and a request with nothing crossing leaves exactly 4 cycles later (the
+/// write's edge, one to take the mask, two synchroniser stages).
+#[test]
+fn mask_crossing_loses_nothing_three_ways() {
+    let mut rng = Rng(0x3a5c_c055);
+    let mut rows: Vec<Vec<u128>> = vec![vec![1, 0]; 3];
+    for phase in 0..8 {
+        let p = [40, 3, 0, 90, 10, 5, 60, 2][phase];
+        for _ in 0..250 {
+            let req = if rng.next() % 100 < p { 1u128 << (rng.next() % 8) } else { 0 };
+            rows.push(vec![0, req]);
+        }
+        if phase == 0 {
+            // With nothing crossing, a request (taken at once), a second (collecting
+            // while the first crosses), and the reset, which drops the second only.
+            rows.extend(vec![vec![0, 0]; 12]);
+            rows.push(vec![0, 0x81]);
+            rows.push(vec![0, 0x42]);
+            rows.push(vec![1, 0]);
+            rows.extend(vec![vec![0, 0]; 12]);
+        }
+    }
+    rows.extend(vec![vec![0, 0]; 16]);
+    let out = run_rust_hdl(
+        &mut mask_uut(),
+        &rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.req.next = (r[1] as u64).into();
+        },
+        |u| vec![u.out.val().to_u64() as u128],
+    );
+
+    // The model, one clock: (nxt, mask, tog) in the bus clock, the toggle's two stages
+    // and its copy `tprev` in clk, the copy's two stages back.
+    let (mut nxt, mut mask, mut tog) = (0u128, 0u128, false);
+    let (mut s1, mut s2, mut tprev, mut a1, mut a2) = (false, false, false, false, false);
+    for (t, row) in rows.iter().enumerate() {
+        let o = if s2 ^ tprev { mask } else { 0 };
+        assert_eq!(out[t][0], o, "out at row {t}");
+        let busy = tog ^ a2;
+        let (mut n_nxt, mut n_mask, mut n_tog) = (nxt | row[1], mask, tog);
+        if !busy && nxt != 0 {
+            (n_mask, n_tog, n_nxt) = (nxt, !tog, row[1]);
+        }
+        if row[0] == 1 {
+            n_nxt = 0;
+        }
+        (a2, a1, tprev, s2, s1) = (a1, tprev, s2, s1, tog);
+        (nxt, mask, tog) = (n_nxt, n_mask, n_tog);
+    }
+
+    // The contract, from the rows alone, after the last reset.
+    let last_reset = rows.iter().rposition(|r| r[0] == 1).unwrap();
+    let around = (last_reset + 1..last_reset + 13).fold(0, |a, t| a | out[t][0]);
+    assert_eq!((around & 0x40, around & 0x01), (0, 0x01), "the reset drops the request still collecting, not the mask already taken");
+    let mut pending: Vec<(usize, u128)> = vec![];
+    let (mut sent, mut idle_4) = (0, 0);
+    for t in last_reset + 13..rows.len() {
+        let o = out[t][0];
+        if o != 0 {
+            assert_eq!(out.get(t + 1).map_or(0, |r| r[0]), 0, "row {t}: a mask lasts one cycle");
+            // A mask sent now was taken three cycles ago, from requests of rows before.
+            let asked = pending.iter().filter(|p| p.0 + 4 <= t).fold(0, |a, p| a | p.1);
+            assert_eq!(o & !asked, 0, "row {t}: {o:#x} sends bits not requested");
+            if pending.len() == 1 && t == pending[0].0 + 4 {
+                idle_4 += 1;
+            }
+            pending.retain(|p| p.0 + 4 > t || p.1 & !o != 0);
+            sent += 1;
+        }
+        if let Some(p) = pending.first() {
+            assert!(t <= p.0 + 11, "row {t}: the request of row {} ({:#x}) not sent", p.0, p.1);
+        }
+        if rows[t][1] != 0 {
+            pending.push((t, rows[t][1]));
+        }
+    }
+    assert!(pending.is_empty(), "requests left: {pending:?}");
+    assert!(sent > 100 && idle_4 > 15, "masks sent {sent}, of them alone and 4 cycles after their request {idle_4}");
+
+    verilog_matches_rust_hdl("cdc_mask", &generate_verilog(&mask_uut()), &TbSpec {
+        clock: "clock".into(),
+        inputs: vec![Port::new("reset", 1), Port::new("req", 8)],
+        outputs: vec![Port::new("out", 8)],
+    }, &rows, &out, 0);
 }

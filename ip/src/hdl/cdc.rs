@@ -7,6 +7,9 @@
 //!
 //! [`BitsSync`]: the same for a bus of independent flags.
 //!
+//! [`MaskCross`]: one-cycle command masks (STOP, ENC_ARM, ...) from the bus clock into
+//! `clk`, none lost, 3 to 4 `clk` edges after the write.
+//!
 //! [`AsyncFifo`]: `W`-bit entries, 4 deep, written in `wclock`, read in `rclock`
 //! (unrelated clocks). Show-ahead: `data_out` is the head entry whenever `empty` is
 //! low; `read` pops it. `write` is ignored while `full`. `almost_full` (registered)
@@ -63,6 +66,62 @@ impl<const W: usize> Logic for BitsSync<W> {
         self.s1.d.next = self.sig_in.val();
         self.s2.d.next = self.s1.q.val();
         self.sig_out.next = self.s2.q.val();
+    }
+}
+
+/// One-cycle command masks from the bus clock into `clk`, none lost: the bits of `req`
+/// (a write's, one bus cycle) collect in `nxt` (ORed in) and leave as one mask: while
+/// no mask is crossing, `nxt` moves into `mask` and a toggle flips; the toggle crosses
+/// into `clock` through two flip-flops and leaves as one cycle of `out` = `mask`
+/// (stable since before the toggle flipped), 3 to 4 `clock` edges after the bus
+/// edge that took `req`, plus the bus cycles it waits while an earlier mask crosses.
+/// The `clock` side's copy of the toggle crosses back (two bus-clock flip-flops); the
+/// next mask leaves once it is seen, so `mask` never changes while `clock` may read
+/// it. `bus_reset` drops requests not yet sent; the toggles are never reset (the
+/// `clock` side only copies the synchronised toggle), so the sides agree after a reset
+/// of either. `out` is 0 in every other cycle. Cost: 2·W + 6 flip-flops.
+#[derive(LogicBlock, Default)]
+pub struct MaskCross<const W: usize> {
+    pub bus_clock: Signal<In, Clock>,
+    pub bus_reset: Signal<In, Bit>,
+    pub req: Signal<In, Bits<W>>,
+    pub clock: Signal<In, Clock>,
+    pub out: Signal<Out, Bits<W>>,
+    nxt: DFF<Bits<W>>,
+    mask: DFF<Bits<W>>,
+    tog: DFF<Bit>,
+    ack: BitSync,
+    busy: Signal<Local, Bit>,
+    tsync: BitSync,
+    tprev: DFF<Bit>,
+}
+
+impl<const W: usize> Logic for MaskCross<W> {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, bus_clock, nxt, mask, tog);
+        dff_setup!(self, clock, tprev);
+        // Bus clock.
+        self.ack.clock.next = self.bus_clock.val();
+        self.ack.sig_in.next = self.tprev.q.val();
+        self.busy.next = self.tog.q.val() ^ self.ack.sig_out.val();
+        self.nxt.d.next = self.nxt.q.val() | self.req.val();
+        if !self.busy.val() & self.nxt.q.val().any() {
+            self.mask.d.next = self.nxt.q.val();
+            self.tog.d.next = !self.tog.q.val();
+            self.nxt.d.next = self.req.val();
+        }
+        if self.bus_reset.val() {
+            self.nxt.d.next = 0.into();
+        }
+        // clk.
+        self.tsync.clock.next = self.clock.val();
+        self.tsync.sig_in.next = self.tog.q.val();
+        self.tprev.d.next = self.tsync.sig_out.val();
+        self.out.next = 0.into();
+        if self.tsync.sig_out.val() ^ self.tprev.q.val() {
+            self.out.next = self.mask.q.val();
+        }
     }
 }
 

@@ -21,9 +21,9 @@
 //!   (a flag per axis: the memories have no reset). The memories' read address is
 //!   `pos_axis` while CTRL.ENABLE = 1 and ENC_AXIS while it is 0, which lets the bus read
 //!   them back while the core is held;
-//! * commands to `clk`: ENC_ARM, ENC_ALIGN and ENC_CLEAR collect their bits in `nxt`
-//!   and cross as one mask with a toggle, as the controlled stop's STOP does
-//!   ([`super::stop_regs::StopRegs`]): one cycle of `arm`, `align`, `clear` 3 to 4 `clk`
+//! * commands to `clk`: ENC_ARM, ENC_ALIGN and ENC_CLEAR collect their bits
+//!   and cross as one mask through a [`MaskCross`], as the controlled stop's STOP
+//!   does ([`super::stop_regs::StopRegs`]): one cycle of `arm`, `align`, `clear` 3 to 4 `clk`
 //!   edges after the write commits;
 //! * status from `clk`: `fail` (the bank's ENC_FAIL flags) through two flip-flops per
 //!   bit; the window: a [`WordSync`] copies one axis's status word at a time, round
@@ -37,7 +37,7 @@
 //! its previous copy (a 9-bit history per axis in LUT RAM); only while CTRL.ENABLE = 1
 //! and the core runs; cleared while CTRL.ENABLE = 0.
 
-use super::cdc::{BitSync, BitsSync};
+use super::cdc::{BitSync, BitsSync, MaskCross};
 use super::enc_bank::ENC_WORD_BITS;
 use super::lut_ram::LutRam;
 use super::regfile::c9;
@@ -98,11 +98,7 @@ pub struct EncRegs<const K: usize> {
     refused: DFF<Bit>,
     code: DFF<Bits<4>>,
     // Commands, collected and crossed as one mask (arm 15..0, align 31..16, clear 47..32).
-    nxt: DFF<Bits<48>>,
-    mask: DFF<Bits<48>>,
-    tog: DFF<Bit>,
-    ack: BitSync,
-    busy: Signal<Local, Bit>,
+    cmd_x: MaskCross<48>,
     req: Signal<Local, Bits<48>>,
     // Status and events.
     run_s: BitSync,
@@ -116,9 +112,6 @@ pub struct EncRegs<const K: usize> {
     events: DFF<Bits<3>>,
     emask: DFF<Bits<3>>,
     irq_q: DFF<Bit>,
-    // clk: the commands' toggle.
-    tsync: BitSync,
-    tprev: DFF<Bit>,
     // Locals.
     may_config: Signal<Local, Bit>,
     live: Signal<Local, Bit>,
@@ -228,11 +221,7 @@ impl<const K: usize> Default for EncRegs<K> {
             tset: Default::default(),
             refused: Default::default(),
             code: Default::default(),
-            nxt: Default::default(),
-            mask: Default::default(),
-            tog: Default::default(),
-            ack: Default::default(),
-            busy: Default::default(),
+            cmd_x: Default::default(),
             req: Default::default(),
             run_s: Default::default(),
             fail_s: Default::default(),
@@ -245,8 +234,6 @@ impl<const K: usize> Default for EncRegs<K> {
             events: Default::default(),
             emask: Default::default(),
             irq_q: Default::default(),
-            tsync: Default::default(),
-            tprev: Default::default(),
             may_config: Default::default(),
             live: Default::default(),
             staged: Default::default(),
@@ -320,10 +307,9 @@ impl<const K: usize> Logic for EncRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, bus_clock, axis_r, filt, imode, inv, pre, stop_m, smode, rlo, rset, tset, refused, code, nxt, mask, tog, fail_prev, win,
+            self, bus_clock, axis_r, filt, imode, inv, pre, stop_m, smode, rlo, rset, tset, refused, code, fail_prev, win,
             hi_latch, seen, events, emask, irq_q
         );
-        dff_setup!(self, clock, tprev);
         // ---- bus clock: configuration ----
         self.run_s.clock.next = self.bus_clock.val();
         self.run_s.sig_in.next = self.running.val();
@@ -436,9 +422,6 @@ impl<const K: usize> Logic for EncRegs<K> {
         self.vel_prescale.next = self.pre.q.val();
 
         // ---- commands across ----
-        self.ack.clock.next = self.bus_clock.val();
-        self.ack.sig_in.next = self.tprev.q.val();
-        self.busy.next = self.tog.q.val() ^ self.ack.sig_out.val();
         self.req.next = 0.into();
         if self.wr.val() & (self.wr_addr.val() == self.a_arm.val()) {
             self.req.next = bit_cast::<48, 16>(self.wr_data.val());
@@ -449,23 +432,13 @@ impl<const K: usize> Logic for EncRegs<K> {
         if self.wr.val() & (self.wr_addr.val() == self.a_clear.val()) {
             self.req.next = bit_cast::<48, 16>(self.wr_data.val()) << 32;
         }
-        self.nxt.d.next = self.nxt.q.val() | self.req.val();
-        if !self.busy.val() & self.nxt.q.val().any() {
-            self.mask.d.next = self.nxt.q.val();
-            self.tog.d.next = !self.tog.q.val();
-            self.nxt.d.next = self.req.val();
-        }
-        self.tsync.clock.next = self.clock.val();
-        self.tsync.sig_in.next = self.tog.q.val();
-        self.tprev.d.next = self.tsync.sig_out.val();
-        self.arm.next = 0.into();
-        self.align.next = 0.into();
-        self.clear.next = 0.into();
-        if self.tsync.sig_out.val() ^ self.tprev.q.val() {
-            self.arm.next = self.mask.q.val().get_bits::<K>(0);
-            self.align.next = self.mask.q.val().get_bits::<K>(16);
-            self.clear.next = self.mask.q.val().get_bits::<K>(32);
-        }
+        self.cmd_x.bus_clock.next = self.bus_clock.val();
+        self.cmd_x.bus_reset.next = self.bus_reset.val();
+        self.cmd_x.req.next = self.req.val();
+        self.cmd_x.clock.next = self.clock.val();
+        self.arm.next = self.cmd_x.out.val().get_bits::<K>(0);
+        self.align.next = self.cmd_x.out.val().get_bits::<K>(16);
+        self.clear.next = self.cmd_x.out.val().get_bits::<K>(32);
         // The stop on ENC_FAIL (clk: `fail` is a register, ENC_STOP static).
         // Hard, or (ENC_STOP_MODE.CONTROLLED) the controlled stop's request, held while
         // the flag is set.
@@ -635,7 +608,6 @@ impl<const K: usize> Logic for EncRegs<K> {
             self.tset.d.next = 0.into();
             self.refused.d.next = false;
             self.code.d.next = 0.into();
-            self.nxt.d.next = 0.into();
             self.win.d.next = 0.into();
             self.events.d.next = 0.into();
             self.emask.d.next = 0.into();

@@ -2,17 +2,11 @@
 //! crossing of its commands to `clk`. A block beside the register file like
 //! [`super::io_regs::IoRegs`]: its reads return 0 outside its own addresses.
 //!
-//! * **STOP** (write): bit i requests a controlled stop of axis i. Requests collect in
-//!   `nxt` (written bits ORed in, so none is lost) and leave as one mask: while no mask
-//!   is crossing, `nxt` moves into `mask` and a toggle flips; the toggle crosses into
-//!   `clk` through two flip-flops and leaves as one cycle of `cstop` = `mask` (stable
-//!   since before the toggle flipped), 3 to 4 `clk` edges after the write commits (plus
-//!   one bus clock when the write waits for the mask before it). The `clk` side's copy
-//!   of the toggle crosses back (two bus-clock flip-flops); the next mask leaves once it
-//!   is seen, so a mask never changes while `clk` may read it. `bus_reset` drops
-//!   requests not yet sent; the toggles themselves are never reset (the `clk` side only
-//!   copies the synchronised toggle), so the two sides agree after a reset of either. A
-//!   request reaching a core held in reset is dropped there.
+//! * **STOP** (write): bit i requests a controlled stop of axis i. Requests cross into
+//!   `clk` through a [`MaskCross`] (written bits ORed in while a mask is crossing, so
+//!   none is lost): one cycle of `cstop`, 3 to 4 `clk` edges after the write commits
+//!   (plus the bus cycles it waits for the mask before it); `bus_reset` drops requests
+//!   not yet sent. A request reaching a core held in reset is dropped there.
 //! * **STOP_DECEL_LO/HI**: the deceleration, a = DECEL/2^57 steps/tick²
 //!   ([`crate::model::stop`]). LO stages bits 15:0; a write of HI applies {HI, staged
 //!   LO} unless the core is enabled (CTRL.ENABLE = 1), or the value is below the
@@ -32,7 +26,7 @@
 //! `enable`, `requested` (the axes a STOP write names, as it commits); `clock` with
 //! `cstop` (K bits, one cycle), `decel` (32 bits), `mode` (4 bits) and `home_arm` (K bits).
 
-use super::cdc::{BitSync, BitsSync};
+use super::cdc::{BitsSync, MaskCross};
 use super::regfile::c9;
 use crate::regs::ADDR_BITS;
 use rust_hdl::prelude::*;
@@ -59,19 +53,12 @@ pub struct StopRegs<const K: usize> {
     mode_r: DFF<Bits<4>>,
     home_r: DFF<Bits<K>>,
     home_sync: BitsSync<K>,
-    nxt: DFF<Bits<K>>,
-    mask: DFF<Bits<K>>,
-    tog: DFF<Bit>,
+    stop_x: MaskCross<K>,
     lo: DFF<Bits<16>>,
     dec: DFF<Bits<32>>,
     refused: DFF<Bit>,
-    ack: BitSync,
-    busy: Signal<Local, Bit>,
     req: Signal<Local, Bits<K>>,
     staged: Signal<Local, Bits<32>>,
-    // clk.
-    tsync: BitSync,
-    tprev: DFF<Bit>,
     c_min: Constant<Bits<32>>,
     a_stop: Constant<Bits<ADDR_BITS>>,
     a_lo: Constant<Bits<ADDR_BITS>>,
@@ -106,18 +93,12 @@ impl<const K: usize> StopRegs<K> {
             mode_r: Default::default(),
             home_r: Default::default(),
             home_sync: Default::default(),
-            nxt: Default::default(),
-            mask: Default::default(),
-            tog: Default::default(),
+            stop_x: Default::default(),
             lo: Default::default(),
             dec: Default::default(),
             refused: Default::default(),
-            ack: Default::default(),
-            busy: Default::default(),
             req: Default::default(),
             staged: Default::default(),
-            tsync: Default::default(),
-            tprev: Default::default(),
             c_min: Constant::new((decel_min as u64).into()),
             a_stop: c9("STOP"),
             a_lo: c9("STOP_DECEL_LO"),
@@ -146,23 +127,18 @@ impl<const K: usize> StopRegs<K> {
 impl<const K: usize> Logic for StopRegs<K> {
     #[hdl_gen]
     fn update(&mut self) {
-        dff_setup!(self, bus_clock, nxt, mask, tog, lo, dec, refused, mode_r, home_r);
-        dff_setup!(self, clock, tprev);
+        dff_setup!(self, bus_clock, lo, dec, refused, mode_r, home_r);
         // ---- bus clock ----
-        self.ack.clock.next = self.bus_clock.val();
-        self.ack.sig_in.next = self.tprev.q.val();
-        self.busy.next = self.tog.q.val() ^ self.ack.sig_out.val();
         self.req.next = 0.into();
         if self.wr.val() & (self.wr_addr.val() == self.a_stop.val()) {
             self.req.next = self.wr_data.val().get_bits::<K>(0);
         }
         self.requested.next = self.req.val();
-        self.nxt.d.next = self.nxt.q.val() | self.req.val();
-        if !self.busy.val() & self.nxt.q.val().any() {
-            self.mask.d.next = self.nxt.q.val();
-            self.tog.d.next = !self.tog.q.val();
-            self.nxt.d.next = self.req.val();
-        }
+        self.stop_x.bus_clock.next = self.bus_clock.val();
+        self.stop_x.bus_reset.next = self.bus_reset.val();
+        self.stop_x.req.next = self.req.val();
+        self.stop_x.clock.next = self.clock.val();
+        self.cstop.next = self.stop_x.out.val();
         self.staged.next = (bit_cast::<32, 16>(self.wr_data.val()) << 16) | bit_cast::<32, 16>(self.lo.q.val());
         if self.wr.val() & (self.wr_addr.val() == self.a_lo.val()) {
             self.lo.d.next = self.wr_data.val();
@@ -208,7 +184,6 @@ impl<const K: usize> Logic for StopRegs<K> {
             self.rd_data.next = bit_cast::<16, 1>(self.refused.q.val().into());
         }
         if self.bus_reset.val() {
-            self.nxt.d.next = 0.into();
             self.lo.d.next = 0xFFFF.into();
             self.dec.d.next = 0xFFFF_FFFFu64.into();
             self.refused.d.next = false;
@@ -220,13 +195,6 @@ impl<const K: usize> Logic for StopRegs<K> {
         self.home_sync.sig_in.next = self.home_r.q.val();
         self.home_arm.next = self.home_sync.sig_out.val();
         self.mode.next = self.mode_r.q.val();
-        self.tsync.clock.next = self.clock.val();
-        self.tsync.sig_in.next = self.tog.q.val();
-        self.tprev.d.next = self.tsync.sig_out.val();
-        self.cstop.next = 0.into();
-        if self.tsync.sig_out.val() ^ self.tprev.q.val() {
-            self.cstop.next = self.mask.q.val();
-        }
         self.decel.next = self.dec.q.val();
     }
 }
