@@ -1125,13 +1125,33 @@ fn verilator_io<const K: usize>(name: &str, b: &BusModel, cycles: u64, initial: 
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
     let mut watch = stepper_watch(K);
     watch.push(Port::new("drv_enable", K));
-    let mut spec = system_spec(tdm_stepper::export::TOP_MODULE, watch);
-    for (n, w) in [("estop_n", 1), ("probe", 1), ("limit_neg", K), ("limit_pos", K), ("home", K), ("alarm", K)] {
+    let pins_of = [("estop_n", 1), ("probe", 1), ("limit_neg", K), ("limit_pos", K), ("home", K), ("alarm", K)];
+    verilator_with_pins(name, &verilog, tdm_stepper::export::TOP_MODULE, watch, &pins_of, b, cycles, initial, pins)
+}
+
+/// Runs `verilog` (top `module`, watching `watch`) in Verilator on `b`'s bus events with
+/// input pins beyond the bus's (`extra`: names and widths, in the order of `initial`'s
+/// values and `pins`' changes, as [`tdm_stepper::verify::bus::with_extra_inputs`] takes
+/// them), the idle bus paused; the data samples mapped back to `b`'s reads.
+#[allow(clippy::too_many_arguments)]
+fn verilator_with_pins(
+    name: &str,
+    verilog: &str,
+    module: &str,
+    watch: Vec<Port>,
+    extra: &[(&str, usize)],
+    b: &BusModel,
+    cycles: u64,
+    initial: &[u128],
+    pins: &[(u64, Vec<u128>)],
+) -> SystemTrace {
+    let mut spec = system_spec(module, watch);
+    for &(n, w) in extra {
         spec.inputs.push(Port::new(n, w));
     }
     let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), initial, pins);
     let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
-    let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
+    let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
     samples_to_bus_events(&mut tr, &index);
     tr
 }
@@ -1873,13 +1893,8 @@ fn an_export_with_only_the_limits_has_only_their_pins_and_registers() {
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
     let mut watch = stepper_watch(K);
     watch.push(Port::new("drv_enable", K));
-    let mut spec = system_spec(tdm_stepper::export::TOP_MODULE, watch);
-    spec.inputs.push(Port::new("limit_neg", K));
-    spec.inputs.push(Port::new("limit_pos", K));
-    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &[0, 0], &[(t_lim, vec![0, 0b01])]);
-    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
-    let mut t = run_system_with(&sim_dir("io_limits_only", Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
-    samples_to_bus_events(&mut t, &index);
+    let limits = [("limit_neg", K), ("limit_pos", K)];
+    let t = verilator_with_pins("io_limits_only", &verilog, tdm_stepper::export::TOP_MODULE, watch, &limits, &b, cycles, &[0, 0], &[(t_lim, vec![0, 0b01])]);
     let v = |id| b.value(&t, id).expect("read returned x");
     assert_eq!((v(config.0) >> 4 & 1, v(config.1), v(config.2)), (1, 0, 0b1100), "WD_TIMEOUT refused, IO_POLARITY only the limits' bits");
     assert_eq!((v(home.0) & 1, v(home.1)), (1, 0), "STOP_HOME refused");
@@ -2000,15 +2015,7 @@ fn verilator_enc<const K: usize>(name: &str, b: &BusModel, cycles: u64, rig: &td
         + &tdm_stepper::verify::encoder::rig_verilog(tdm_stepper::export::TOP_MODULE, K, tdm_stepper::hdl::core::STATE_BITS, rig);
     let mut watch = stepper_watch(K);
     watch.push(Port::new("count0", 32));
-    let mut spec = system_spec("enc_rig", watch);
-    for (n, w) in [("stall", K), ("slip", K), ("bounce", 1)] {
-        spec.inputs.push(Port::new(n, w));
-    }
-    let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), &[0, 0, 1], pins);
-    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
-    let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
-    samples_to_bus_events(&mut tr, &index);
-    tr
+    verilator_with_pins(name, &verilog, "enc_rig", watch, &[("stall", K), ("slip", K), ("bounce", 1)], b, cycles, &[0, 0, 1], pins)
 }
 
 /// Axis 0's encoder position (the rig's count) at the end of clk cycle `c`.
@@ -2409,13 +2416,8 @@ fn encoder_registers_rust_hdl_equals_verilator() {
     samples_to_bus_events(&mut rh, &index);
     let opts = tdm_stepper::export::ExportOptions { axes: K, encoder: true, ..Default::default() };
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
-    let mut spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(K));
-    for n in ["enc_a", "enc_b", "enc_z"] {
-        spec.inputs.push(Port::new(n, K));
-    }
-    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
-    let mut vt = run_system_with(&sim_dir("enc_regs_three_ways", Simulator::Verilator), &verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
-    samples_to_bus_events(&mut vt, &index);
+    let enc = [("enc_a", K), ("enc_b", K), ("enc_z", K)];
+    let vt = verilator_with_pins("enc_regs_three_ways", &verilog, tdm_stepper::export::TOP_MODULE, stepper_watch(K), &enc, &b, cycles, &[0, 0, 0], &pins);
 
     for (sim, tr) in [("rust-hdl", &rh), ("Verilator", &vt)] {
         let v = |id| b.value(tr, id).unwrap_or_else(|| panic!("{sim}: read returned x"));
