@@ -1,6 +1,7 @@
 //! AsyncFifo and MaskCross three ways: a model of their pointers, toggles and
-//! synchronisers, rust-hdl, and the exported Verilog in Verilator and Icarus. Both sides run on one clock here (a
-//! wrapper ties `wclock` and `rclock` together), so each synchroniser is exactly two
+//! synchronisers, rust-hdl, and the exported Verilog in Verilator and Icarus. Both
+//! sides run on one clock here (a wrapper ties the two clocks together), so each
+//! synchroniser is exactly two
 //! edges: the writer sees the reader's pointer two cycles late and the reader the
 //! writer's. Random writes (also while full) and reads (also while empty): every entry
 //! comes out once, in order; `full` and `empty` are the model's every cycle, and

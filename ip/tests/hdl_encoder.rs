@@ -786,3 +786,46 @@ fn encoder_bank_verilog_for_the_cost_script() {
     dump::<8>();
     dump::<16>();
 }
+
+/// The extension's sign extension alone (a wrapper gives the testbench its clock).
+#[derive(LogicBlock, Default)]
+struct SextTb {
+    pub clock: Signal<In, Clock>,
+    pub value: Signal<In, Bits<8>>,
+    pub wide: Signal<Out, Bits<32>>,
+    x: tdm_stepper::hdl::bit_insert::SignExtend<8, 32>,
+}
+
+impl Logic for SextTb {
+    #[hdl_gen]
+    fn update(&mut self) {
+        self.x.value.next = self.value.val();
+        self.wide.next = self.x.wide.val();
+    }
+}
+
+/// `SignExtend<8, 32>` three ways: every 8-bit value, rust-hdl and the exported Verilog
+/// equal to Rust's own `i8 as i32`.
+#[test]
+fn sign_extend_equals_i8_as_i32_three_ways() {
+    let mk = || {
+        let mut u = SextTb::default();
+        u.clock.connect();
+        u.value.connect();
+        u.connect_all();
+        u
+    };
+    let rows: Vec<Vec<u128>> = (0..256u128).map(|v| vec![v]).collect();
+    let out = tdm_stepper::verify::run_rust_hdl(
+        &mut mk(),
+        &rows,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| u.value.next = (r[0] as u64).into(),
+        |u| vec![u.wide.val().to_u64() as u128],
+    );
+    for (v, o) in out.iter().enumerate() {
+        assert_eq!(o[0], (v as u8 as i8 as i32 as u32) as u128, "value {v:#x}");
+    }
+    let spec = TbSpec { clock: "clock".into(), inputs: vec![Port::new("value", 8)], outputs: vec![Port::new("wide", 32)] };
+    verilog_matches_rust_hdl("sign_extend", &generate_verilog(&mk()), &spec, &rows, &out, 0);
+}
