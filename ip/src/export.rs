@@ -15,10 +15,9 @@ use crate::model::Limits;
 use crate::regs::{self, CoreParams};
 use rust_hdl::prelude::*;
 use serde::Serialize;
-use std::path::{Path, PathBuf};
 
 /// Bits per cycle of the shared multiplier, divider and square root.
-pub const RADIX_BITS: usize = 2;
+pub use crate::latency::RADIX_BITS;
 /// Segments per axis queue.
 pub const QUEUE_DEPTH: usize = 16;
 /// Most axes an export supports (the register map's limit).
@@ -490,32 +489,6 @@ fn rename_top(text: &str, name: &str) -> Result<String, String> {
     Ok(out)
 }
 
-/// Files written by [`export`].
-#[derive(Clone, Debug)]
-pub struct Exported {
-    pub files: Vec<PathBuf>,
-}
-
-/// Writes the IP into `dir`.
-pub fn export(opts: &ExportOptions, dir: &Path) -> Result<Exported, String> {
-    let v = verilog(opts)?;
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let p = opts.params();
-    let files = [
-        ("tdm_stepper.v", v),
-        (HEADER_FILE, regs::c_header(&p)),
-        ("registers.md", regs::markdown(&p)),
-        ("manifest.json", serde_json::to_string_pretty(&manifest(opts)).expect("json") + "\n"),
-    ];
-    let mut out = Vec::new();
-    for (name, text) in files.into_iter().chain(crate::package::files(opts)) {
-        let path = dir.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-        out.push(path);
-    }
-    Ok(Exported { files: out })
-}
-
 /// One port of the exported module.
 #[derive(Clone, Debug, Serialize, PartialEq, Eq)]
 pub struct PortDoc {
@@ -615,6 +588,11 @@ struct Manifest {
 struct Tools {
     tdm_stepper: &'static str,
     rust_hdl: &'static str,
+}
+
+/// The manifest (manifest.json) as pretty JSON.
+pub fn manifest_json(opts: &ExportOptions) -> String {
+    serde_json::to_string_pretty(&manifest(opts)).expect("json") + "\n"
 }
 
 fn manifest(opts: &ExportOptions) -> Manifest {

@@ -5,6 +5,7 @@
 pub mod accuracy;
 pub mod export;
 pub mod hdl;
+pub mod latency;
 pub mod model;
 pub mod package;
 pub mod regs;

@@ -172,7 +172,7 @@ fn run(cli: Cli) -> Result<(), String> {
             let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit, scurve: profiles, encoder };
             opts.check()?;
             let t0 = std::time::Instant::now();
-            let done = export::export(&opts, &out)?;
+            let done = tdm_stepper::package::export(&opts, &out)?;
             println!(
                 "exported {} core{}, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
                 arch.name(),

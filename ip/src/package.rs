@@ -6,6 +6,7 @@
 
 use crate::export::{ports_of, ExportOptions};
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 /// The lint waivers for the exported Verilog (Verilator configuration file), the
 /// same file the tests lint with.
@@ -328,4 +329,31 @@ pub fn files(opts: &ExportOptions) -> Vec<(&'static str, String)> {
     .into_iter()
     .chain(C_SOURCES.iter().map(|&(name, text)| (name, text.to_string())))
     .collect()
+}
+
+/// Files written by [`export`].
+#[derive(Clone, Debug)]
+pub struct Exported {
+    pub files: Vec<PathBuf>,
+}
+
+/// Writes the IP into `dir`: the Verilog ([`crate::export::verilog`]), the C header,
+/// the register map, the manifest and the package files ([`files`]).
+pub fn export(opts: &ExportOptions, dir: &Path) -> Result<Exported, String> {
+    let v = crate::export::verilog(opts)?;
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let p = opts.params();
+    let core = [
+        ("tdm_stepper.v", v),
+        (crate::export::HEADER_FILE, crate::regs::c_header(&p)),
+        ("registers.md", crate::regs::markdown(&p)),
+        ("manifest.json", crate::export::manifest_json(opts)),
+    ];
+    let mut out = Vec::new();
+    for (name, text) in core.into_iter().chain(files(opts)) {
+        let path = dir.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        out.push(path);
+    }
+    Ok(Exported { files: out })
 }

@@ -31,13 +31,17 @@ pub const VERSION: u16 = 0x0104;
 /// (ERROR, ERROR_CODE, LEVEL) and IRQ_ERROR show the push check's verdict: a STATUS read
 /// whose NOE falls this late sees it: NWE's first high sample comes ≤ 1 clock after it
 /// rises, the slave's commit cycle ends 2 clocks after that sample, the check takes
-/// [`crate::hdl::push_check::PUSH_CHECK_LATENCY`] more, and a read returns the registers
+/// [`crate::latency::PUSH_CHECK_LATENCY`] more, and a read returns the registers
 /// as they are 1 clock after NOE's first low sample: 1 + 2 + 4 − 1 = 6. Measured
 /// through the bus by tests/system.rs (which fails with 4).
 pub const PUSH_VERDICT_BUS_CLOCKS: u64 = 6;
 /// Bus clocks the push check needs between two command writes (STEPS_HI, START, ABORT),
 /// commit to commit; the documented write timing always leaves at least this.
-pub const COMMAND_SPACING_BUS_CLOCKS: u64 = crate::hdl::push_check::PUSH_CHECK_LATENCY as u64;
+pub const COMMAND_SPACING_BUS_CLOCKS: u64 = crate::latency::PUSH_CHECK_LATENCY as u64;
+
+/// Width of a command in the command FIFO: v0 (31..0), T (63..32), steps (95..64),
+/// axis (103..96), kind (105..104: 0 push, 1 start with the mask in 15..0, 2 abort).
+pub const CMD_BITS: usize = 106;
 
 /// How the host may access a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -876,12 +880,12 @@ fn contract(m: &mut String, p: &CoreParams) {
              than a trapezoid's). A second polynomial push committed fewer than {c} bus clocks after \
              the previous one is refused (GSTATUS.REFUSED); a START, ABORT or trapezoid push is not \
              held by it. Trapezoid and polynomial segments mix freely in an axis's queue.",
-            v = PUSH_VERDICT_BUS_CLOCKS + (crate::hdl::push_check::POLY_PUSH_LATENCY - crate::hdl::push_check::PUSH_CHECK_LATENCY) as u64,
-            c = crate::hdl::push_check::POLY_PUSH_LATENCY
+            v = PUSH_VERDICT_BUS_CLOCKS + (crate::latency::POLY_PUSH_LATENCY - crate::latency::PUSH_CHECK_LATENCY) as u64,
+            c = crate::latency::POLY_PUSH_LATENCY
         );
     }
-    let acc = crate::hdl::core::t_setup(crate::export::RADIX_BITS, false);
-    let dec = crate::hdl::core::t_setup(crate::export::RADIX_BITS, true);
+    let acc = crate::latency::t_setup(crate::latency::RADIX_BITS, false);
+    let dec = crate::latency::t_setup(crate::latency::RADIX_BITS, true);
     let _ = writeln!(
         m,
         "* **Setup cost and segment rate.** The shared unit sets up each segment before it runs: \

@@ -44,7 +44,7 @@ fn export_dir(name: &str, axes: usize) -> (PathBuf, ExportOptions) {
     let dir = sim_dir(name, Simulator::Verilator);
     let _ = std::fs::remove_dir_all(&dir);
     let opts = ExportOptions { axes, ..Default::default() };
-    export::export(&opts, &dir).unwrap();
+    tdm_stepper::package::export(&opts, &dir).unwrap();
     (dir, opts)
 }
 
@@ -90,7 +90,7 @@ fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
         let choice = export::parse_io(io).unwrap();
         let io_dir = sim_dir(&format!("c_compile_io_{i}"), Simulator::Verilator);
         let _ = std::fs::remove_dir_all(&io_dir);
-        export::export(&ExportOptions { axes: 2, io: choice.io, io_omit: choice.omit, ..Default::default() }, &io_dir).unwrap();
+        tdm_stepper::package::export(&ExportOptions { axes: 2, io: choice.io, io_omit: choice.omit, ..Default::default() }, &io_dir).unwrap();
         gcc_c(&io_dir, &io_dir.join("tdm_driver.c"), "tdm_driver.o");
         let mut cmd = Command::new("arm-none-eabi-gcc");
         cmd.args(["-mcpu=cortex-m4", "-mthumb", "-Os"]).args(GCC_FLAGS).arg("-I").arg(&io_dir).arg("-c").arg(io_dir.join("tdm_driver.c")).arg("-o").arg(io_dir.join("d.arm.o"));
@@ -145,7 +145,7 @@ fn identify_refuses_a_core_whose_options_differ_from_the_header() {
     for (i, (name, opts)) in variants.iter().enumerate() {
         let dir = sim_dir(&format!("c_identify_{name}"), Simulator::Verilator);
         let _ = std::fs::remove_dir_all(&dir);
-        export::export(opts, &dir).unwrap();
+        tdm_stepper::package::export(opts, &dir).unwrap();
         let header = std::fs::read_to_string(dir.join("tdm_stepper_regs.h")).unwrap();
         assert!(header.contains(&format!("#define TDM_OPTIONS 0x{:04X}u", words[i])), "{name}: the header's TDM_OPTIONS");
         let mut objs = vec![gcc_c(&dir, &tests_c().join("identify_check.c"), "c.o")];
@@ -467,7 +467,7 @@ fn readme_scurve_example_runs_as_written_through_the_driver() {
     let dir = sim_dir("c_scurve_example", Simulator::Verilator);
     let _ = std::fs::remove_dir_all(&dir);
     let opts = ExportOptions { axes: 2, scurve: true, ..Default::default() };
-    export::export(&opts, &dir).unwrap();
+    tdm_stepper::package::export(&opts, &dir).unwrap();
     std::fs::write(dir.join("scurve_example.c"), code).unwrap();
     let fp = ["-ffp-contract=off"];
     let objs = [
@@ -621,7 +621,7 @@ fn readme_homing_example_runs_as_written_through_the_machine_io() {
     let dir = sim_dir("c_io_homing", Simulator::Verilator);
     let _ = std::fs::remove_dir_all(&dir);
     let opts = ExportOptions { axes: 2, io: true, ..Default::default() };
-    export::export(&opts, &dir).unwrap();
+    tdm_stepper::package::export(&opts, &dir).unwrap();
     std::fs::write(dir.join("home_example.c"), code).unwrap();
     let example = gcc_c(&dir, &dir.join("home_example.c"), "home_example.o");
     let exe = build_with_shim_flags(&dir, &tests_c().join("io_main.c"), &[example], &["-DSHIM_IO"]);
@@ -689,7 +689,7 @@ fn readme_encoder_example_corrects_lost_steps_through_the_driver() {
     let dir = sim_dir("c_encoder", Simulator::Verilator);
     let _ = std::fs::remove_dir_all(&dir);
     let opts = ExportOptions { axes: 2, encoder: true, ..Default::default() };
-    export::export(&opts, &dir).unwrap();
+    tdm_stepper::package::export(&opts, &dir).unwrap();
     std::fs::write(dir.join("enc_example.c"), code).unwrap();
     let example = gcc_c(&dir, &dir.join("enc_example.c"), "enc_example.o");
     let exe = build_with_shim_flags(&dir, &tests_c().join("enc_main.c"), &[example], &["-DSHIM_ENC"]);

@@ -1,7 +1,7 @@
 //! The README's quick start runs what exists, CI runs the README's test command,
 //! and the CLI fails cleanly on bad input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn repo() -> PathBuf {
@@ -457,4 +457,66 @@ fn readme_controlled_stop_latency_is_the_measured_constant() {
     let n = tdm_stepper::hdl::core::t_stop_form(tdm_stepper::export::RADIX_BITS);
     let text = readme().split_whitespace().collect::<Vec<_>>().join(" ");
     assert!(text.contains(&format!("forms the ramp in {n} clk cycles")), "README's controlled-stop latency is not {n} cycles");
+}
+
+/// The crate's source files under `dir` (recursively), with their text.
+fn sources_under(dir: &Path) -> Vec<(PathBuf, String)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(sources_under(&p));
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push((p.clone(), std::fs::read_to_string(&p).unwrap()));
+        }
+    }
+    out
+}
+
+/// The crate paths a file names outside its comments.
+fn crate_refs(text: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let code = line.split("//").next().unwrap();
+        let mut rest = code;
+        while let Some(i) = rest.find("crate::") {
+            let tail = &rest[i + 7..];
+            let name: String = tail.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            out.push(name);
+            rest = tail;
+        }
+    }
+    out
+}
+
+#[test]
+fn layers_point_one_way() {
+    let src = repo().join("ip/src");
+    // (files, the crate modules they may name)
+    let bottom: &[&str] = &["model", "regs", "latency"];
+    let mut layers: Vec<(Vec<(PathBuf, String)>, Vec<&str>)> = vec![
+        (sources_under(&src.join("model")), bottom.to_vec()),
+        (
+            ["regs.rs", "latency.rs"].iter().map(|f| (src.join(f), std::fs::read_to_string(src.join(f)).unwrap())).collect(),
+            bottom.to_vec(),
+        ),
+    ];
+    let mut hdl_allowed = bottom.to_vec();
+    hdl_allowed.push("hdl");
+    layers.push((sources_under(&src.join("hdl")), hdl_allowed.clone()));
+    let mut export_allowed = hdl_allowed;
+    export_allowed.push("export");
+    layers.push((vec![(src.join("export.rs"), std::fs::read_to_string(src.join("export.rs")).unwrap())], export_allowed));
+    let mut checked = 0;
+    for (files, allowed) in &layers {
+        for (path, text) in files {
+            checked += 1;
+            for r in crate_refs(text) {
+                assert!(allowed.contains(&r.as_str()), "{} names crate::{r}; its layer may name only {allowed:?}", path.display());
+            }
+        }
+    }
+    assert!(checked > 40, "only {checked} files checked");
+    // And the check sees a violation when there is one.
+    assert_eq!(crate_refs("use crate::hdl::core::t_setup; // crate::export"), vec!["hdl".to_string()]);
 }

@@ -90,8 +90,6 @@ pub use super::sched_states::{gray, STATES, STATE_BITS};
 use super::setup_path::SetupPath;
 use super::context_ram::{ContextRam, ContextWord, CTX_ADDR_BITS, CTX_MAX_AXES};
 use super::divider::{div_latency, DIV_NUM_BITS};
-use super::mul_seq::mul_seq_latency;
-use super::mul_wide::MUL_REG_LATENCY;
 use super::ram_fifo::ENTRY_BITS;
 use super::root::{root_latency, OffsetRoot};
 use super::block_ram::BlockRam;
@@ -115,18 +113,7 @@ pub const fn t_calc_sqrt(r: usize) -> usize {
 /// compare and subtract), commit.
 pub const T_CALC_UNIFORM: usize = 4;
 
-/// Cycles the shared unit spends setting up an accelerating or decelerating
-/// segment, from S_CHECK to its commit: the head into registers, two 32×32
-/// products issued back to back into the pipelined multiplier from registered
-/// operands (v0·T, T²; the last arrives 1 + MUL_REG_LATENCY cycles after the first is
-/// issued), one on the sequential multiplier (v·T²; two with n·B' when decelerating)
-/// and two divides (P', B'), P' issued in the cycle its operand arrives and B' one
-/// cycle after P' (the fallback test on P' is registered). Measured by
-/// tests/hdl_core.rs.
-pub const fn t_setup(r: usize, decelerating: bool) -> usize {
-    let wide = if decelerating { 2 } else { 1 };
-    4 + (1 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
-}
+pub use crate::latency::t_setup;
 
 /// Cycles the scheduler spends forming a controlled stop's ramp, from the PICK that
 /// takes the request to the commit of the ramp's setup (inclusive): two divides (v0,

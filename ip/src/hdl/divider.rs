@@ -17,18 +17,12 @@
 use super::iterate::Iterate;
 use rust_hdl::prelude::*;
 
-pub const DIV_NUM_BITS: usize = 104;
+pub use crate::latency::{div_latency, DIV_NUM_BITS};
 pub const DIV_DEN_BITS: usize = 64;
 const REM_BITS: usize = DIV_DEN_BITS + 1;
 // DivPair reads numerator bits 103..102 by a literal index (rust-hdl writes a Rust
 // constant's name into the Verilog).
 const _: () = assert!(DIV_NUM_BITS == 104);
-
-/// Cycles from the `start` edge to `valid` for `r` digits per cycle: the load, one
-/// cycle that forms 3d from the loaded d, and 104/r digit cycles.
-pub const fn div_latency(r: usize) -> usize {
-    2 + DIV_NUM_BITS / r
-}
 
 /// One radix-4 digit (two radix-2 digits), combinational. The quotient bits shift in
 /// at the bottom of the numerator register as its bits shift out at the top. The

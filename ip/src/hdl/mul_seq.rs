@@ -17,21 +17,7 @@ use rust_hdl::prelude::*;
 
 pub const MUL_A_BITS: usize = 100;
 const _: () = assert!(MUL_A_BITS == crate::model::ACC_BITS as usize);
-pub const MUL_B_BITS: usize = 32;
-/// Radix-4 Booth digits of an unsigned 32-bit multiplier (one more than 32/2: the
-/// top digit carries bit 31).
-pub const MUL_DIGITS: usize = MUL_B_BITS / 2 + 1;
-
-/// Step cycles for `r` multiplier bits (`r / 2` Booth digits) per cycle.
-pub const fn mul_seq_steps(r: usize) -> usize {
-    MUL_DIGITS.div_ceil(r / 2)
-}
-
-/// Cycles from the `start` edge to `valid` for `r` bits per cycle: the load and
-/// [`mul_seq_steps`] digit cycles.
-pub const fn mul_seq_latency(r: usize) -> usize {
-    1 + mul_seq_steps(r)
-}
+pub use crate::latency::{mul_seq_latency, mul_seq_steps, MUL_B_BITS, MUL_DIGITS};
 
 /// One radix-4 Booth digit, combinational. The digit is read from the multiplier's
 /// two low bits and the bit below them (`p_in`, 0 for the first digit): 000 and 111

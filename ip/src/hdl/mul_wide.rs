@@ -22,7 +22,7 @@ pub struct MulReg<const A: usize, const B: usize, const P: usize> {
 }
 
 /// Cycles from `a`, `b` to `p`.
-pub const MUL_REG_LATENCY: usize = 2;
+pub use crate::latency::MUL_REG_LATENCY;
 
 impl<const A: usize, const B: usize, const P: usize> Default for MulReg<A, B, P> {
     fn default() -> Self {

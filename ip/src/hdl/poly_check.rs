@@ -34,7 +34,7 @@ use crate::model::{Limits, MAX_STEPS, MAX_V0_RATE};
 use rust_hdl::prelude::*;
 
 /// Cycles from `in_valid` to `out_valid`.
-pub const POLY_CHECK_LATENCY: usize = 6;
+pub use crate::latency::POLY_CHECK_LATENCY;
 
 /// Width of the control-point sums (two's complement).
 const B: usize = 68;

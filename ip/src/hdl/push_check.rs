@@ -42,16 +42,13 @@
 //! refused. `reset` (synchronous) drops the command in flight.
 
 use super::mul_wide::MulReg;
-use super::poly_check::{PolyCheck, POLY_CHECK_LATENCY};
-use super::regfile::CMD_BITS;
+use super::poly_check::PolyCheck;
+use crate::regs::CMD_BITS;
 use crate::model::{Limits, MAX_STEPS, MAX_T_TICKS, MAX_V0_RATE};
 use rust_hdl::prelude::*;
 
-/// Cycles from `in_valid` to `out_valid` / `rej_valid`.
-pub const PUSH_CHECK_LATENCY: usize = 4;
-
-/// Cycles from `in_valid` to `out_valid` / `rej_valid` for a polynomial push (S = 1).
-pub const POLY_PUSH_LATENCY: usize = POLY_CHECK_LATENCY;
+/// Cycles from `in_valid` to `out_valid` / `rej_valid` (a trapezoid push, and S = 1).
+pub use crate::latency::{POLY_PUSH_LATENCY, PUSH_CHECK_LATENCY};
 
 /// The polynomial fields of a push (S = 1): v1 (31..0) and A' (95..32).
 pub const CMD_EXTRA_BITS: usize = 96;

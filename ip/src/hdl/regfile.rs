@@ -51,9 +51,7 @@ use super::status_sync::STATUS_BITS;
 use crate::regs::{self, CoreParams, ADDR_BITS};
 use rust_hdl::prelude::*;
 
-/// Width of a command in the command FIFO: v0 (31..0), T (63..32), steps (95..64),
-/// axis (103..96), kind (105..104: 0 push, 1 start with the mask in 15..0, 2 abort).
-pub const CMD_BITS: usize = 106;
+pub use crate::regs::CMD_BITS;
 /// Status word fields (bit offsets): position (32 bits), segments taken, done,
 /// underruns (8 bits each), busy, core enabled.
 pub const W_POS: usize = 0;
