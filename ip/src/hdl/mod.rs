@@ -113,6 +113,7 @@ pub mod regfile;
 pub mod root;
 pub mod sched_states;
 pub mod seg_queue;
+pub mod spi_front;
 pub mod setup_path;
 pub mod status_sync;
 pub mod step_gen;

@@ -15,3 +15,4 @@ pub use tb::{run, run_rust_hdl, run_rust_hdl_sparse, run_sparse, Change, Port, S
 pub mod system;
 pub mod bus;
 pub mod encoder;
+pub mod spi;
