@@ -79,6 +79,37 @@ impl Arch {
 /// digits and `_` that does not start with a digit, at most [`ModuleName::MAX_LEN`]
 /// characters, not a keyword. Every submodule is named `<name>__<path>` (no `$`), so
 /// cores exported under different names live in one design.
+/// The host bus in front of the register file (`--bus`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Bus {
+    /// EXMC / FSMC asynchronous SRAM, 16-bit (the register file's own slave).
+    #[default]
+    Exmc,
+    /// SPI, modes 0 and 3 ([`crate::hdl::spi_front::SpiFront`] in front of the EXMC slave).
+    Spi,
+}
+
+impl std::str::FromStr for Bus {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Bus, String> {
+        match s {
+            "exmc" => Ok(Bus::Exmc),
+            "spi" => Ok(Bus::Spi),
+            _ => Err(format!("unknown bus {s:?}: expected exmc or spi")),
+        }
+    }
+}
+
+impl Bus {
+    pub fn name(self) -> &'static str {
+        match self {
+            Bus::Exmc => "exmc",
+            Bus::Spi => "spi",
+        }
+    }
+}
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 pub struct ModuleName {
     bytes: [u8; ModuleName::MAX_LEN],
@@ -163,6 +194,8 @@ pub struct ExportOptions {
     /// Encoder feedback (`--encoder`): per axis the pins `enc_a`, `enc_b`, `enc_z`,
     /// the decoders, the shared following-error unit and their registers (TDM only).
     pub encoder: bool,
+    /// The host bus (`--bus`): EXMC, or SPI in front of it.
+    pub bus: Bus,
 }
 
 impl Default for ExportOptions {
@@ -178,6 +211,7 @@ impl Default for ExportOptions {
             io_omit: 0,
             scurve: false,
             encoder: false,
+            bus: Bus::Exmc,
         }
     }
 }
@@ -393,6 +427,9 @@ pub const BASELINE_AXES: [usize; 5] = [1, 2, 4, 8, 16];
 /// submodule `<name>__<path>`.
 pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
     opts.check()?;
+    if opts.bus == Bus::Spi {
+        return spi_verilog(opts);
+    }
     let params = opts.params();
     let o = *opts;
     // The blocks are large; build them on a thread with room for them.
@@ -412,6 +449,63 @@ pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
         return Ok(text + &io_wrapper_module(opts.name.as_str(), &full, opts.axes, params.io_groups(), params.encoder));
     }
     rename_top(&text, opts.name.as_str())
+}
+
+/// An SPI export: the EXMC export as `<name>__exmc`, the SPI front end as
+/// `<name>__spi` (its submodules `<name>__spi__<path>`), and the top `<name>` that
+/// joins them: the EXMC pins become wires between the two.
+fn spi_verilog(opts: &ExportOptions) -> Result<String, String> {
+    use std::fmt::Write as _;
+    let name = opts.name.as_str();
+    let inner_name = format!("{name}__exmc");
+    let inner = ExportOptions { bus: Bus::Exmc, name: ModuleName::new(&inner_name).map_err(|e| format!("--name {name}: too long for the SPI export ({e})"))?, ..*opts };
+    let core = verilog(&inner)?;
+    let mut front = crate::hdl::spi_front::SpiFront::default();
+    front.clock.connect();
+    front.reset.connect();
+    front.cs_n.connect();
+    front.sck.connect();
+    front.mosi.connect();
+    front.irq.connect();
+    front.rdata.connect();
+    front.connect_all();
+    let front = rename_top(&generate_verilog(&front), &format!("{name}__spi"))?;
+    let mine = ports_of(opts);
+    let all = ports_of(&inner);
+    let names: Vec<&str> = mine.iter().map(|p| p.name).collect();
+    let mut m = format!(
+        "\n// {name}: the core on SPI (export --bus spi): the SPI front end {name}__spi drives\n// the EXMC slave of {inner_name} inside bus_clk.\nmodule {name}({});\n",
+        names.join(",")
+    );
+    for p in &mine {
+        let kind = if p.direction == "input" { "input wire" } else { "output wire" };
+        if p.width == 1 {
+            let _ = writeln!(m, "    {kind} {};", p.name);
+        } else {
+            let _ = writeln!(m, "    {kind} [{}:0] {};", p.width - 1, p.name);
+        }
+    }
+    let aw = regs::ADDR_BITS;
+    let _ = writeln!(m, "    wire x_ne, x_noe, x_nwe;\n    /* verilator lint_off UNUSEDSIGNAL */\n    wire x_oe; // the EXMC pad enable: no pads inside\n    /* verilator lint_on UNUSEDSIGNAL */\n    wire [{}:0] x_addr;\n    wire [15:0] x_wdata, x_rdata;", aw - 1);
+    let _ = writeln!(
+        m,
+        "    {name}__spi bus(.clock(bus_clk), .reset(reset), .cs_n(cs_n), .sck(sck), .mosi(mosi), .miso(miso), .miso_oe(miso_oe),\n        .irq(irq), .ne(x_ne), .noe(x_noe), .nwe(x_nwe), .addr(x_addr), .wdata(x_wdata), .rdata(x_rdata));"
+    );
+    let _ = writeln!(m, "    {inner_name} core(");
+    let exmc = |n: &str| match n {
+        "ne" => Some("x_ne"),
+        "noe" => Some("x_noe"),
+        "nwe" => Some("x_nwe"),
+        "addr" => Some("x_addr"),
+        "data_in" => Some("x_wdata"),
+        "data_out" => Some("x_rdata"),
+        "data_oe" => Some("x_oe"),
+        _ => None,
+    };
+    let conns: Vec<String> = all.iter().map(|p| format!("        .{}({})", p.name, exmc(p.name).unwrap_or(p.name))).collect();
+    m += &conns.join(",\n");
+    m += "\n    );\nendmodule\n";
+    Ok(core + &front + &m)
 }
 
 /// The top module of an export with some machine I/O groups: `name`, with the ports
@@ -546,10 +640,31 @@ pub fn encoder_ports(axes: usize) -> Vec<PortDoc> {
 /// The ports of the core `opts` exports: [`ports`], then the encoder's.
 pub fn ports_of(opts: &ExportOptions) -> Vec<PortDoc> {
     let mut v = ports(opts.axes, opts.params().io_groups());
+    if opts.bus == Bus::Spi {
+        let exmc = ["ne", "noe", "nwe", "addr", "data_in", "data_out", "data_oe"];
+        let at = v.iter().position(|p| p.name == "ne").expect("EXMC pins");
+        v.retain(|p| !exmc.contains(&p.name));
+        v.splice(at..at, spi_ports());
+        for p in v.iter_mut().filter(|p| p.name == "bus_clk") {
+            p.description = "samples the SPI pins and runs the register file; may be unrelated to clk; SCK at most bus_clk/4";
+        }
+    }
     if opts.encoder {
         v.extend(encoder_ports(opts.axes));
     }
     v
+}
+
+/// The SPI front end's pins (`--bus spi`), in place of the EXMC pins.
+pub fn spi_ports() -> Vec<PortDoc> {
+    let p = |name, direction, clock, description| PortDoc { name, direction, width: 1, clock, description };
+    vec![
+        p("cs_n", "input", "async", "SPI chip select, active low; high ends the frame (a partial word is discarded)"),
+        p("sck", "input", "async", "SPI clock, mode 0 or 3: MOSI is taken and MISO advanced on rising edges; high and low each at least 2 bus_clk cycles"),
+        p("mosi", "input", "async", "SPI data from the host, MSB first"),
+        p("miso", "output", "bus_clk", "SPI data to the host: the status byte, then read data; changes 3 bus_clk cycles after SCK rises"),
+        p("miso_oe", "output", "async", "drive miso onto the pad: !cs_n, combinational"),
+    ]
 }
 
 #[derive(Serialize)]
@@ -580,6 +695,8 @@ struct Manifest {
     /// Encoder feedback is in this core (`--encoder`; absent without it).
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     encoder: bool,
+    /// The host bus (`--bus`).
+    bus: Bus,
     ports: Vec<PortDoc>,
     tools: Tools,
 }
@@ -616,6 +733,7 @@ fn manifest(opts: &ExportOptions) -> Manifest {
         io_groups: opts.io.then(|| io_group_list(opts.params().io_groups())),
         stop_decel_min: opts.io.then(|| opts.params().stop_decel_min()),
         encoder: opts.encoder,
+        bus: opts.bus,
         ports: ports_of(opts),
         tools: Tools { tdm_stepper: env!("CARGO_PKG_VERSION"), rust_hdl: "0.46.0" },
     }

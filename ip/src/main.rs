@@ -61,6 +61,10 @@ enum Command {
         /// registers (TDM only).
         #[arg(long)]
         encoder: bool,
+        /// The host bus: exmc (EXMC / FSMC asynchronous SRAM, 16-bit; the default) or
+        /// spi (modes 0 and 3, SCK up to bus_clk/4; docs/registers.md, "SPI").
+        #[arg(long, default_value = "exmc")]
+        bus: export::Bus,
         /// Folder to write into (created if missing).
         #[arg(long)]
         out: PathBuf,
@@ -151,6 +155,9 @@ enum Command {
         /// registers (TDM only).
         #[arg(long)]
         encoder: bool,
+        /// The host bus of every point: exmc (the default) or spi.
+        #[arg(long, default_value = "exmc")]
+        bus: export::Bus,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -168,13 +175,13 @@ enum Command {
 
 fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, profiles, encoder, out } => {
-            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit, scurve: profiles, encoder };
+        Command::Export { axes, arch, clock_hz, fifo_depth, min_period, name, io, profiles, encoder, bus, out } => {
+            let opts = ExportOptions { name, axes, arch, clock_hz, fifo_depth, min_period, io: io.io, io_omit: io.omit, scurve: profiles, encoder, bus };
             opts.check()?;
             let t0 = std::time::Instant::now();
             let done = tdm_stepper::package::export(&opts, &out)?;
             println!(
-                "exported {} core{}, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
+                "exported {} core{}{}, K = {axes}, {clock_hz} Hz: t_calc {} cycles, minimum period {} ticks, max {:.0} steps/s per axis ({:.2} s)",
                 arch.name(),
                 match (io.io, encoder) {
                     (true, true) => " with machine I/O and encoder feedback",
@@ -182,6 +189,7 @@ fn run(cli: Cli) -> Result<(), String> {
                     (false, true) => " with encoder feedback",
                     (false, false) => "",
                 },
+                if bus == export::Bus::Spi { " on SPI" } else { "" },
                 opts.params().t_calc,
                 opts.min_period_ticks(),
                 opts.max_step_rate_hz(),
@@ -231,7 +239,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 .into());
             }
         }
-        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io, profiles, encoder } => {
+        Command::Sweep { axes, arch, family, fmax, seeds, breakdown, jobs, timeout_s, out, work, cached_only, io, profiles, encoder, bus } => {
             if axes.is_empty() || arch.is_empty() || family.is_empty() {
                 return Err("--axes, --arch and --family each need at least one value".into());
             }
@@ -259,6 +267,7 @@ fn run(cli: Cli) -> Result<(), String> {
                 io_omit: io.omit,
                 scurve: profiles,
                 encoder,
+                bus,
             };
             let repo = std::env::current_dir().map_err(|e| e.to_string())?;
             let (s, files) = sweep::run(&opts, &repo)?;

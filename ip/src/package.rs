@@ -99,6 +99,14 @@ so it is not timed against a clock either. data_oe = !ne & !noe is combinational
 from pins to pad enable: keep that path short so the pads release the bus promptly.
 step, dir and irq are registers; step and dir change on clk.";
 
+const SPI_CONSTRAINT_NOTES: &str = "\
+With --bus spi the EXMC pins are wires inside: the SPI front end drives them in
+bus_clk. cs_n, sck and mosi are asynchronous: each enters through two flip-flops in
+bus_clk, and MOSI is taken on SCK edges seen there, so no input delay applies. miso
+is a bus_clk register that changes 3 bus_clk cycles after SCK rises, so the host
+samples it at its next rising edge at least 1 bus_clk cycle later (at SCK =
+bus_clk/4): keep the miso pad path within that cycle.";
+
 fn comment_block(prefix: &str, text: &str) -> String {
     text.lines().map(|l| if l.is_empty() { prefix.trim_end().to_string() } else { format!("{prefix}{l}") }).collect::<Vec<_>>().join("\n")
 }
@@ -110,6 +118,9 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} timing constraints (K = {}, clk {} Hz).", opts.axes, opts.clock_hz)));
     let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
+    if opts.bus == crate::export::Bus::Spi {
+        let _ = writeln!(t, "#\n{}", comment_block("# ", SPI_CONSTRAINT_NOTES));
+    }
     if xdc {
         let _ = writeln!(
             t,
@@ -126,12 +137,20 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let _ = writeln!(t, "create_clock -name tdm_bus_clk -period {} [get_ports bus_clk]", ns(BUS_CLK_HZ));
     let _ = writeln!(t, "set_clock_groups -asynchronous -group [get_clocks tdm_clk] -group [get_clocks tdm_bus_clk]");
     let _ = writeln!(t, "# Asynchronous inputs: synchronised in bus_clk.");
-    let _ = writeln!(t, "set_false_path -from [get_ports {{reset ne noe nwe addr[*] data_in[*]}}]");
-    let _ = writeln!(t, "# data_out: held for the MCU, sampled at least 5 bus_clk cycles after NOE falls.");
-    let _ = writeln!(t, "set_false_path -to [get_ports {{data_out[*]}}]");
-    let _ = writeln!(t, "# data_oe: combinational from the strobes to the pad enable.");
     let dp = if xdc { " -datapath_only" } else { "" };
-    let _ = writeln!(t, "set_max_delay{dp} 8.000 -from [get_ports {{ne noe}}] -to [get_ports data_oe]");
+    if opts.bus == crate::export::Bus::Spi {
+        let _ = writeln!(t, "set_false_path -from [get_ports {{reset cs_n sck mosi}}]");
+        let _ = writeln!(t, "# miso: a bus_clk register the host samples at SCK's next rising edge, at least 1 bus_clk cycle later.");
+        let _ = writeln!(t, "set_false_path -to [get_ports {{miso}}]");
+        let _ = writeln!(t, "# miso_oe: combinational from cs_n to the pad enable.");
+        let _ = writeln!(t, "set_max_delay{dp} 8.000 -from [get_ports {{cs_n}}] -to [get_ports miso_oe]");
+    } else {
+        let _ = writeln!(t, "set_false_path -from [get_ports {{reset ne noe nwe addr[*] data_in[*]}}]");
+        let _ = writeln!(t, "# data_out: held for the MCU, sampled at least 5 bus_clk cycles after NOE falls.");
+        let _ = writeln!(t, "set_false_path -to [get_ports {{data_out[*]}}]");
+        let _ = writeln!(t, "# data_oe: combinational from the strobes to the pad enable.");
+        let _ = writeln!(t, "set_max_delay{dp} 8.000 -from [get_ports {{ne noe}}] -to [get_ports data_oe]");
+    }
     let _ = writeln!(t, "# step, dir, irq: registers for motor drivers and the MCU, not timed against an external clock.");
     let _ = writeln!(t, "set_false_path -to [get_ports {{step[*] dir[*] irq fsm_state[*]}}]");
     if opts.io {
@@ -165,6 +184,9 @@ pub fn lpf(opts: &ExportOptions) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} clock constraints for nextpnr-ecp5 (K = {}).", opts.axes)));
     let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
+    if opts.bus == crate::export::Bus::Spi {
+        let _ = writeln!(t, "#\n{}", comment_block("# ", SPI_CONSTRAINT_NOTES));
+    }
     let _ = writeln!(
         t,
         "#\n# nextpnr times each clock domain separately and leaves cross-domain paths and\n\
@@ -263,6 +285,9 @@ pub const TB_FILE: &str = "tdm_stepper_smoke_tb.v";
 /// reads ID_MAGIC and ID_AXES over the EXMC pins at a slow, safe timing, and
 /// prints PASS or FAIL (with `$fatal` on failure).
 pub fn smoke_testbench(opts: &ExportOptions) -> String {
+    if opts.bus == crate::export::Bus::Spi {
+        return smoke_testbench_spi(opts);
+    }
     let top = opts.name.as_str();
     let p = opts.params();
     let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
@@ -309,6 +334,70 @@ module {top}_smoke_tb;\n\
   end\n\
 endmodule\n",
         am = aw - 1,
+        km = k - 1,
+        sm = sb - 1,
+    )
+}
+
+/// The smoke testbench of an SPI export: the same reads as single-word SPI read
+/// frames (mode 0, SCK = bus_clk/20), checking the status byte's pattern too.
+fn smoke_testbench_spi(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
+    let p = opts.params();
+    let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
+    let axes = crate::regs::register("ID_AXES").reset_value(&p);
+    let a_magic = crate::regs::addr("ID_MAGIC");
+    let a_axes = crate::regs::addr("ID_AXES");
+    let k = opts.axes;
+    let sb = crate::hdl::core::STATE_BITS;
+    let pattern = crate::regs::SPI_STATUS_PATTERN;
+    format!(
+        "`timescale 1ns/1ps\n\
+// Smoke test of the exported {top} on SPI: reset, then read ID_MAGIC and ID_AXES\n\
+// in SPI read frames (mode 0, SCK = bus_clk/20). Prints PASS or FAIL.\n\
+module {top}_smoke_tb;\n\
+  reg clk = 0, bus_clk = 0, reset = 1, cs_n = 1, sck = 0, mosi = 0;\n\
+  wire miso, miso_oe, irq;\n\
+  wire [{km}:0] step, dir;\n\
+  wire [{sm}:0] fsm_state;\n\
+  always #10 clk = !clk;\n\
+  always #5.003 bus_clk = !bus_clk;\n\
+  {top} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), .cs_n(cs_n), .sck(sck), .mosi(mosi),\n\
+    .miso(miso), .miso_oe(miso_oe), .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));\n\
+  // One byte out on MOSI and in from MISO, MSB first: MISO is sampled at each rising edge.\n\
+  task xfer(input [7:0] out, output [7:0] in);\n\
+    integer i;\n\
+    begin\n\
+      for (i = 7; i >= 0; i = i - 1) begin\n\
+        mosi = out[i]; #100; sck = 1; in[i] = miso; #100; sck = 0;\n\
+      end\n\
+    end\n\
+  endtask\n\
+  reg [7:0] st, junk, hi, lo;\n\
+  // A one-word read frame: command (read, LEN 1, address bit 8), address, turnaround, data.\n\
+  task read16(input [8:0] a, output [15:0] v, output [7:0] status);\n\
+    begin\n\
+      cs_n = 0; #100;\n\
+      xfer({{7'b0000000, a[8]}}, status); xfer(a[7:0], junk); xfer(8'h00, junk);\n\
+      xfer(8'h00, hi); xfer(8'h00, lo); v = {{hi, lo}};\n\
+      #100 cs_n = 1; #200;\n\
+    end\n\
+  endtask\n\
+  reg [15:0] v_magic, v_axes;\n\
+  reg [7:0] s_magic, s_axes;\n\
+  initial begin\n\
+    #200 reset = 0; #500;\n\
+    read16(9'h{a_magic:03X}, v_magic, s_magic);\n\
+    read16(9'h{a_axes:03X}, v_axes, s_axes);\n\
+    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes} && s_magic[5:0] == 6'h{pattern:02X} && s_axes[6:0] == 7'h{pattern:02X}) begin\n\
+      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d, status %h\", v_magic, v_axes, s_axes);\n\
+      $finish;\n\
+    end else begin\n\
+      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes}), status %h %h\", v_magic, v_axes, s_magic, s_axes);\n\
+      $fatal(1);\n\
+    end\n\
+  end\n\
+endmodule\n",
         km = k - 1,
         sm = sb - 1,
     )

@@ -43,6 +43,18 @@ pub const COMMAND_SPACING_BUS_CLOCKS: u64 = crate::latency::PUSH_CHECK_LATENCY a
 /// axis (103..96), kind (105..104: 0 push, 1 start with the mask in 15..0, 2 abort).
 pub const CMD_BITS: usize = 106;
 
+/// SPI (`--bus spi`): bits 5..0 of the status byte each frame starts with, a fixed
+/// pattern so that a MISO stuck at 0 or 1 shows.
+pub const SPI_STATUS_PATTERN: u8 = 0x05;
+/// SPI: fewest bus clocks CS must stay high between frames.
+pub const SPI_CS_HIGH_MIN: u64 = 4;
+/// SPI: SCK high and low each at least this many bus clocks (SCK ≤ bus_clk/4).
+pub const SPI_SCK_HALF_MIN: u64 = 2;
+/// SPI: bus clocks from an SCK rising edge to MISO's next bit.
+pub const SPI_MISO_DELAY: u64 = 3;
+/// SPI: most words in one frame.
+pub const SPI_MAX_BURST: usize = 32;
+
 /// How the host may access a field.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Access {
@@ -781,6 +793,7 @@ pub fn markdown(p: &CoreParams) -> String {
         p.axes, p.clock_hz, p.queue_depth, p.fifo_depth, p.t_calc, p.min_period, p.max_rate()
     );
     m.push_str(BUS_TEXT);
+    m.push_str(&spi_text());
     m.push_str("\n## Register map\n\n");
     m.push_str("Word address on `A[8:0]`; byte offset from the bank base is twice that. Per-axis registers repeat for axis `a` at word `0x100 + 0x10·a + offset`. Unknown addresses read 0 and ignore writes.\n\n");
     m.push_str("| word | byte | name | access | reset | description |\n|---|---|---|---|---|---|\n");
@@ -1009,6 +1022,76 @@ that copies one axis's status word at a time, round robin. So what you read is a
 most about K·(4 T_clk + 4 T_bus) old; LEVEL and BUSY count a push at once (they are
 kept on the bus side), so a just-pushed segment never reads as idle.
 "#;
+
+/// The SPI front end's section of the register map (`export --bus spi`).
+fn spi_text() -> String {
+    format!(
+        r#"
+## SPI (`export --bus spi`)
+
+A core exported with `--bus spi` has the pins `cs_n`, `sck`, `mosi`, `miso` and
+`miso_oe` in place of the EXMC pins, and the same registers. Its SPI front end runs in
+`bus_clk` and makes each register access as an MCU would on the EXMC pins (at the
+minimum timing above), so every rule of this map (the push check, its latency, the
+status crossing, the IRQ) is the same on both buses.
+
+**Modes 0 and 3**, without a setting: MOSI is taken and MISO advanced on SCK's rising
+edges only. Bits go MSB first. A frame is CS low, whole bytes, CS high:
+
+| byte | write frame (MOSI) | read frame (MOSI) | MISO |
+|---|---|---|---|
+| 0 | command | command | status byte |
+| 1 | address bits 7..0 | address bits 7..0 | 0 |
+| 2 | word 0, bits 15..8 | turnaround (any) | 0 |
+| 3, 4 … | word 0 bits 7..0, word 1 … | any | read: word 0 bits 15..8, bits 7..0, word 1 … (write: 0) |
+
+**Command byte:** bit 7 W (1 write, 0 read); bit 6 INC (the address steps by one after
+each word; else every word is the same register); bits 5..1 LEN − 1 (1 to {burst}
+words); bit 0 address bit 8. A segment push (V0_LO … STEPS_HI of an axis, six
+consecutive registers) is one write frame of 14 bytes: at 10 MHz SCK, 11.2 µs on
+the wire, so up to about 89,000 pushes per second with short CS gaps.
+
+**Status byte** (MISO during the command byte): bit 7 IRQ (the `irq` pin), bit 6
+FRAME_ERR (the previous frame was refused in part, see below), bits 5..0 = {pattern:#04x} (a
+fixed pattern: a MISO stuck at 0 or 1, or a wrong mode, shows as a wrong pattern).
+
+**Writes commit word by word**, each when its 16th bit has arrived. A push's verdict
+is in STATUS before any later frame can read it: the write's NWE rises at most
+{lat} T_bus after the word's last SCK edge, the verdict follows {v} T_bus later, and
+a read frame's header alone takes 64 T_bus at the fastest SCK. **Reads** fetch word 0 when the
+address byte is complete (the turnaround byte gives it time) and each next word as
+the previous one starts out, never past LEN: a read of POS_LO, POS_HI with INC reads
+one sample of the position.
+
+**Refused, with FRAME_ERR in the next frame's status byte:** CS raised mid-word (that
+word is discarded; the whole words before it are written); CS raised before the LEN-th
+word (a short frame: the words before are written); SCK edges after the LEN-th word
+(nothing more is written); a burst whose last address would pass 0x1FF (no access at
+all). A frame of exactly 8 SCK edges is a status poll: it reads the status byte and is
+not an error. A frame with no SCK edge changes nothing.
+
+**Timing**, in periods of `bus_clk` (T_bus):
+
+| what | minimum | why |
+|---|---|---|
+| SCK high, SCK low | {half} T_bus each (SCK ≤ bus_clk/4) | each level sampled at least once |
+| CS low before the first SCK edge | 1 T_bus | CS and SCK pass the same synchroniser |
+| CS high between frames | {cs} T_bus | the frame's verdict and the next status byte |
+| MISO valid after SCK rises | {miso} T_bus + board delay | 2 synchroniser stages, the shift register |
+
+So at SCK = bus_clk/4 the host samples MISO at least 1 T_bus after it changes. A frame
+faster than this is not lost silently: a word that arrives while the previous access
+is still on the EXMC side is refused with FRAME_ERR.
+"#,
+        burst = SPI_MAX_BURST,
+        pattern = SPI_STATUS_PATTERN,
+        half = SPI_SCK_HALF_MIN,
+        cs = SPI_CS_HIGH_MIN,
+        miso = SPI_MISO_DELAY,
+        lat = SPI_MISO_DELAY + 3,
+        v = PUSH_VERDICT_BUS_CLOCKS,
+    )
+}
 
 const SEQUENCE_TEXT: &str = r#"
 ## A two-axis synchronised move, step by step

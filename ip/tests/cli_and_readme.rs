@@ -520,3 +520,28 @@ fn layers_point_one_way() {
     // And the check sees a violation when there is one.
     assert_eq!(crate_refs("use crate::hdl::core::t_setup; // crate::export"), vec!["hdl".to_string()]);
 }
+
+/// The README's SPI export, run as written (in a scratch folder): the manifest says
+/// SPI, and the ports are the SPI pins in place of the EXMC pins.
+#[test]
+fn readme_spi_export_runs_as_written() {
+    let cmds = commands_under("## Picking a bus: EXMC or SPI (`export --bus spi`)");
+    assert_eq!(cmds.len(), 1, "{cmds:?}");
+    let work = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readme_spi_example");
+    let _ = std::fs::remove_dir_all(&work);
+    std::fs::create_dir_all(&work).unwrap();
+    let export = cmds[0].strip_prefix("cargo run --release -- ").expect("an export");
+    let out = bin().current_dir(&work).args(export.split_whitespace()).output().unwrap();
+    assert!(out.status.success(), "{}: {}", cmds[0], String::from_utf8_lossy(&out.stderr));
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(work.join("build/ip_spi/manifest.json")).unwrap()).unwrap();
+    assert_eq!(m["bus"], "spi");
+    let names: Vec<&str> = m["ports"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap()).collect();
+    for n in ["cs_n", "sck", "mosi", "miso", "miso_oe"] {
+        assert!(names.contains(&n), "manifest lacks {n}");
+    }
+    assert!(!names.contains(&"ne") && !names.contains(&"data_out"), "an EXMC pin in an SPI export");
+    // The limits the README states are the register table's.
+    let text = readme();
+    assert!(text.contains("up to `bus_clk`/4") && tdm_stepper::regs::SPI_SCK_HALF_MIN == 2);
+    assert!(text.contains("up to 32 16-bit") && tdm_stepper::regs::SPI_MAX_BURST == 32);
+}

@@ -255,17 +255,28 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         (16, "tdm", "none", "trapezoid+enc"),
         (2, "tdm", "all", "trapezoid+enc"),
         (3, "tdm", "probe,limits", "trapezoid,scurve+enc"),
+        // The SPI front end (export --bus spi): alone, and with every other option.
+        (2, "tdm", "none", "trapezoid+spi"),
+        (3, "tdm", "all", "trapezoid,scurve+enc+spi"),
     ];
     for (k, arch, io, profiles) in cases {
+        let (profiles, spi) = match profiles.strip_suffix("+spi") {
+            Some(p) => (p, true),
+            None => (profiles, false),
+        };
         let (profiles, enc) = match profiles.strip_suffix("+enc") {
             Some(p) => (p, true),
             None => (profiles, false),
         };
         let tag = if profiles == "trapezoid" { String::new() } else { "_scurve".into() };
         let tag = if enc { tag + "_enc" } else { tag };
+        let tag = if spi { tag + "_spi" } else { tag };
         let mut args = vec!["--axes".to_string(), k.to_string(), "--arch".into(), arch.into(), "--io".into(), io.into(), "--profiles".into(), profiles.into()];
         if enc {
             args.push("--encoder".into());
+        }
+        if spi {
+            args.extend(["--bus".into(), "spi".into()]);
         }
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let dir = export_to(&args, &format!("export_lint_{arch}_{k}_{io}{tag}"));
@@ -273,6 +284,13 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         let mut want_ports = export::ports(k, { let c = export::parse_io(io).unwrap(); if c.io { tdm_stepper::regs::IO_ALL & !c.omit } else { 0 } });
         if enc {
             want_ports.extend(export::encoder_ports(k));
+        }
+        if spi {
+            // The EXMC pins' place taken by the SPI pins, in the documented order.
+            let exmc = ["ne", "noe", "nwe", "addr", "data_in", "data_out", "data_oe"];
+            let at = want_ports.iter().position(|p| p.name == "ne").unwrap();
+            want_ports.retain(|p| !exmc.contains(&p.name));
+            want_ports.splice(at..at, export::spi_ports());
         }
         let want: Vec<(String, String, usize)> = want_ports.iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
         assert_eq!(verilog_ports(&v), want, "K = {k} {arch}: ports differ from export::ports (and the manifest)");
@@ -664,4 +682,40 @@ fn two_named_exports_live_in_one_design() {
     let stat = std::fs::read_to_string(top.join("stat.txt")).unwrap();
     let cells: u64 = stat.lines().find_map(|l| l.trim().strip_prefix("Number of cells:")).expect("cell count").trim().parse().unwrap();
     assert!(cells > 2000, "both cores synthesised: {cells} coarse cells");
+}
+
+/// An SPI export from its folder alone (K = 2): the smoke testbench reads the
+/// identity through SPI frames in Icarus and checks the status byte; the manifest
+/// says the bus and lists the Verilog's ports; the constraints name the SPI pins and
+/// no EXMC pin.
+#[test]
+fn spi_export_package_works_from_the_folder_alone() {
+    use tdm_stepper::package as pkg;
+    let dir = export_to(&["--axes", "2", "--bus", "spi"], "export_package_spi");
+    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let out = Command::new("iverilog")
+        .current_dir(&dir)
+        .args(["-g2005", "-Wall", "-o", "smoke.vvp", "tdm_stepper.v", pkg::TB_FILE])
+        .output()
+        .expect("iverilog is installed");
+    assert!(out.status.success(), "iverilog: {}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new("vvp").current_dir(&dir).args(["-n", "smoke.vvp"]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("PASS: ID_MAGIC") && !text.contains("FAIL"), "smoke test: {text}");
+    let manifest: serde_json::Value = serde_json::from_str(&read("manifest.json")).unwrap();
+    assert_eq!(manifest["bus"], "spi");
+    let names: Vec<String> = manifest["ports"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap().to_string()).collect();
+    let v = read("tdm_stepper.v");
+    let got: Vec<String> = verilog_ports(&v).into_iter().map(|p| p.0).collect();
+    assert_eq!(got, names, "manifest ports against the Verilog");
+    for f in [pkg::XDC_FILE, pkg::SDC_FILE] {
+        let c = read(f);
+        let commands: String = c.lines().filter(|l| !l.starts_with('#')).collect::<Vec<_>>().join("\n");
+        assert!(commands.contains("cs_n sck mosi") && commands.contains("miso_oe"), "{f}: SPI pins");
+        assert!(!commands.contains(" ne ") && !commands.contains("data_in"), "{f}: an EXMC pin");
+    }
+    let tpl = read(pkg::TEMPLATE_FILE);
+    for n in &names {
+        assert_eq!(tpl.matches(&format!(".{n} ")).count(), 1, "template: port {n}");
+    }
 }

@@ -362,7 +362,7 @@ fn fmax_wrapper_connects_every_port_with_and_without_io() {
         std::fs::create_dir_all(&dir).unwrap();
         let v = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: 3, io, ..Default::default() }).unwrap();
         std::fs::write(dir.join("tdm_stepper.v"), v).unwrap();
-        std::fs::write(dir.join("fmax_top.v"), tdm_stepper::sweep::io_wrapper(3, io)).unwrap();
+        std::fs::write(dir.join("fmax_top.v"), tdm_stepper::sweep::io_wrapper(3, io, false)).unwrap();
         let out = std::process::Command::new("yosys")
             .current_dir(&dir)
             .args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; hierarchy -check -top fmax_top; proc; opt_clean; check -assert"])
@@ -371,8 +371,8 @@ fn fmax_wrapper_connects_every_port_with_and_without_io() {
         std::fs::remove_dir_all(&dir).unwrap();
         assert!(out.status.success(), "io {io}: {}", String::from_utf8_lossy(&out.stderr));
     }
-    let plain = tdm_stepper::sweep::io_wrapper(2, false);
+    let plain = tdm_stepper::sweep::io_wrapper(2, false, false);
     assert!(plain.contains("    .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));\n"), "{plain}");
     assert!(plain.contains("begin step_x <= ^step; dir_x"), "{plain}");
-    assert!(!plain.contains("estop_n") && tdm_stepper::sweep::io_wrapper(2, true).contains(".estop_n(pins[0])"));
+    assert!(!plain.contains("estop_n") && tdm_stepper::sweep::io_wrapper(2, true, false).contains(".estop_n(pins[0])"));
 }

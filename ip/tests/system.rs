@@ -295,6 +295,72 @@ fn paper_experiment_through_the_bus_in_verilator() {
     }
 }
 
+/// The paper's experiment through the SPI pins of an `--bus spi` export, at the
+/// fastest documented SCK (bus_clk/4, mode 0, CS high 4 bus clocks), with burst reads
+/// of both axes' status and position while the axes move: every edge is the model's,
+/// and every frame's status byte shows the pattern and no frame error.
+#[test]
+fn paper_experiment_through_spi_in_verilator() {
+    use tdm_stepper::verify::spi::{spi_system_spec, SpiBus, SpiTiming, STATUS_PATTERN};
+    let axes = paper_experiment_segments();
+    let mut b = SpiBus::new(SpiTiming::fastest(0).in_ps(CLOCKS.bus_half_ps, 1));
+    b.reset(40 * 2 * CLOCKS.bus_half_ps);
+    let id = b.read(regs::register("ID_MAGIC").address(0), 3);
+    b.write_reg("CTRL", 0, 1);
+    b.idle_until_ps(b.now_ps() + 400 * 2 * CLOCKS.clk_half_ps);
+    let enabled = b.read_reg("GSTATUS", 0);
+    let mut frames = vec![id, enabled];
+    for (a, segs) in axes.iter().enumerate() {
+        for s in segs {
+            frames.push(b.push_segment(a, s));
+        }
+    }
+    let settle_clk = 2 * (2 * tdm_stepper::hdl::core::t_setup(R, true) + DEPTH * t_calc_sqrt(R)) as u64 + 500;
+    b.idle_until_ps(b.now_ps() + settle_clk * 2 * CLOCKS.clk_half_ps);
+    frames.push(b.write_reg("START", 0, 0b11));
+    let start_ps = b.now_ps();
+    let end = AxisRun::run(&axes[0], &Limits::default()).end_tick.max(AxisRun::run(&axes[1], &Limits::default()).end_tick);
+    // Traffic while the axes move: STATUS, POS_LO, POS_HI, DONE_COUNT of each axis in
+    // one burst, about every 40 µs.
+    let mut k = 0;
+    while b.now_ps() < start_ps + end * 2 * CLOCKS.clk_half_ps {
+        frames.push(b.read(regs::register("STATUS").address(k % 2), 4));
+        b.idle_until_ps(b.now_ps() + 40_000_000);
+        k += 1;
+    }
+    b.idle_until_ps(start_ps + (end + 30_000) * 2 * CLOCKS.clk_half_ps);
+    let last: Vec<_> = (0..2).map(|a| b.read(regs::register("STATUS").address(a), 4)).collect();
+    let busy = b.read_reg("BUSY", 0);
+    frames.extend(last.iter().copied());
+    frames.push(busy);
+    let cycles = b.now_ps() / (2 * CLOCKS.clk_half_ps) + 200;
+    let opts = tdm_stepper::export::ExportOptions { axes: 2, bus: tdm_stepper::export::Bus::Spi, ..Default::default() };
+    let verilog = tdm_stepper::export::verilog(&opts).unwrap();
+    let spec = spi_system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(2));
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let t0 = std::time::Instant::now();
+    let trace = run_system_with(&sim_dir("system_paper_spi", Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &run).unwrap();
+    eprintln!("paper experiment through SPI: {} frames during the move, {cycles} clk cycles, Verilator build + run {:.1} s", k, t0.elapsed().as_secs_f64());
+    assert!(k >= 20, "only {k} frames of traffic during the move");
+    for &f in &frames {
+        let (st, _) = b.words(&trace, f).expect("MISO undefined");
+        assert_eq!(st & 0x7f, STATUS_PATTERN, "a frame's status byte: pattern, no FRAME_ERR");
+    }
+    let (_, w) = b.words(&trace, id).unwrap();
+    assert_eq!((w[0], w[2]), (regs::MAGIC, 2), "ID_MAGIC, ID_AXES");
+    assert_eq!(b.words(&trace, enabled).unwrap().1[0] & 1, 1, "not ENABLED");
+    let l0 = check_edges(&trace, &axes, "paper via SPI");
+    check_pins(&trace, &axes, l0, &PulseTiming::default(), "paper via SPI");
+    let want_pos = [2400i32, 1800];
+    for a in 0..2 {
+        let (_, w) = b.words(&trace, last[a]).unwrap();
+        assert_eq!(w[0], 0, "axis {a}: STATUS at the end");
+        assert_eq!(w[1] as u32 | (w[2] as u32) << 16, want_pos[a] as u32, "axis {a}: position");
+        assert_eq!(w[3], 3, "axis {a}: DONE_COUNT");
+    }
+    assert_eq!(b.words(&trace, busy).unwrap().1[0], 0, "BUSY at the end");
+}
+
 const STATUS_UNDERRUN: u16 = 1 << 6;
 const STATUS_OVERFLOW: u16 = 1 << 7;
 const STATUS_ERROR: u16 = 1 << 8;

@@ -51,10 +51,9 @@ pub const SPI_GAP: u64 = 2;
 // The EXMC side's counters hold these minus one as literals (rust-hdl writes a
 // constant's name into the Verilog).
 const _: () = assert!(SPI_WRITE_LOW == 3 && SPI_READ_LOW == 5 && SPI_GAP == 2);
-/// Fewest bus clocks CS must stay high between frames.
-pub const SPI_CS_HIGH_MIN: u64 = 4;
-/// Bits 5..0 of the status byte: a fixed pattern, so a MISO stuck at 0 or 1 shows.
-pub const STATUS_PATTERN: u8 = 0x05;
+/// Fewest bus clocks CS must stay high between frames, and the status byte's
+/// pattern (bits 5..0), from the register table.
+pub use crate::regs::{SPI_CS_HIGH_MIN, SPI_STATUS_PATTERN as STATUS_PATTERN};
 
 #[derive(LogicBlock)]
 pub struct SpiFront {
@@ -112,7 +111,7 @@ pub struct SpiFront {
     rise: Signal<Local, Bit>,
     word: Signal<Local, Bits<16>>,
     h_last: Signal<Local, Bits<10>>,
-    h_end: Signal<Local, Bits<10>>,
+    h_over: Signal<Local, Bit>,
     n_addr: Signal<Local, Bits<ADDR_BITS>>,
     partial: Signal<Local, Bit>,
     req_wr: Signal<Local, Bit>,
@@ -169,7 +168,7 @@ impl Default for SpiFront {
             rise: Default::default(),
             word: Default::default(),
             h_last: Default::default(),
-            h_end: Default::default(),
+            h_over: Default::default(),
             n_addr: Default::default(),
             partial: Default::default(),
             req_wr: Default::default(),
@@ -210,10 +209,7 @@ impl Logic for SpiFront {
         // burst's last address, whose bit 9 says it runs past 0x1FF.
         self.h_last.next = bit_cast::<10, ADDR_BITS>(self.word.val().get_bits::<ADDR_BITS>(0))
             + bit_cast::<10, 5>(self.word.val().get_bits::<5>(9));
-        self.h_end.next = bit_cast::<10, ADDR_BITS>(self.word.val().get_bits::<ADDR_BITS>(0));
-        if self.word.val().get_bit(14) {
-            self.h_end.next = self.h_last.val();
-        }
+        self.h_over.next = (self.h_last.val() > 511) & self.word.val().get_bit(14);
         self.n_addr.next = self.waddr.q.val() + bit_cast::<ADDR_BITS, 1>(self.inc.q.val().into());
         self.req_wr.next = false;
         self.req_rd.next = false;
@@ -235,7 +231,7 @@ impl Logic for SpiFront {
                     self.inc.d.next = self.word.val().get_bit(14);
                     self.left.d.next = bit_cast::<6, 5>(self.word.val().get_bits::<5>(9)) + 1;
                     self.waddr.d.next = self.word.val().get_bits::<ADDR_BITS>(0);
-                    if self.h_end.val().get_bit(9) {
+                    if self.h_over.val() {
                         self.err.d.next = true;
                         self.phase.d.next = 3.into();
                     } else if self.word.val().get_bit(15) {

@@ -128,7 +128,7 @@ pub(super) fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
     let t0 = Instant::now();
     let mut reused = false;
     let result = (|| -> Result<Vec<Block>, String> {
-        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, ..Default::default() })?;
+        let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, bus: opts.bus, ..Default::default() })?;
         breakdown_blocks(&yosys_stat(&dir, &v, &breakdown_script(axes), opts, &mut reused)?, "tdm_stepper", Family::Xc7)
     })();
     let seconds = t0.elapsed().as_secs_f64();

@@ -99,6 +99,8 @@ pub struct SweepOptions {
     pub scurve: bool,
     /// Export every point with encoder feedback (`--encoder`).
     pub encoder: bool,
+    /// The host bus of every point (`--bus`).
+    pub bus: export::Bus,
 }
 
 impl SweepOptions {
@@ -111,8 +113,9 @@ impl SweepOptions {
             (true, omit) => format!("_io_{}", export::io_group_names(crate::regs::IO_ALL & !omit).replace(',', "_")),
         };
         let io = if self.scurve { io + "_scurve" } else { io };
-        if self.encoder {
-            io + "_enc"
+        let io = if self.encoder { io + "_enc" } else { io };
+        if self.bus == export::Bus::Spi {
+            io + "_spi"
         } else {
             io
         }
@@ -363,11 +366,11 @@ pub fn run(opts: &SweepOptions, repo: &Path) -> Result<(Sweep, Vec<PathBuf>), St
     };
     for &k in &opts.axes {
         for &a in &opts.archs {
-            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, ..Default::default() }.check()?;
+            ExportOptions { axes: k, arch: a, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, bus: opts.bus, ..Default::default() }.check()?;
         }
     }
     for &k in opts.fmax_axes.iter().chain(&opts.breakdown_axes) {
-        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, ..Default::default() }.check()?;
+        ExportOptions { axes: k, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, bus: opts.bus, ..Default::default() }.check()?;
     }
     if !opts.fmax_axes.is_empty() && opts.io && opts.io_omit != 0 {
         return Err("--fmax with some machine I/O groups: the Fmax wrapper drives every group's pins; use --io all".into());

@@ -100,7 +100,7 @@ pub(super) fn synth_point(arch: Arch, axes: usize, family: Family, opts: &SweepO
     let t0 = Instant::now();
     let mut reused = false;
     let result = (|| -> Result<Resources, String> {
-        let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, ..Default::default() })?;
+        let v = export::verilog(&ExportOptions { axes, arch, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, bus: opts.bus, ..Default::default() })?;
         let script = format!("read_verilog tdm_stepper.v; {}; tee -q -o stat.json stat -json", family.synth());
         parse_stat(&yosys_stat(&dir, &v, &script, opts, &mut reused)?, family)
     })();

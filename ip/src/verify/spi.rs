@@ -10,10 +10,7 @@ use super::tb::Port;
 use crate::model::Segment;
 use crate::regs;
 
-/// Bits 5..0 of the status byte (`STATUS_PATTERN` of the block).
-pub const STATUS_PATTERN: u8 = 0x05;
-/// Most words in one frame.
-pub const MAX_BURST: usize = 32;
+pub use crate::regs::{SPI_MAX_BURST as MAX_BURST, SPI_STATUS_PATTERN as STATUS_PATTERN};
 
 /// The command byte and address byte of a frame.
 pub fn header(write: bool, inc: bool, len: usize, addr: u16) -> [u8; 2] {
@@ -260,8 +257,10 @@ impl SpiBus {
         self.now += 3 * self.timing.gap.max(6);
     }
 
+    /// Waits until `ps` (rounded up to the event grid: times ≡ 2 mod 3 ps).
     pub fn idle_until_ps(&mut self, ps: u64) {
-        self.now = self.now.max(ps);
+        let t = self.now.max(ps);
+        self.now = t + (3 - (t + 1) % 3) % 3;
     }
 
     pub fn now_ps(&self) -> u64 {
@@ -323,10 +322,12 @@ impl SpiBus {
         samples.iter().map(|&i| trace.samples.iter().find(|s| s.0 == i).and_then(|s| s.1).map(|v| v == 1)).collect()
     }
 
-    /// The status byte and the words a read frame returned.
+    /// The status byte and the words a read frame returned (for a write frame, its
+    /// status byte and words of no meaning).
     pub fn words(&self, trace: &SystemTrace, id: FrameId) -> Option<(u8, Vec<u16>)> {
         let bytes = bytes_of(&self.miso(trace, id)?);
-        let words = bytes[3..].chunks(2).map(|c| u16::from_be_bytes([c[0], c[1]])).collect();
+        // A read frame's words start after the turnaround byte (a write frame has none).
+        let words = bytes.get(3..).unwrap_or(&[]).chunks_exact(2).map(|c| u16::from_be_bytes([c[0], c[1]])).collect();
         Some((bytes[0], words))
     }
 }
