@@ -472,19 +472,11 @@ fn spi_verilog(opts: &ExportOptions) -> Result<String, String> {
     let front = rename_top(&generate_verilog(&front), &format!("{name}__spi"))?;
     let mine = ports_of(opts);
     let all = ports_of(&inner);
-    let names: Vec<&str> = mine.iter().map(|p| p.name).collect();
-    let mut m = format!(
-        "\n// {name}: the core on SPI (export --bus spi): the SPI front end {name}__spi drives\n// the EXMC slave of {inner_name} inside bus_clk.\nmodule {name}({});\n",
-        names.join(",")
+    let mut m = module_head(
+        name,
+        &format!("{name}: the core on SPI (export --bus spi): the SPI front end {name}__spi drives\n// the EXMC slave of {inner_name} inside bus_clk."),
+        &mine,
     );
-    for p in &mine {
-        let kind = if p.direction == "input" { "input wire" } else { "output wire" };
-        if p.width == 1 {
-            let _ = writeln!(m, "    {kind} {};", p.name);
-        } else {
-            let _ = writeln!(m, "    {kind} [{}:0] {};", p.width - 1, p.name);
-        }
-    }
     let aw = regs::ADDR_BITS;
     let _ = writeln!(m, "    wire x_ne, x_noe, x_nwe;\n    /* verilator lint_off UNUSEDSIGNAL */\n    wire x_oe; // the EXMC pad enable: no pads inside\n    /* verilator lint_on UNUSEDSIGNAL */\n    wire [{}:0] x_addr;\n    wire [15:0] x_wdata, x_rdata;", aw - 1);
     let _ = writeln!(
@@ -508,6 +500,23 @@ fn spi_verilog(opts: &ExportOptions) -> Result<String, String> {
     Ok(core + &front + &m)
 }
 
+/// The opening of a generated wrapper module: a comment line (`comment`, whose
+/// further lines carry their own `// `), the port list and each port's declaration.
+fn module_head(name: &str, comment: &str, ports: &[PortDoc]) -> String {
+    use std::fmt::Write as _;
+    let names: Vec<&str> = ports.iter().map(|p| p.name).collect();
+    let mut m = format!("\n// {comment}\nmodule {name}({});\n", names.join(","));
+    for p in ports {
+        let kind = if p.direction == "input" { "input wire" } else { "output wire" };
+        if p.width == 1 {
+            let _ = writeln!(m, "    {kind} {};", p.name);
+        } else {
+            let _ = writeln!(m, "    {kind} [{}:0] {};", p.width - 1, p.name);
+        }
+    }
+    m
+}
+
 /// The top module of an export with some machine I/O groups: `name`, with the ports
 /// of [`ports`] for `groups`, around `full` (the machine I/O top with every group).
 fn io_wrapper_module(name: &str, full: &str, axes: usize, groups: u8, encoder: bool) -> String {
@@ -518,20 +527,14 @@ fn io_wrapper_module(name: &str, full: &str, axes: usize, groups: u8, encoder: b
         mine.extend(encoder_ports(axes));
         all.extend(encoder_ports(axes));
     }
-    let names: Vec<&str> = mine.iter().map(|p| p.name).collect();
-    let mut m = format!(
-        "\n// {name}: the machine I/O core with the groups {} only (export --io); the input pins of\n// the others are not ports and are tied to 0 inside.\nmodule {name}({});\n",
-        io_group_names(groups),
-        names.join(",")
+    let mut m = module_head(
+        name,
+        &format!(
+            "{name}: the machine I/O core with the groups {} only (export --io); the input pins of\n// the others are not ports and are tied to 0 inside.",
+            io_group_names(groups)
+        ),
+        &mine,
     );
-    for p in &mine {
-        let kind = if p.direction == "input" { "input wire" } else { "output wire" };
-        if p.width == 1 {
-            let _ = writeln!(m, "    {kind} {};", p.name);
-        } else {
-            let _ = writeln!(m, "    {kind} [{}:0] {};", p.width - 1, p.name);
-        }
-    }
     let _ = writeln!(m, "    {full} core(");
     let conns: Vec<String> = all
         .iter()
