@@ -205,4 +205,22 @@
 /* Access helpers: base is the bank's address, e.g. 0x60000000 for FSMC bank 1. */
 #define TDM_REG(base, off) (*(volatile uint16_t *)((uintptr_t)(base) + (off)))
 
+/* The SPI front end (`export --bus spi`): a frame is the command byte, the address
+ * byte (word address bits 7..0), then the words MSB first (a read has one turnaround
+ * byte first). MISO starts each frame with the status byte. */
+#define TDM_SPI_CMD_WRITE 0x80u /* command bit 7: write (else read) */
+#define TDM_SPI_CMD_INC 0x40u /* command bit 6: the address steps after each word */
+#define TDM_SPI_CMD_LEN_SHIFT 1u /* command bits 5..1: words - 1; bit 0: word address bit 8 */
+#define TDM_SPI_MAX_BURST 32u /* most words in one frame */
+#define TDM_SPI_STATUS_IRQ 0x80u /* status bit 7: the irq pin */
+#define TDM_SPI_STATUS_FRAME_ERR 0x40u /* status bit 6: the previous frame was refused in part */
+#define TDM_SPI_STATUS_PATTERN_MASK 0x3Fu
+#define TDM_SPI_STATUS_PATTERN 0x05u /* status bits 5..0, always */
+
 #endif /* TDM_STEPPER_REGS_H */
+
+/* This export's identity for tdm_identify_as() (tdm_identity in tdm_driver.h): firmware
+ * with several cores includes each export's header and passes each core its own. */
+#ifndef TDM_STEPPER_IDENTITY
+#define TDM_STEPPER_IDENTITY {0x0104u, 2u, 50000000u, 16u, 8u, 44u, 95443717u, 0x0000u, 0u}
+#endif

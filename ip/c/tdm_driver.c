@@ -18,31 +18,126 @@ void tdm_open_hooks(tdm_dev *dev, tdm_read16_fn read16, tdm_write16_fn write16, 
     dev->ctx = ctx;
 }
 
-uint16_t tdm_read(const tdm_dev *dev, uint32_t byte_offset)
+void tdm_open_mmio32(tdm_dev *dev, volatile void *base)
 {
-    if (dev->read16) {
-        return dev->read16(dev->ctx, byte_offset);
+    tdm_dev zero = {0};
+    *dev = zero;
+    dev->base32 = (volatile uint32_t *)base;
+}
+
+void tdm_open_spi(tdm_dev *dev, tdm_spi_xfer_fn xfer, void *ctx)
+{
+    tdm_dev zero = {0};
+    *dev = zero;
+    dev->spi_xfer = xfer;
+    dev->ctx = ctx;
+}
+
+/* Words per SPI frame the driver sends (the core takes up to TDM_SPI_MAX_BURST). */
+#define SPI_BURST 8u
+
+/* One SPI frame of n (1..SPI_BURST) words from word address addr, with INC: a write
+ * of w, or a read into r. Counts the status byte's errors. */
+static void spi_frame(tdm_dev *dev, uint32_t addr, const uint16_t *w, uint16_t *r, unsigned n)
+{
+    uint8_t tx[3u + 2u * SPI_BURST];
+    uint8_t rx[3u + 2u * SPI_BURST];
+    unsigned len;
+    unsigned k;
+    uint8_t st;
+    tx[0] = (uint8_t)((w ? TDM_SPI_CMD_WRITE : 0u) | TDM_SPI_CMD_INC | ((n - 1u) << TDM_SPI_CMD_LEN_SHIFT) | ((addr >> 8) & 1u));
+    tx[1] = (uint8_t)(addr & 0xFFu);
+    len = w ? 2u + 2u * n : 3u + 2u * n;
+    for (k = 2; k < len; k++) {
+        tx[k] = 0u;
     }
-    return dev->base[byte_offset / 2u];
-}
-
-void tdm_write(const tdm_dev *dev, uint32_t byte_offset, uint16_t value)
-{
-    if (dev->write16) {
-        dev->write16(dev->ctx, byte_offset, value);
-    } else {
-        dev->base[byte_offset / 2u] = value;
+    if (w) {
+        for (k = 0; k < n; k++) {
+            tx[2u + 2u * k] = (uint8_t)(w[k] >> 8);
+            tx[3u + 2u * k] = (uint8_t)(w[k] & 0xFFu);
+        }
+    }
+    dev->spi_xfer(dev->ctx, tx, rx, len);
+    st = rx[0];
+    dev->spi_status = st;
+    if ((st & TDM_SPI_STATUS_FRAME_ERR) != 0u || (st & TDM_SPI_STATUS_PATTERN_MASK) != TDM_SPI_STATUS_PATTERN) {
+        dev->bus_errors++;
+    }
+    if (r) {
+        for (k = 0; k < n; k++) {
+            r[k] = (uint16_t)(((uint16_t)rx[3u + 2u * k] << 8) | rx[4u + 2u * k]);
+        }
     }
 }
 
-static uint32_t read32(const tdm_dev *dev, uint32_t lo, uint32_t hi)
+void tdm_read_burst(tdm_dev *dev, uint32_t byte_offset, uint16_t *values, unsigned count)
 {
-    uint32_t l = tdm_read(dev, lo);
-    return l | ((uint32_t)tdm_read(dev, hi) << 16);
+    unsigned k;
+    if (dev->spi_xfer) {
+        for (k = 0; k < count; k += SPI_BURST) {
+            unsigned n = count - k < SPI_BURST ? count - k : SPI_BURST;
+            spi_frame(dev, byte_offset / 2u + k, 0, values + k, n);
+        }
+        return;
+    }
+    for (k = 0; k < count; k++) {
+        if (dev->read16) {
+            values[k] = dev->read16(dev->ctx, byte_offset + 2u * k);
+        } else if (dev->base32) {
+            values[k] = (uint16_t)(dev->base32[byte_offset / 2u + k] & 0xFFFFu);
+        } else {
+            values[k] = dev->base[byte_offset / 2u + k];
+        }
+    }
 }
 
-int tdm_identify(tdm_dev *dev)
+void tdm_write_burst(tdm_dev *dev, uint32_t byte_offset, const uint16_t *values, unsigned count)
 {
+    unsigned k;
+    if (dev->spi_xfer) {
+        for (k = 0; k < count; k += SPI_BURST) {
+            unsigned n = count - k < SPI_BURST ? count - k : SPI_BURST;
+            spi_frame(dev, byte_offset / 2u + k, values + k, 0, n);
+        }
+        return;
+    }
+    for (k = 0; k < count; k++) {
+        if (dev->write16) {
+            dev->write16(dev->ctx, byte_offset + 2u * k, values[k]);
+        } else if (dev->base32) {
+            dev->base32[byte_offset / 2u + k] = values[k];
+        } else {
+            dev->base[byte_offset / 2u + k] = values[k];
+        }
+    }
+}
+
+uint16_t tdm_read(tdm_dev *dev, uint32_t byte_offset)
+{
+    uint16_t v;
+    tdm_read_burst(dev, byte_offset, &v, 1u);
+    return v;
+}
+
+void tdm_write(tdm_dev *dev, uint32_t byte_offset, uint16_t value)
+{
+    tdm_write_burst(dev, byte_offset, &value, 1u);
+}
+
+/* A 32-bit value from two consecutive registers, low half first, in one burst (a
+ * read of the low half latches the high half where the map says so). */
+static uint32_t read32(tdm_dev *dev, uint32_t lo)
+{
+    uint16_t v[2];
+    tdm_read_burst(dev, lo, v, 2u);
+    return v[0] | ((uint32_t)v[1] << 16);
+}
+
+int tdm_identify_as(tdm_dev *dev, const tdm_identity *want)
+{
+    if (want == 0) {
+        return TDM_E_ARG;
+    }
     if (tdm_read(dev, TDM_ID_MAGIC) != TDM_MAGIC) {
         return TDM_E_MAGIC;
     }
@@ -52,18 +147,32 @@ int tdm_identify(tdm_dev *dev)
     dev->fifo_depth = tdm_read(dev, TDM_ID_FIFO_DEPTH);
     dev->t_calc = tdm_read(dev, TDM_ID_T_CALC);
     dev->min_period = tdm_read(dev, TDM_ID_MIN_PERIOD);
-    dev->clock_hz = read32(dev, TDM_ID_CLOCK_HZ_LO, TDM_ID_CLOCK_HZ_HI);
-    dev->max_rate = read32(dev, TDM_ID_MAX_RATE_LO, TDM_ID_MAX_RATE_HI);
+    dev->clock_hz = read32(dev, TDM_ID_CLOCK_HZ_LO);
+    dev->max_rate = read32(dev, TDM_ID_MAX_RATE_LO);
     dev->options = tdm_read(dev, TDM_ID_OPTIONS);
-    if ((dev->version >> 8) != (TDM_VERSION >> 8) || (dev->version & 0xFFu) < (TDM_VERSION & 0xFFu)) {
+    dev->stop_decel_min = want->stop_decel_min;
+    if ((dev->version >> 8) != (want->version >> 8) || (dev->version & 0xFFu) < (want->version & 0xFFu)
+        || (want->version >> 8) != (TDM_VERSION >> 8)) {
         return TDM_E_VERSION;
     }
-    if (dev->axes != TDM_AXES || dev->clock_hz != TDM_CLOCK_HZ || dev->queue_depth != TDM_QUEUE_DEPTH
-        || dev->fifo_depth != TDM_FIFO_DEPTH || dev->min_period != TDM_MIN_PERIOD
-        || dev->max_rate != TDM_MAX_RATE || dev->options != TDM_OPTIONS || dev->axes == 0u || dev->axes > 16u) {
+    if (dev->axes != want->axes || dev->clock_hz != want->clock_hz || dev->queue_depth != want->queue_depth
+        || dev->fifo_depth != want->fifo_depth || dev->min_period != want->min_period
+        || dev->max_rate != want->max_rate || dev->options != want->options || dev->axes == 0u || dev->axes > 16u) {
         return TDM_E_CONFIG;
     }
     return 0;
+}
+
+int tdm_identify(tdm_dev *dev)
+{
+#if defined(TDM_STOP_DECEL_MIN)
+    const tdm_identity want = {TDM_VERSION, TDM_AXES, TDM_CLOCK_HZ, TDM_QUEUE_DEPTH, TDM_FIFO_DEPTH, TDM_MIN_PERIOD,
+                               TDM_MAX_RATE, TDM_OPTIONS, TDM_STOP_DECEL_MIN};
+#else
+    const tdm_identity want = {TDM_VERSION, TDM_AXES, TDM_CLOCK_HZ, TDM_QUEUE_DEPTH, TDM_FIFO_DEPTH, TDM_MIN_PERIOD,
+                               TDM_MAX_RATE, TDM_OPTIONS, 0u};
+#endif
+    return tdm_identify_as(dev, &want);
 }
 
 static int poll_gstatus(tdm_dev *dev, uint16_t mask, uint16_t want)
@@ -164,12 +273,14 @@ unsigned tdm_queue_room(tdm_dev *dev, unsigned axis)
 static void write_segment(tdm_dev *dev, unsigned axis, const tdm_segment *seg)
 {
     uint32_t steps = (uint32_t)seg->steps;
-    tdm_write(dev, TDM_V0_LO(axis), (uint16_t)(seg->v0_rate & 0xFFFFu));
-    tdm_write(dev, TDM_V0_HI(axis), (uint16_t)(seg->v0_rate >> 16));
-    tdm_write(dev, TDM_T_LO(axis), (uint16_t)(seg->t_ticks & 0xFFFFu));
-    tdm_write(dev, TDM_T_HI(axis), (uint16_t)(seg->t_ticks >> 16));
-    tdm_write(dev, TDM_STEPS_LO(axis), (uint16_t)(steps & 0xFFFFu));
-    tdm_write(dev, TDM_STEPS_HI(axis), (uint16_t)(steps >> 16)); /* pushes */
+    uint16_t w[6];
+    w[0] = (uint16_t)(seg->v0_rate & 0xFFFFu);
+    w[1] = (uint16_t)(seg->v0_rate >> 16);
+    w[2] = (uint16_t)(seg->t_ticks & 0xFFFFu);
+    w[3] = (uint16_t)(seg->t_ticks >> 16);
+    w[4] = (uint16_t)(steps & 0xFFFFu);
+    w[5] = (uint16_t)(steps >> 16); /* STEPS_HI: pushes */
+    tdm_write_burst(dev, TDM_V0_LO(axis), w, 6u);
 }
 
 /* A kind of segment for the push functions: its host-side check (0 or the core's
@@ -266,13 +377,15 @@ static int write_poly(tdm_dev *dev, unsigned axis, const void *p)
     head.v0_rate = seg->v0_rate;
     head.t_ticks = seg->t_ticks;
     head.steps = seg->steps;
-    tdm_write(dev, TDM_POLY_V1_LO, (uint16_t)(seg->v1_rate & 0xFFFFu));
-    tdm_write(dev, TDM_POLY_V1_HI, (uint16_t)(seg->v1_rate >> 16));
-    tdm_write(dev, TDM_POLY_A_0, (uint16_t)(a & 0xFFFFu));
-    tdm_write(dev, TDM_POLY_A_1, (uint16_t)((a >> 16) & 0xFFFFu));
-    tdm_write(dev, TDM_POLY_A_2, (uint16_t)((a >> 32) & 0xFFFFu));
-    tdm_write(dev, TDM_POLY_A_3, (uint16_t)(a >> 48));
-    tdm_write(dev, TDM_POLY_ARM, TDM_POLY_ARM_ARM_MASK);
+    uint16_t w[7];
+    w[0] = (uint16_t)(seg->v1_rate & 0xFFFFu); /* POLY_V1_LO .. POLY_A_3, then POLY_ARM */
+    w[1] = (uint16_t)(seg->v1_rate >> 16);
+    w[2] = (uint16_t)(a & 0xFFFFu);
+    w[3] = (uint16_t)((a >> 16) & 0xFFFFu);
+    w[4] = (uint16_t)((a >> 32) & 0xFFFFu);
+    w[5] = (uint16_t)(a >> 48);
+    w[6] = TDM_POLY_ARM_ARM_MASK;
+    tdm_write_burst(dev, TDM_POLY_V1_LO, w, 7u);
     write_segment(dev, axis, &head);
     if ((tdm_read(dev, TDM_POLY_ARM) & TDM_POLY_ARM_ARM_MASK) != 0u) {
         tdm_write(dev, TDM_POLY_ARM, 0u);
@@ -325,14 +438,10 @@ int tdm_wait_idle(tdm_dev *dev, uint16_t mask, unsigned long poll_limit)
 
 int32_t tdm_position(tdm_dev *dev, unsigned axis)
 {
-    uint32_t lo;
-    uint32_t hi;
     if (axis >= dev->axes) {
         return 0;
     }
-    lo = tdm_read(dev, TDM_POS_LO(axis)); /* latches the high half */
-    hi = tdm_read(dev, TDM_POS_HI(axis));
-    return (int32_t)((hi << 16) | lo);
+    return (int32_t)read32(dev, TDM_POS_LO(axis)); /* POS_LO latches POS_HI */
 }
 
 tdm_axis_status tdm_status(tdm_dev *dev, unsigned axis)
@@ -395,8 +504,13 @@ static int axis_mask_ok(const tdm_dev *dev, uint16_t mask)
 /* A 32-bit register read tear-free: reading the low half latches the high half. */
 static int32_t read_latched(tdm_dev *dev, uint32_t lo, uint32_t hi)
 {
-    uint32_t l = tdm_read(dev, lo); /* latches the high half */
-    uint32_t h = tdm_read(dev, hi);
+    uint32_t l;
+    uint32_t h;
+    if (hi == lo + 2u) {
+        return (int32_t)read32(dev, lo); /* one frame on SPI */
+    }
+    l = tdm_read(dev, lo); /* latches the high half */
+    h = tdm_read(dev, hi);
     return (int32_t)((h << 16) | l);
 }
 #endif
@@ -478,7 +592,7 @@ int tdm_io_configure(tdm_dev *dev, const tdm_io_config *cfg)
 {
     unsigned g;
     uint16_t refused;
-    if (cfg == 0 || cfg->stop_mode > 15u || (cfg->stop_decel != 0u && cfg->stop_decel < TDM_STOP_DECEL_MIN)) {
+    if (cfg == 0 || cfg->stop_mode > 15u || (cfg->stop_decel != 0u && cfg->stop_decel < dev->stop_decel_min)) {
         return TDM_E_ARG;
     }
     for (g = 0; g < 6u; g++) {

@@ -1,9 +1,12 @@
 /* tdm_driver.h: the MCU driver of the tdm-stepper IP core (portable C99).
  *
  * No heap, no floating point, no global state: everything lives in a tdm_dev the
- * caller owns. The bus is reached either through a memory-mapped base pointer (the
- * FSMC/EXMC bank, 16-bit halfword accesses) or through two user hooks, read16 and
- * write16, that take a byte offset from the bank base.
+ * caller owns. The bus is reached through a memory-mapped base pointer (the
+ * FSMC/EXMC bank, 16-bit halfword accesses; or a Wishbone or AXI4-Lite core's
+ * region, 32-bit accesses: tdm_open_mmio32()), through two user hooks, read16 and
+ * write16, that take a byte offset from the bank base, or (a core exported with
+ * `--bus spi`) through one SPI transfer hook: tdm_open_spi(). On SPI a segment push
+ * is one 14-byte frame and 32-bit values are read in one frame.
  *
  * Compile it with the tdm_stepper_regs.h that `tdm-stepper export` wrote for your
  * bitstream: tdm_identify() refuses a core whose ID registers differ from that
@@ -47,6 +50,9 @@ extern "C" {
 
 typedef uint16_t (*tdm_read16_fn)(void *ctx, uint32_t byte_offset);
 typedef void (*tdm_write16_fn)(void *ctx, uint32_t byte_offset, uint16_t value);
+/* One SPI frame (mode 0 or 3, MSB first): CS low, len bytes out of tx while len bytes
+ * come into rx (full duplex), CS high. At most 3 + 2 * 8 = 19 bytes. */
+typedef void (*tdm_spi_xfer_fn)(void *ctx, const uint8_t *tx, uint8_t *rx, unsigned len);
 
 /* One motion segment in register units: start rate (Q0.32 steps per clk tick),
  * duration (clk ticks), signed steps. */
@@ -56,13 +62,39 @@ typedef struct {
     int32_t steps;
 } tdm_segment;
 
-/* A core as the driver knows it. Fill it with tdm_open_mmio() or tdm_open_hooks(),
- * then call tdm_identify(). */
+/* What tdm_identify_as() expects of a core: its ID registers, and the smallest
+ * STOP_DECEL its export accepts (0 without the machine I/O). Each export's register
+ * header defines <NAME>_IDENTITY, an initialiser of this struct for that export
+ * (NAME: its --name in capitals), so firmware with several cores includes each
+ * export's header (the first one, the export with the most options, as
+ * tdm_stepper_regs.h; the others under other file names, after it) and passes each
+ * core its own: tdm_identity a = TDM_STEPPER_IDENTITY; tdm_identify_as(&dev, &a). */
+typedef struct {
+    uint16_t version;
+    uint16_t axes;
+    uint32_t clock_hz;
+    uint16_t queue_depth;
+    uint16_t fifo_depth;
+    uint16_t min_period;
+    uint32_t max_rate;
+    uint16_t options;
+    uint32_t stop_decel_min;
+} tdm_identity;
+
+/* A core as the driver knows it. Fill it with tdm_open_mmio(), tdm_open_mmio32(),
+ * tdm_open_hooks() or tdm_open_spi(), then call tdm_identify(). */
 typedef struct {
     volatile uint16_t *base; /* memory-mapped bank, or 0 when hooks are used */
+    volatile uint32_t *base32; /* a 32-bit bus (Wishbone, AXI4-Lite): register w at word w */
     tdm_read16_fn read16;
     tdm_write16_fn write16;
+    tdm_spi_xfer_fn spi_xfer;
     void *ctx;
+    /* SPI only: the status byte of the last frame, and the frames whose status byte
+     * had FRAME_ERR set (the frame before was refused in part) or a wrong pattern
+     * (MISO stuck, wrong mode or wiring). Never cleared by the driver. */
+    uint8_t spi_status;
+    unsigned long bus_errors;
     /* Read from the ID registers by tdm_identify(). */
     uint16_t version;
     uint16_t axes;
@@ -73,9 +105,10 @@ typedef struct {
     uint32_t clock_hz;
     uint32_t max_rate;
     uint16_t options; /* ID_OPTIONS: machine I/O groups 5:0, S-curve 8, encoder 9 */
+    uint32_t stop_decel_min; /* from the identity tdm_identify checked */
 #if defined(TDM_ENC_AXIS)
     /* Each axis's ENC_RATIO as tdm_enc_configure() wrote it (tdm_enc_correct uses it). */
-    uint32_t enc_ratio[TDM_AXES];
+    uint32_t enc_ratio[16];
 #endif
 } tdm_dev;
 
@@ -99,16 +132,29 @@ typedef struct {
 
 void tdm_open_mmio(tdm_dev *dev, volatile void *bank_base);
 void tdm_open_hooks(tdm_dev *dev, tdm_read16_fn read16, tdm_write16_fn write16, void *ctx);
+/* A core on a 32-bit bus (`export --bus wb` or `--bus axil`) mapped at base: register
+ * word w at base + 4 * w, in bits 15..0 (32-bit accesses). */
+void tdm_open_mmio32(tdm_dev *dev, volatile void *base);
+/* A core on SPI (`export --bus spi`): every access is a frame through xfer. */
+void tdm_open_spi(tdm_dev *dev, tdm_spi_xfer_fn xfer, void *ctx);
 
-/* One register access, through the base pointer or the hooks. */
-uint16_t tdm_read(const tdm_dev *dev, uint32_t byte_offset);
-void tdm_write(const tdm_dev *dev, uint32_t byte_offset, uint16_t value);
+/* One register access, through the base pointer, the hooks or an SPI frame. */
+uint16_t tdm_read(tdm_dev *dev, uint32_t byte_offset);
+void tdm_write(tdm_dev *dev, uint32_t byte_offset, uint16_t value);
+/* count (0..) consecutive registers from byte_offset, in address order: on SPI one
+ * frame per 8 words, else one access per word. */
+void tdm_read_burst(tdm_dev *dev, uint32_t byte_offset, uint16_t *values, unsigned count);
+void tdm_write_burst(tdm_dev *dev, uint32_t byte_offset, const uint16_t *values, unsigned count);
 
 /* Reads the ID registers into dev and compares them with tdm_stepper_regs.h:
  * 0, TDM_E_MAGIC, TDM_E_VERSION or TDM_E_CONFIG (also when ID_OPTIONS differs from
  * TDM_OPTIONS: a header of an export with options the core lacks, or without
  * options it has). */
 int tdm_identify(tdm_dev *dev);
+
+/* The same against `want` instead of this header's values (several cores in one
+ * build: see tdm_identity). */
+int tdm_identify_as(tdm_dev *dev, const tdm_identity *want);
 
 /* Writes the output timing (clk ticks, each 1..65535) while the core is disabled,
  * then CTRL.ENABLE = 1, and waits for GSTATUS.ENABLED. TDM_E_ARG for a zero
@@ -191,7 +237,7 @@ typedef struct {
 
 /* Writes the configuration. The core must be disabled (before tdm_enable, or after
  * tdm_disable). TDM_E_ARG for a filter above 15, a STOP_MODE bit above 3, a
- * deceleration below TDM_STOP_DECEL_MIN, or a non-zero prescale, edges or wd_timeout
+ * deceleration below the export's minimum (TDM_STOP_DECEL_MIN, dev->stop_decel_min), or a non-zero prescale, edges or wd_timeout
  * whose register the export lacks, without touching the bus; TDM_E_REFUSED if the core
  * is enabled (nothing written) or refused a write. Fields of groups not exported are
  * ignored by the core (they read 0). */

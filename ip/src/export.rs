@@ -88,6 +88,10 @@ pub enum Bus {
     Exmc,
     /// SPI, modes 0 and 3 ([`crate::hdl::spi_front::SpiFront`] in front of the EXMC slave).
     Spi,
+    /// Wishbone B4 classic, 32-bit data ([`crate::hdl::wb_front::WbFront`]).
+    Wb,
+    /// AXI4-Lite, 32-bit data ([`crate::hdl::axil_front::AxilFront`]).
+    Axil,
 }
 
 impl std::str::FromStr for Bus {
@@ -96,7 +100,9 @@ impl std::str::FromStr for Bus {
         match s {
             "exmc" => Ok(Bus::Exmc),
             "spi" => Ok(Bus::Spi),
-            _ => Err(format!("unknown bus {s:?}: expected exmc or spi")),
+            "wb" => Ok(Bus::Wb),
+            "axil" => Ok(Bus::Axil),
+            _ => Err(format!("unknown bus {s:?}: expected exmc, spi, wb or axil")),
         }
     }
 }
@@ -106,6 +112,31 @@ impl Bus {
         match self {
             Bus::Exmc => "exmc",
             Bus::Spi => "spi",
+            Bus::Wb => "wb",
+            Bus::Axil => "axil",
+        }
+    }
+
+    /// Every bus, in the order the docs list them.
+    pub const ALL: [Bus; 4] = [Bus::Exmc, Bus::Spi, Bus::Wb, Bus::Axil];
+
+    /// The bus's pins in place of the EXMC pins (none for EXMC itself).
+    pub fn ports(self) -> Vec<PortDoc> {
+        match self {
+            Bus::Exmc => vec![],
+            Bus::Spi => spi_ports(),
+            Bus::Wb => wb_ports(),
+            Bus::Axil => axil_ports(),
+        }
+    }
+
+    /// What `bus_clk` does with this bus.
+    fn bus_clk_description(self) -> &'static str {
+        match self {
+            Bus::Exmc => "samples the EXMC pins and runs the register file",
+            Bus::Spi => "samples the SPI pins and runs the register file; may be unrelated to clk; SCK at most bus_clk/4",
+            Bus::Wb => "the Wishbone clock (the SoC's): the front end and the register file run in it; may be unrelated to clk",
+            Bus::Axil => "ACLK of the AXI4-Lite port: the front end and the register file run in it; may be unrelated to clk",
         }
     }
 }
@@ -427,8 +458,8 @@ pub const BASELINE_AXES: [usize; 5] = [1, 2, 4, 8, 16];
 /// submodule `<name>__<path>`.
 pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
     opts.check()?;
-    if opts.bus == Bus::Spi {
-        return spi_verilog(opts);
+    if opts.bus != Bus::Exmc {
+        return front_verilog(opts);
     }
     let params = opts.params();
     let o = *opts;
@@ -451,38 +482,84 @@ pub fn verilog(opts: &ExportOptions) -> Result<String, String> {
     rename_top(&text, opts.name.as_str())
 }
 
-/// An SPI export: the EXMC export as `<name>__exmc`, the SPI front end as
-/// `<name>__spi` (its submodules `<name>__spi__<path>`), and the top `<name>` that
-/// joins them: the EXMC pins become wires between the two.
-fn spi_verilog(opts: &ExportOptions) -> Result<String, String> {
+/// An export on a bus other than EXMC: the EXMC export as `<name>__exmc`, the bus's
+/// front end as `<name>__<bus>` (its submodules `<name>__<bus>__<path>`), and the top
+/// `<name>` that joins them: the EXMC pins become wires between the two.
+fn front_verilog(opts: &ExportOptions) -> Result<String, String> {
     use std::fmt::Write as _;
     let name = opts.name.as_str();
+    let bus = opts.bus.name();
     let inner_name = format!("{name}__exmc");
-    let inner = ExportOptions { bus: Bus::Exmc, name: ModuleName::new(&inner_name).map_err(|e| format!("--name {name}: too long for the SPI export ({e})"))?, ..*opts };
+    let inner = ExportOptions { bus: Bus::Exmc, name: ModuleName::new(&inner_name).map_err(|e| format!("--name {name}: too long for the {bus} export ({e})"))?, ..*opts };
     let core = verilog(&inner)?;
-    let mut front = crate::hdl::spi_front::SpiFront::default();
-    front.clock.connect();
-    front.reset.connect();
-    front.cs_n.connect();
-    front.sck.connect();
-    front.mosi.connect();
-    front.irq.connect();
-    front.rdata.connect();
-    front.connect_all();
-    let front = rename_top(&generate_verilog(&front), &format!("{name}__spi"))?;
+    let mapped = regs::mapped(&opts.params());
+    let (front, conn, what) = match opts.bus {
+        Bus::Spi => {
+            let mut f = crate::hdl::spi_front::SpiFront::default();
+            f.clock.connect();
+            f.reset.connect();
+            f.cs_n.connect();
+            f.sck.connect();
+            f.mosi.connect();
+            f.irq.connect();
+            f.rdata.connect();
+            f.connect_all();
+            (
+                generate_verilog(&f),
+                ".cs_n(cs_n), .sck(sck), .mosi(mosi), .miso(miso), .miso_oe(miso_oe), .irq(irq),\n        .ne(x_ne), .noe(x_noe), .nwe(x_nwe), .addr(x_addr), .wdata(x_wdata), .rdata(x_rdata)".to_string(),
+                "SPI (export --bus spi): the SPI front end",
+            )
+        }
+        Bus::Wb => {
+            let mut f = crate::hdl::wb_front::WbFront::new(&mapped);
+            f.clock.connect();
+            f.reset.connect();
+            f.wb_cyc.connect();
+            f.wb_stb.connect();
+            f.wb_we.connect();
+            f.wb_adr.connect();
+            f.wb_sel.connect();
+            f.wb_dat_w.connect();
+            f.rdata.connect();
+            f.connect_all();
+            (
+                generate_verilog(&f),
+                ".wb_cyc(wb_cyc), .wb_stb(wb_stb), .wb_we(wb_we), .wb_adr(wb_adr), .wb_sel(wb_sel), .wb_dat_w(wb_dat_w),\n        .wb_dat_r(wb_dat_r), .wb_ack(wb_ack), .wb_err(wb_err),\n        .ne(x_ne), .noe(x_noe), .nwe(x_nwe), .addr(x_addr), .wdata(x_wdata), .rdata(x_rdata)".to_string(),
+                "Wishbone B4 classic (export --bus wb): the Wishbone front end",
+            )
+        }
+        Bus::Axil => {
+            let mut f = crate::hdl::axil_front::AxilFront::new(&mapped);
+            f.clock.connect();
+            f.reset.connect();
+            f.awvalid.connect();
+            f.awaddr.connect();
+            f.wvalid.connect();
+            f.wdata.connect();
+            f.wstrb.connect();
+            f.bready.connect();
+            f.arvalid.connect();
+            f.araddr.connect();
+            f.rready.connect();
+            f.x_rdata.connect();
+            f.connect_all();
+            let ch = ["awaddr", "awvalid", "awready", "wdata", "wstrb", "wvalid", "wready", "bresp", "bvalid", "bready", "araddr", "arvalid", "arready", "rdata", "rresp", "rvalid", "rready"];
+            let pins: Vec<String> = ch.iter().map(|c| format!(".{c}(s_axil_{c})")).collect();
+            (
+                generate_verilog(&f),
+                format!("{},\n        .ne(x_ne), .noe(x_noe), .nwe(x_nwe), .x_addr(x_addr), .x_wdata(x_wdata), .x_rdata(x_rdata)", pins.join(", ")),
+                "AXI4-Lite (export --bus axil): the AXI4-Lite front end",
+            )
+        }
+        Bus::Exmc => unreachable!("the EXMC export has no front end"),
+    };
+    let front = rename_top(&front, &format!("{name}__{bus}"))?;
     let mine = ports_of(opts);
     let all = ports_of(&inner);
-    let mut m = module_head(
-        name,
-        &format!("{name}: the core on SPI (export --bus spi): the SPI front end {name}__spi drives\n// the EXMC slave of {inner_name} inside bus_clk."),
-        &mine,
-    );
+    let mut m = module_head(name, &format!("{name}: the core on {what} {name}__{bus} drives\n// the EXMC slave of {inner_name} inside bus_clk."), &mine);
     let aw = regs::ADDR_BITS;
     let _ = writeln!(m, "    wire x_ne, x_noe, x_nwe;\n    /* verilator lint_off UNUSEDSIGNAL */\n    wire x_oe; // the EXMC pad enable: no pads inside\n    /* verilator lint_on UNUSEDSIGNAL */\n    wire [{}:0] x_addr;\n    wire [15:0] x_wdata, x_rdata;", aw - 1);
-    let _ = writeln!(
-        m,
-        "    {name}__spi bus(.clock(bus_clk), .reset(reset), .cs_n(cs_n), .sck(sck), .mosi(mosi), .miso(miso), .miso_oe(miso_oe),\n        .irq(irq), .ne(x_ne), .noe(x_noe), .nwe(x_nwe), .addr(x_addr), .wdata(x_wdata), .rdata(x_rdata));"
-    );
+    let _ = writeln!(m, "    {name}__{bus} bus(.clock(bus_clk), .reset(reset), {conn});");
     let _ = writeln!(m, "    {inner_name} core(");
     let exmc = |n: &str| match n {
         "ne" => Some("x_ne"),
@@ -643,13 +720,13 @@ pub fn encoder_ports(axes: usize) -> Vec<PortDoc> {
 /// The ports of the core `opts` exports: [`ports`], then the encoder's.
 pub fn ports_of(opts: &ExportOptions) -> Vec<PortDoc> {
     let mut v = ports(opts.axes, opts.params().io_groups());
-    if opts.bus == Bus::Spi {
+    if opts.bus != Bus::Exmc {
         let exmc = ["ne", "noe", "nwe", "addr", "data_in", "data_out", "data_oe"];
         let at = v.iter().position(|p| p.name == "ne").expect("EXMC pins");
         v.retain(|p| !exmc.contains(&p.name));
-        v.splice(at..at, spi_ports());
+        v.splice(at..at, opts.bus.ports());
         for p in v.iter_mut().filter(|p| p.name == "bus_clk") {
-            p.description = "samples the SPI pins and runs the register file; may be unrelated to clk; SCK at most bus_clk/4";
+            p.description = opts.bus.bus_clk_description();
         }
     }
     if opts.encoder {
@@ -667,6 +744,47 @@ pub fn spi_ports() -> Vec<PortDoc> {
         p("mosi", "input", "async", "SPI data from the host, MSB first"),
         p("miso", "output", "bus_clk", "SPI data to the host: the status byte, then read data; changes 3 bus_clk cycles after SCK rises"),
         p("miso_oe", "output", "async", "drive miso onto the pad: !cs_n, combinational"),
+    ]
+}
+
+/// The Wishbone front end's pins (`--bus wb`), in place of the EXMC pins.
+pub fn wb_ports() -> Vec<PortDoc> {
+    let p = |name, direction, width, description| PortDoc { name, direction, width, clock: "bus_clk", description };
+    vec![
+        p("wb_cyc", "input", 1, "Wishbone CYC: a bus cycle is in progress"),
+        p("wb_stb", "input", 1, "Wishbone STB: an access is requested (with CYC)"),
+        p("wb_we", "input", 1, "Wishbone WE: 1 write, 0 read"),
+        p("wb_adr", "input", regs::ADDR_BITS, "Wishbone ADR: the register's word address (each register is one 32-bit word)"),
+        p("wb_sel", "input", 4, "Wishbone SEL: a write needs bits 1..0 (the register's 16 bits); bits 3..2 are ignored"),
+        p("wb_dat_w", "input", 32, "Wishbone DAT_W: bits 15..0 are written"),
+        p("wb_dat_r", "output", 32, "Wishbone DAT_R: the register in bits 15..0, bits 31..16 are 0; valid with ACK"),
+        p("wb_ack", "output", 1, "Wishbone ACK: the access is done (one cycle)"),
+        p("wb_err", "output", 1, "Wishbone ERR: refused, nothing accessed (an unmapped address, or a write without SEL[1:0])"),
+    ]
+}
+
+/// The AXI4-Lite front end's pins (`--bus axil`), in place of the EXMC pins.
+pub fn axil_ports() -> Vec<PortDoc> {
+    use crate::hdl::axil_front::AXIL_ADDR_BITS;
+    let p = |name, direction, width, description| PortDoc { name, direction, width, clock: "bus_clk", description };
+    vec![
+        p("s_axil_awaddr", "input", AXIL_ADDR_BITS, "write address, bytes: register w at 4·w (bits 1..0 ignored)"),
+        p("s_axil_awvalid", "input", 1, "write address valid"),
+        p("s_axil_awready", "output", 1, "write address ready: high while the slave's one-entry buffer is empty"),
+        p("s_axil_wdata", "input", 32, "write data: bits 15..0 are the register's"),
+        p("s_axil_wstrb", "input", 4, "write strobes: bits 1..0 both set write the register, neither writes nothing, one alone is SLVERR; bits 3..2 ignored"),
+        p("s_axil_wvalid", "input", 1, "write data valid"),
+        p("s_axil_wready", "output", 1, "write data ready: high while the slave's one-entry buffer is empty"),
+        p("s_axil_bresp", "output", 2, "write response: OKAY (0), or SLVERR (2) for an unmapped address or half a register"),
+        p("s_axil_bvalid", "output", 1, "write response valid, until BREADY"),
+        p("s_axil_bready", "input", 1, "write response ready"),
+        p("s_axil_araddr", "input", AXIL_ADDR_BITS, "read address, bytes: register w at 4·w (bits 1..0 ignored)"),
+        p("s_axil_arvalid", "input", 1, "read address valid"),
+        p("s_axil_arready", "output", 1, "read address ready: high while the slave's one-entry buffer is empty"),
+        p("s_axil_rdata", "output", 32, "read data: the register in bits 15..0, bits 31..16 are 0"),
+        p("s_axil_rresp", "output", 2, "read response: OKAY (0), or SLVERR (2, data 0) for an unmapped address"),
+        p("s_axil_rvalid", "output", 1, "read data valid, until RREADY"),
+        p("s_axil_rready", "input", 1, "read data ready"),
     ]
 }
 

@@ -60,3 +60,21 @@ pub const fn t_setup(r: usize, decelerating: bool) -> usize {
     let wide = if decelerating { 2 } else { 1 };
     4 + (1 + MUL_REG_LATENCY) + wide * mul_seq_latency(r) + 2 * div_latency(r)
 }
+
+/// EXMC master of the SPI, Wishbone and AXI4-Lite front ends
+/// ([`crate::hdl::exmc_master`]), in bus clocks: NE and NWE low for a write, NE and
+/// NOE low for a read (the data taken at the last), the strobes high after an access.
+pub const EXMC_MASTER_WRITE_LOW: u64 = 3;
+pub const EXMC_MASTER_READ_LOW: u64 = 5;
+pub const EXMC_MASTER_GAP: u64 = 2;
+
+/// Wishbone front end ([`crate::hdl::wb_front`]): bus clocks from the cycle STB rises
+/// to ACK, for a write and a read (ERR: 1).
+pub const WB_WRITE_ACK: u64 = 1 + EXMC_MASTER_WRITE_LOW + 1;
+pub const WB_READ_ACK: u64 = 1 + EXMC_MASTER_READ_LOW + 1;
+
+/// AXI4-Lite front end ([`crate::hdl::axil_front`]): bus clocks from the handshake
+/// (the later of AW and W; AR) to BVALID and RVALID, the ready signals high (a refused
+/// access: 2).
+pub const AXIL_WRITE_RESP: u64 = 2 + EXMC_MASTER_WRITE_LOW + 1;
+pub const AXIL_READ_RESP: u64 = 2 + EXMC_MASTER_READ_LOW + 1;

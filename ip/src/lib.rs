@@ -3,6 +3,7 @@
 //! reference model, the test vectors, the accuracy report and the CLI.
 
 pub mod accuracy;
+pub mod board;
 pub mod export;
 pub mod hdl;
 pub mod latency;

@@ -61,8 +61,9 @@ enum Command {
         /// registers (TDM only).
         #[arg(long)]
         encoder: bool,
-        /// The host bus: exmc (EXMC / FSMC asynchronous SRAM, 16-bit; the default) or
-        /// spi (modes 0 and 3, SCK up to bus_clk/4; docs/registers.md, "SPI").
+        /// The host bus: exmc (EXMC / FSMC asynchronous SRAM, 16-bit; the default),
+        /// spi (modes 0 and 3, SCK up to bus_clk/4), wb (Wishbone B4 classic, 32-bit)
+        /// or axil (AXI4-Lite, 32-bit); docs/registers.md describes each.
         #[arg(long, default_value = "exmc")]
         bus: export::Bus,
         /// Folder to write into (created if missing).
@@ -155,9 +156,21 @@ enum Command {
         /// registers (TDM only).
         #[arg(long)]
         encoder: bool,
-        /// The host bus of every point: exmc (the default) or spi.
+        /// The host bus of every point: exmc (the default), spi, wb or axil.
         #[arg(long, default_value = "exmc")]
         bus: export::Bus,
+    },
+    /// Build the reference board design (Radiona ULX3S, ECP5) to a bitstream: the IP on
+    /// SPI (K = 2, clk 50 MHz, bus_clk 100 MHz from the PLL), yosys, nextpnr-ecp5 and
+    /// ecppack (scripts/install-nextpnr.sh); prints utilisation and timing, and fails
+    /// when a clock misses its frequency.
+    Board {
+        /// Folder to build in (created if missing): board.bit and the logs.
+        #[arg(long, default_value = "build/board")]
+        out: PathBuf,
+        /// nextpnr's placement seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u32,
     },
     /// Write the reference-model test vectors (segments in; periods, edges and errors out).
     Vectors {
@@ -189,7 +202,12 @@ fn run(cli: Cli) -> Result<(), String> {
                     (false, true) => " with encoder feedback",
                     (false, false) => "",
                 },
-                if bus == export::Bus::Spi { " on SPI" } else { "" },
+                match bus {
+                    export::Bus::Exmc => "",
+                    export::Bus::Spi => " on SPI",
+                    export::Bus::Wb => " on Wishbone",
+                    export::Bus::Axil => " on AXI4-Lite",
+                },
                 opts.params().t_calc,
                 opts.min_period_ticks(),
                 opts.max_step_rate_hz(),
@@ -278,6 +296,11 @@ fn run(cli: Cli) -> Result<(), String> {
             if s.points.iter().any(|p| p.status != "ok") || s.fmax.iter().any(|p| p.status != "ok") {
                 return Err("some tool runs did not finish; see the logs named above".into());
             }
+        }
+        Command::Board { out, seed } => {
+            let repo = std::env::current_dir().map_err(|e| e.to_string())?;
+            let r = tdm_stepper::board::build(&repo, &out, seed)?;
+            print!("{}", r.markdown());
         }
         Command::Vectors { out } => {
             let paths = vectors::write_all(&out)

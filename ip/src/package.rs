@@ -81,6 +81,70 @@ pub fn instantiation_template(opts: &ExportOptions) -> String {
 }
 
 /// ASCII only, for Verilog comments (some tools read Verilog as Latin-1).
+/// The `tdm-stepper export` command line that makes this export (every option
+/// spelled out).
+pub fn export_command(opts: &ExportOptions) -> String {
+    let io = if !opts.io {
+        "none".to_string()
+    } else if opts.io_omit == 0 {
+        "all".to_string()
+    } else {
+        crate::export::io_group_names(crate::regs::IO_ALL & !opts.io_omit)
+    };
+    format!(
+        "tdm-stepper export --axes {} --arch {} --clock-hz {} --fifo-depth {} --min-period {} --name {} --io {io} --profiles {}{} --bus {}",
+        opts.axes,
+        opts.arch.name(),
+        opts.clock_hz,
+        opts.fifo_depth,
+        opts.min_period_ticks(),
+        opts.name.as_str(),
+        if opts.scurve { "trapezoid,scurve" } else { "trapezoid" },
+        if opts.encoder { " --encoder" } else { "" },
+        opts.bus.name()
+    )
+}
+
+/// The comment the exported Verilog opens with, as hand-written IP does: the core,
+/// its register map version, K, options and clocks, the command that made it, and
+/// every port with its meaning (the instantiation template's words).
+pub fn verilog_header(opts: &ExportOptions) -> String {
+    let p = opts.params();
+    let v = crate::regs::VERSION;
+    let mut t = String::new();
+    let _ = writeln!(t, "// {}: a tdm-stepper IP core (time-division multiplexed stepper-motor step generator),", opts.name.as_str());
+    let _ = writeln!(t, "// generated Verilog-2001: do not edit, export again.");
+    let _ = writeln!(t, "//");
+    let _ = writeln!(t, "// Register map version {}.{} (ID_VERSION 0x{v:04X}); K = {} axes; {} architecture.", v >> 8, v & 0xFF, opts.axes, opts.arch.name());
+    let _ = writeln!(
+        t,
+        "// Options: bus {}; machine I/O {}; profiles {}; encoder feedback {} (ID_OPTIONS 0x{:04X}).",
+        opts.bus.name(),
+        if opts.io { if opts.io_omit == 0 { "all".to_string() } else { crate::export::io_group_names(crate::regs::IO_ALL & !opts.io_omit) } } else { "none".to_string() },
+        if opts.scurve { "trapezoid, scurve" } else { "trapezoid" },
+        if opts.encoder { "yes" } else { "no" },
+        p.options_word()
+    );
+    let _ = writeln!(
+        t,
+        "// Clocks: clk {} Hz (every step period is counted in its ticks; minimum period {} ticks);",
+        opts.clock_hz,
+        opts.min_period_ticks()
+    );
+    let _ = writeln!(t, "// bus_clk runs the host bus and the register file ({} MHz in the constraints); the two are unrelated.", mhz(BUS_CLK_HZ));
+    let _ = writeln!(t, "// Made by: {}", export_command(opts));
+    let _ = writeln!(t, "// registers.md and manifest.json, written beside this file, describe every register and port.");
+    let _ = writeln!(t, "//");
+    let _ = writeln!(t, "// Ports:");
+    let ps = ports_of(opts);
+    let width = ps.iter().map(|p| p.name.len()).max().unwrap_or(0);
+    for q in &ps {
+        let bits = if q.width == 1 { "1 bit".to_string() } else { format!("{} bits", q.width) };
+        let _ = writeln!(t, "//   {:w$} {:6} {:8} {}", q.name, q.direction, bits, q.description, w = width);
+    }
+    ascii(&t)
+}
+
 pub fn ascii(t: &str) -> String {
     t.replace('≥', ">=").replace('≤', "<=").replace('·', "*").chars().map(|c| if c.is_ascii() { c } else { '?' }).collect()
 }
@@ -107,6 +171,21 @@ is a bus_clk register that changes 3 bus_clk cycles after SCK rises, so the host
 samples it at its next rising edge at least 1 bus_clk cycle later (at SCK =
 bus_clk/4): keep the miso pad path within that cycle.";
 
+const MMIO_CONSTRAINT_NOTES: &str = "\
+With --bus wb or --bus axil the EXMC pins are wires inside: the bus front end drives
+them in bus_clk, which is the bus's own clock. The bus ports are synchronous to
+bus_clk and meant to be nets of your SoC (timed there as any bus_clk path); only
+reset is asynchronous.";
+
+/// The notes of the export's bus, if it has its own.
+fn bus_notes(opts: &ExportOptions) -> Option<&'static str> {
+    match opts.bus {
+        crate::export::Bus::Exmc => None,
+        crate::export::Bus::Spi => Some(SPI_CONSTRAINT_NOTES),
+        crate::export::Bus::Wb | crate::export::Bus::Axil => Some(MMIO_CONSTRAINT_NOTES),
+    }
+}
+
 fn comment_block(prefix: &str, text: &str) -> String {
     text.lines().map(|l| if l.is_empty() { prefix.trim_end().to_string() } else { format!("{prefix}{l}") }).collect::<Vec<_>>().join("\n")
 }
@@ -118,8 +197,8 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} timing constraints (K = {}, clk {} Hz).", opts.axes, opts.clock_hz)));
     let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
-    if opts.bus == crate::export::Bus::Spi {
-        let _ = writeln!(t, "#\n{}", comment_block("# ", SPI_CONSTRAINT_NOTES));
+    if let Some(notes) = bus_notes(opts) {
+        let _ = writeln!(t, "#\n{}", comment_block("# ", notes));
     }
     if xdc {
         let _ = writeln!(
@@ -138,7 +217,10 @@ fn sdc_like(opts: &ExportOptions, xdc: bool) -> String {
     let _ = writeln!(t, "set_clock_groups -asynchronous -group [get_clocks tdm_clk] -group [get_clocks tdm_bus_clk]");
     let _ = writeln!(t, "# Asynchronous inputs: synchronised in bus_clk.");
     let dp = if xdc { " -datapath_only" } else { "" };
-    if opts.bus == crate::export::Bus::Spi {
+    if matches!(opts.bus, crate::export::Bus::Wb | crate::export::Bus::Axil) {
+        let _ = writeln!(t, "set_false_path -from [get_ports {{reset}}]");
+        let _ = writeln!(t, "# The bus ports: synchronous to bus_clk, timed inside your SoC (no I/O delays here).");
+    } else if opts.bus == crate::export::Bus::Spi {
         let _ = writeln!(t, "set_false_path -from [get_ports {{reset cs_n sck mosi}}]");
         let _ = writeln!(t, "# miso: a bus_clk register the host samples at SCK's next rising edge, at least 1 bus_clk cycle later.");
         let _ = writeln!(t, "set_false_path -to [get_ports {{miso}}]");
@@ -184,8 +266,8 @@ pub fn lpf(opts: &ExportOptions) -> String {
     let mut t = String::new();
     let _ = writeln!(t, "{}", comment_block("# ", &format!("{top} clock constraints for nextpnr-ecp5 (K = {}).", opts.axes)));
     let _ = writeln!(t, "#\n{}", comment_block("# ", CONSTRAINT_NOTES));
-    if opts.bus == crate::export::Bus::Spi {
-        let _ = writeln!(t, "#\n{}", comment_block("# ", SPI_CONSTRAINT_NOTES));
+    if let Some(notes) = bus_notes(opts) {
+        let _ = writeln!(t, "#\n{}", comment_block("# ", notes));
     }
     let _ = writeln!(
         t,
@@ -285,8 +367,10 @@ pub const TB_FILE: &str = "tdm_stepper_smoke_tb.v";
 /// reads ID_MAGIC and ID_AXES over the EXMC pins at a slow, safe timing, and
 /// prints PASS or FAIL (with `$fatal` on failure).
 pub fn smoke_testbench(opts: &ExportOptions) -> String {
-    if opts.bus == crate::export::Bus::Spi {
-        return smoke_testbench_spi(opts);
+    match opts.bus {
+        crate::export::Bus::Spi => return smoke_testbench_spi(opts),
+        crate::export::Bus::Wb | crate::export::Bus::Axil => return smoke_testbench_mmio(opts),
+        crate::export::Bus::Exmc => {}
     }
     let top = opts.name.as_str();
     let p = opts.params();
@@ -403,6 +487,92 @@ endmodule\n",
     )
 }
 
+/// The smoke test on Wishbone or AXI4-Lite: reads ID_MAGIC and ID_AXES, and an
+/// unmapped address, which must be refused (ERR; SLVERR).
+fn smoke_testbench_mmio(opts: &ExportOptions) -> String {
+    let top = opts.name.as_str();
+    let p = opts.params();
+    let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
+    let axes = crate::regs::register("ID_AXES").reset_value(&p);
+    let a_magic = crate::regs::addr("ID_MAGIC");
+    let a_axes = crate::regs::addr("ID_AXES");
+    let hole = crate::regs::mapped(&p).iter().position(|m| !m).expect("an unmapped address");
+    let k = opts.axes;
+    let sb = crate::hdl::core::STATE_BITS;
+    let aw = crate::regs::ADDR_BITS;
+    let wb = opts.bus == crate::export::Bus::Wb;
+    let (decl, conn, task) = if wb {
+        (
+            format!("  reg cyc = 0, stb = 0, we = 0;\n  reg [{}:0] adr = 0;\n  wire [31:0] dat_r;\n  wire ack, err;\n", aw - 1),
+            ".wb_cyc(cyc), .wb_stb(stb), .wb_we(we), .wb_adr(adr), .wb_sel(4'hF), .wb_dat_w(32'd0),\n    .wb_dat_r(dat_r), .wb_ack(ack), .wb_err(err)".to_string(),
+            format!(
+                "  // One Wishbone classic read: CYC and STB until ACK or ERR.\n\
+                 \x20 task read16(input [{}:0] a, output [15:0] v, output bad);\n\
+                 \x20   begin\n\
+                 \x20     @(negedge bus_clk); adr = a; cyc = 1; stb = 1;\n\
+                 \x20     @(posedge bus_clk); while (!ack && !err) @(posedge bus_clk);\n\
+                 \x20     v = dat_r[15:0]; bad = err; #1 cyc = 0; stb = 0;\n\
+                 \x20   end\n\
+                 \x20 endtask\n",
+                aw - 1
+            ),
+        )
+    } else {
+        (
+            format!("  reg arvalid = 0;\n  reg [{}:0] araddr = 0;\n  wire arready, rvalid;\n  wire [31:0] rdata;\n  wire [1:0] rresp, bresp;\n  wire awready, wready, bvalid;\n", aw + 1),
+            ".s_axil_awaddr(11'd0), .s_axil_awvalid(1'b0), .s_axil_awready(awready), .s_axil_wdata(32'd0),\n    .s_axil_wstrb(4'd0), .s_axil_wvalid(1'b0), .s_axil_wready(wready), .s_axil_bresp(bresp), .s_axil_bvalid(bvalid),\n    .s_axil_bready(1'b1), .s_axil_araddr(araddr), .s_axil_arvalid(arvalid), .s_axil_arready(arready),\n    .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid), .s_axil_rready(1'b1)".to_string(),
+            format!(
+                "  // One AXI4-Lite read: AR until ARREADY, then R (RREADY is tied high).\n\
+                 \x20 task read16(input [{}:0] a, output [15:0] v, output bad);\n\
+                 \x20   begin\n\
+                 \x20     @(negedge bus_clk); araddr = {{a, 2'b00}}; arvalid = 1;\n\
+                 \x20     @(posedge bus_clk); while (!arready) @(posedge bus_clk);\n\
+                 \x20     #1 arvalid = 0;\n\
+                 \x20     @(posedge bus_clk); while (!rvalid) @(posedge bus_clk);\n\
+                 \x20     v = rdata[15:0]; bad = rresp != 2'b00;\n\
+                 \x20   end\n\
+                 \x20 endtask\n",
+                aw - 1
+            ),
+        )
+    };
+    let bus = if wb { "Wishbone" } else { "AXI4-Lite" };
+    format!(
+        "`timescale 1ns/1ps\n\
+// Smoke test of the exported {top} on {bus}: reset, read ID_MAGIC and ID_AXES, and an\n\
+// unmapped address, which must be refused. Prints PASS or FAIL.\n\
+module {top}_smoke_tb;\n\
+  reg clk = 0, bus_clk = 0, reset = 1;\n\
+  wire irq;\n\
+  wire [{km}:0] step, dir;\n\
+  wire [{sm}:0] fsm_state;\n\
+{decl}\
+  always #10 clk = !clk;\n\
+  always #5.003 bus_clk = !bus_clk;\n\
+  {top} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), {conn},\n\
+    .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));\n\
+{task}\
+  reg [15:0] v_magic, v_axes, v_hole;\n\
+  reg e_magic, e_axes, e_hole;\n\
+  initial begin\n\
+    #200 reset = 0; #500;\n\
+    read16({aw}'h{a_magic:03X}, v_magic, e_magic);\n\
+    read16({aw}'h{a_axes:03X}, v_axes, e_axes);\n\
+    read16({aw}'h{hole:03X}, v_hole, e_hole);\n\
+    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes} && !e_magic && !e_axes && e_hole) begin\n\
+      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d, address {hole:#05x} refused\", v_magic, v_axes);\n\
+      $finish;\n\
+    end else begin\n\
+      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes}), errors %b%b, hole refused %b\", v_magic, v_axes, e_magic, e_axes, e_hole);\n\
+      $fatal(1);\n\
+    end\n\
+  end\n\
+endmodule\n",
+        km = k - 1,
+        sm = sb - 1,
+    )
+}
+
 /// Every package file: (name, text).
 pub fn files(opts: &ExportOptions) -> Vec<(&'static str, String)> {
     vec![
@@ -433,8 +603,8 @@ pub fn export(opts: &ExportOptions, dir: &Path) -> Result<Exported, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let p = opts.params();
     let core = [
-        ("tdm_stepper.v", v),
-        (crate::export::HEADER_FILE, crate::regs::c_header(&p)),
+        ("tdm_stepper.v", verilog_header(opts) + &v),
+        (crate::export::HEADER_FILE, crate::regs::c_header(&p, opts.name.as_str())),
         ("registers.md", crate::regs::markdown(&p)),
         ("manifest.json", crate::export::manifest_json(opts)),
     ];

@@ -121,8 +121,9 @@ fn driver_and_planner_compile_for_the_host_and_a_cortex_m4_without_warnings() {
 }
 
 /// tdm_identify() compares ID_OPTIONS with the header's TDM_OPTIONS: against a bank in
-/// memory that answers this header's ID values, every other export's options word is
-/// refused with TDM_E_CONFIG and its own is taken. (The bus tests run tdm_identify on
+/// memory that answers this header's ID values (through the hooks, and as a 32-bit
+/// region through tdm_open_mmio32()), every other export's options word is refused
+/// with TDM_E_CONFIG and its own is taken. (The bus tests run tdm_identify on
 /// the exported cores, so each core's ID_OPTIONS equals its header's.) Each driver
 /// compiles without warnings with its header (the machine I/O with the encoders too).
 #[test]
@@ -159,9 +160,37 @@ fn identify_refuses_a_core_whose_options_differ_from_the_header() {
         for (j, w) in words.iter().enumerate() {
             let out = run(Command::new(&bin).arg(format!("{w:x}")), "identify_check");
             let want = if i == j { 0 } else { -3 };
-            assert_eq!(out.trim(), format!("IDENTIFY {want} {w:x}"), "header of {name}, core of {}", variants[j].0);
+            assert_eq!(out.trim(), format!("IDENTIFY {want} {w:x}\nIDENTIFY32 {want} {w:x}"), "header of {name}, core of {}", variants[j].0);
         }
     }
+}
+
+/// Two cores of different K (and options) in one firmware build: the driver compiled
+/// with the header of the export with more options, the other export's header
+/// included after it under another name, and each core identified against its own
+/// `<NAME>_IDENTITY` with tdm_identify_as(): each identity takes its own core and
+/// refuses the other (TDM_E_CONFIG), without a warning from gcc -Wall -Werror.
+#[test]
+fn two_cores_of_different_k_share_one_build() {
+    use tdm_stepper::export::ModuleName;
+    let dir = sim_dir("c_two_cores", Simulator::Verilator);
+    let a = dir.join("a");
+    let b = dir.join("b");
+    let _ = std::fs::remove_dir_all(&dir);
+    let io = export::parse_io("all").unwrap();
+    tdm_stepper::package::export(&ExportOptions { name: ModuleName::new("motion_a").unwrap(), axes: 2, ..Default::default() }, &a).unwrap();
+    tdm_stepper::package::export(&ExportOptions { name: ModuleName::new("motion_b").unwrap(), axes: 4, io: io.io, io_omit: io.omit, ..Default::default() }, &b).unwrap();
+    std::fs::copy(a.join("tdm_stepper_regs.h"), b.join("motion_a_regs.h")).unwrap();
+    let objs = [
+        gcc_c(&b, &b.join("tdm_driver.c"), "tdm_driver.o"),
+        gcc_c(&b, &b.join("tdm_planner.c"), "tdm_planner.o"),
+        gcc_c(&b, &tests_c().join("two_cores_check.c"), "two.o"),
+    ];
+    let bin = b.join("two_cores_check");
+    run(Command::new("gcc").args(&objs).arg("-o").arg(&bin), "link two_cores_check");
+    let out = run(&mut Command::new(&bin), "two_cores_check");
+    assert_eq!(field(&out, "AS"), [[0, 0, 0, 2], [0, 1, -3, 2], [1, 0, -3, 4], [1, 1, 0, 4]], "{out}");
+    assert_eq!(field(&out, "HEADER_AXES")[0], [4]);
 }
 
 /// One planner result as the C programs print it: rc, bad phase, segments.
@@ -506,8 +535,26 @@ fn readme_scurve_example_runs_as_written_through_the_driver() {
 
 #[test]
 fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_exmc_pins() {
+    driver_runs_planned_moves(export::Bus::Exmc);
+}
+
+/// The same driver check on an `--bus spi` export through tdm_open_spi() (the core
+/// opened by the README's SPI example, as written): every access a frame at SCK =
+/// bus_clk/4 (the fastest documented), mode 3, segment pushes one 14-byte frame each;
+/// no frame refused, and a frame cut mid-word refused as documented (FRAME_ERR, the
+/// register unchanged).
+#[test]
+fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_spi_pins() {
+    driver_runs_planned_moves(export::Bus::Spi);
+}
+
+fn driver_runs_planned_moves(bus: export::Bus) {
     const K: usize = 3;
-    let (dir, opts) = export_dir("c_driver_ip", K);
+    let spi = bus == export::Bus::Spi;
+    let dir = sim_dir(if spi { "c_driver_ip_spi" } else { "c_driver_ip" }, Simulator::Verilator);
+    let _ = std::fs::remove_dir_all(&dir);
+    let opts = ExportOptions { axes: K, bus, ..Default::default() };
+    tdm_stepper::package::export(&opts, &dir).unwrap();
     let limits = Limits::new(opts.min_period_ticks() as u32).unwrap();
     let clock = opts.clock_hz;
 
@@ -536,10 +583,25 @@ fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_exmc_pins() {
     lines.extend(impossible.iter().cloned());
     std::fs::write(dir.join("moves.txt"), lines.join("\n") + "\n").unwrap();
 
-    let exe = build_with_shim(&dir, &tests_c().join("driver_check.c"), &[]);
+    let flags: &[&str] = if spi { &["-DSHIM_SPI", "-DSHIM_SPI_MODE=3"] } else { &[] };
+    // On SPI the core is opened by the README's example, compiled as written.
+    let mut extra = vec![];
+    if spi {
+        let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../README.md")).unwrap();
+        let section = readme.split("## Picking a bus").nth(1).expect("README has the bus section").split("\n## ").next().unwrap();
+        let code = section.split("```c\n").nth(1).expect("a C block").split("```").next().unwrap();
+        std::fs::write(dir.join("spi_example.c"), code).unwrap();
+        extra.push(gcc_c(&dir, &dir.join("spi_example.c"), "spi_example.o"));
+    }
+    let t0 = std::time::Instant::now();
+    let exe = build_with_shim_flags(&dir, &tests_c().join("driver_check.c"), &extra, flags);
     let out = run(Command::new(exe).current_dir(&dir).arg("moves.txt"), "the driver check");
+    eprintln!("driver check on {bus:?}: build and run {:.1} s", t0.elapsed().as_secs_f64());
 
-    // Identification and enable.
+    // Identification (on SPI first by the README's example) and enable.
+    if spi {
+        assert_eq!(field(&out, "SPIOPEN")[0], [0], "the README's open_core_on_spi");
+    }
     let id = &field(&out, "IDENTIFY")[0];
     assert_eq!(id[..4], [0, K as i64, clock as i64, export::QUEUE_DEPTH as i64], "identify: {out:.400}");
     assert_eq!(id[6], limits.max_rate() as i64);
@@ -602,6 +664,11 @@ fn the_driver_runs_planned_moves_on_the_exported_ip_through_the_exmc_pins() {
     assert_eq!(irqs[2][3], 1, "START_FAILED seen");
     assert_eq!(irqs[2][2] & (1 << (K - 1)), 1 << (K - 1), "IRQ_ERROR for the masked axis");
     assert_eq!(irqs[3], [0, 0, 0, 0], "the helper cleared what it returned");
+    // No frame refused; the cut frame (SPI) is, and changes nothing.
+    assert_eq!(field(&out, "BUSERR")[0], [0], "no bus error in the whole run");
+    let qlow = tdm_stepper::regs::register("QLOW_LEVEL").reset_value(&opts.params()) as i64;
+    let glitch = if spi { [1, qlow, qlow, 1] } else { [0, qlow, qlow, 0] };
+    assert_eq!(field(&out, "GLITCH")[0], glitch, "a frame cut mid-word: refused, QLOW_LEVEL kept");
 }
 
 /// The README's homing worked example (Machine I/O), compiled as written with the

@@ -255,28 +255,33 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         (16, "tdm", "none", "trapezoid+enc"),
         (2, "tdm", "all", "trapezoid+enc"),
         (3, "tdm", "probe,limits", "trapezoid,scurve+enc"),
-        // The SPI front end (export --bus spi): alone, and with every other option.
+        // The bus front ends (export --bus spi|wb|axil): alone, and with every other option.
         (2, "tdm", "none", "trapezoid+spi"),
         (3, "tdm", "all", "trapezoid,scurve+enc+spi"),
+        (2, "tdm", "none", "trapezoid+wb"),
+        (1, "tdm", "limits,home", "trapezoid+enc+wb"),
+        (2, "tdm", "none", "trapezoid+axil"),
+        (16, "tdm", "all", "trapezoid,scurve+axil"),
     ];
     for (k, arch, io, profiles) in cases {
-        let (profiles, spi) = match profiles.strip_suffix("+spi") {
-            Some(p) => (p, true),
-            None => (profiles, false),
+        let (profiles, bus) = match profiles.rsplit_once('+') {
+            Some((p, b)) if ["spi", "wb", "axil"].contains(&b) => (p, b.parse::<export::Bus>().unwrap()),
+            _ => (profiles, export::Bus::Exmc),
         };
+        let spi = bus != export::Bus::Exmc;
         let (profiles, enc) = match profiles.strip_suffix("+enc") {
             Some(p) => (p, true),
             None => (profiles, false),
         };
         let tag = if profiles == "trapezoid" { String::new() } else { "_scurve".into() };
         let tag = if enc { tag + "_enc" } else { tag };
-        let tag = if spi { tag + "_spi" } else { tag };
+        let tag = if spi { format!("{tag}_{}", bus.name()) } else { tag };
         let mut args = vec!["--axes".to_string(), k.to_string(), "--arch".into(), arch.into(), "--io".into(), io.into(), "--profiles".into(), profiles.into()];
         if enc {
             args.push("--encoder".into());
         }
         if spi {
-            args.extend(["--bus".into(), "spi".into()]);
+            args.extend(["--bus".into(), bus.name().into()]);
         }
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let dir = export_to(&args, &format!("export_lint_{arch}_{k}_{io}{tag}"));
@@ -286,11 +291,11 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
             want_ports.extend(export::encoder_ports(k));
         }
         if spi {
-            // The EXMC pins' place taken by the SPI pins, in the documented order.
+            // The EXMC pins' place taken by the bus's pins, in the documented order.
             let exmc = ["ne", "noe", "nwe", "addr", "data_in", "data_out", "data_oe"];
             let at = want_ports.iter().position(|p| p.name == "ne").unwrap();
             want_ports.retain(|p| !exmc.contains(&p.name));
-            want_ports.splice(at..at, export::spi_ports());
+            want_ports.splice(at..at, bus.ports());
         }
         let want: Vec<(String, String, usize)> = want_ports.iter().map(|p| (p.name.to_string(), p.direction.to_string(), p.width)).collect();
         assert_eq!(verilog_ports(&v), want, "K = {k} {arch}: ports differ from export::ports (and the manifest)");
@@ -684,38 +689,170 @@ fn two_named_exports_live_in_one_design() {
     assert!(cells > 2000, "both cores synthesised: {cells} coarse cells");
 }
 
-/// An SPI export from its folder alone (K = 2): the smoke testbench reads the
-/// identity through SPI frames in Icarus and checks the status byte; the manifest
-/// says the bus and lists the Verilog's ports; the constraints name the SPI pins and
-/// no EXMC pin.
+/// An export on each bus other than EXMC from its folder alone (K = 2): the smoke
+/// testbench reads the identity through the bus in Icarus (SPI: and checks the status
+/// byte; Wishbone and AXI4-Lite: and sees an unmapped address refused); the manifest
+/// says the bus and lists the Verilog's ports; the constraints name only the core's
+/// ports and no EXMC pin; the Verilog opens with its header comment (the export
+/// command that made it, and every port).
 #[test]
-fn spi_export_package_works_from_the_folder_alone() {
+fn bus_export_packages_work_from_the_folder_alone() {
     use tdm_stepper::package as pkg;
-    let dir = export_to(&["--axes", "2", "--bus", "spi"], "export_package_spi");
-    let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
-    let out = Command::new("iverilog")
-        .current_dir(&dir)
-        .args(["-g2005", "-Wall", "-o", "smoke.vvp", "tdm_stepper.v", pkg::TB_FILE])
-        .output()
-        .expect("iverilog is installed");
-    assert!(out.status.success(), "iverilog: {}", String::from_utf8_lossy(&out.stderr));
-    let out = Command::new("vvp").current_dir(&dir).args(["-n", "smoke.vvp"]).output().unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success() && text.contains("PASS: ID_MAGIC") && !text.contains("FAIL"), "smoke test: {text}");
-    let manifest: serde_json::Value = serde_json::from_str(&read("manifest.json")).unwrap();
-    assert_eq!(manifest["bus"], "spi");
-    let names: Vec<String> = manifest["ports"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap().to_string()).collect();
-    let v = read("tdm_stepper.v");
-    let got: Vec<String> = verilog_ports(&v).into_iter().map(|p| p.0).collect();
-    assert_eq!(got, names, "manifest ports against the Verilog");
-    for f in [pkg::XDC_FILE, pkg::SDC_FILE] {
-        let c = read(f);
-        let commands: String = c.lines().filter(|l| !l.starts_with('#')).collect::<Vec<_>>().join("\n");
-        assert!(commands.contains("cs_n sck mosi") && commands.contains("miso_oe"), "{f}: SPI pins");
-        assert!(!commands.contains(" ne ") && !commands.contains("data_in"), "{f}: an EXMC pin");
+    for bus in ["spi", "wb", "axil"] {
+        let dir = export_to(&["--axes", "2", "--bus", bus], &format!("export_package_{bus}"));
+        let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        let out = Command::new("iverilog")
+            .current_dir(&dir)
+            .args(["-g2005", "-Wall", "-o", "smoke.vvp", "tdm_stepper.v", pkg::TB_FILE])
+            .output()
+            .expect("iverilog is installed");
+        assert!(out.status.success(), "{bus}: iverilog: {}", String::from_utf8_lossy(&out.stderr));
+        let out = Command::new("vvp").current_dir(&dir).args(["-n", "smoke.vvp"]).output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success() && text.contains("PASS: ID_MAGIC") && !text.contains("FAIL"), "{bus} smoke test: {text}");
+        let manifest: serde_json::Value = serde_json::from_str(&read("manifest.json")).unwrap();
+        assert_eq!(manifest["bus"], bus);
+        let names: Vec<String> = manifest["ports"].as_array().unwrap().iter().map(|p| p["name"].as_str().unwrap().to_string()).collect();
+        let v = read("tdm_stepper.v");
+        let got: Vec<String> = verilog_ports(&v).into_iter().map(|p| p.0).collect();
+        assert_eq!(got, names, "{bus}: manifest ports against the Verilog");
+        for f in [pkg::XDC_FILE, pkg::SDC_FILE] {
+            let c = read(f);
+            let commands: String = c.lines().filter(|l| !l.starts_with('#')).collect::<Vec<_>>().join("\n");
+            if bus == "spi" {
+                assert!(commands.contains("cs_n sck mosi") && commands.contains("miso_oe"), "{f}: SPI pins");
+            } else {
+                assert!(commands.contains("set_false_path -from [get_ports {reset}]"), "{bus} {f}: reset");
+            }
+            assert!(!commands.contains(" ne ") && !commands.contains("data_in"), "{bus} {f}: an EXMC pin");
+        }
+        let tpl = read(pkg::TEMPLATE_FILE);
+        for n in &names {
+            assert_eq!(tpl.matches(&format!(".{n} ")).count(), 1, "{bus} template: port {n}");
+        }
+        // The header comment: the command that made it, and each port on its own line.
+        let head: Vec<&str> = v.lines().take_while(|l| l.starts_with("//")).collect();
+        assert!(head.iter().any(|l| l.contains(&format!("Made by: tdm-stepper export --axes 2 ")) && l.ends_with(&format!("--bus {bus}"))), "{bus}: {head:?}");
+        for n in &names {
+            assert!(head.iter().any(|l| l.starts_with(&format!("//   {n} "))), "{bus}: header lacks port {n}");
+        }
+        // The command, run again, makes the same Verilog.
+        let cmd = head.iter().find_map(|l| l.strip_prefix("// Made by: tdm-stepper export ")).unwrap();
+        let args: Vec<&str> = cmd.split_whitespace().collect();
+        let again = export_to(&args, &format!("export_package_{bus}_again"));
+        assert!(std::fs::read_to_string(again.join("tdm_stepper.v")).unwrap() == v, "{bus}: `{cmd}` makes other Verilog");
     }
-    let tpl = read(pkg::TEMPLATE_FILE);
-    for n in &names {
-        assert_eq!(tpl.matches(&format!(".{n} ")).count(), 1, "template: port {n}");
+}
+
+/// The cocotb bench (bench/cocotb/test_buses.py, run by run_bench.py with the venv of
+/// scripts/test.sh) on the exported core of each bus other than EXMC, with the
+/// ecosystem's masters (cocotbext-spi, cocotbext-wishbone, cocotbext-axi) in
+/// Verilator: every register reads its documented reset value and the read/write
+/// ones read back what was written; bad framing is refused and changes nothing; the
+/// paper's experiment (the segments of vectors/paper_experiment.json) with random
+/// register traffic gives every STEP edge of the model, from one release tick.
+#[test]
+fn cocotb_bench_drives_each_bus_with_the_ecosystems_masters() {
+    use tdm_stepper::export::Bus;
+    use tdm_stepper::model::{AxisRun, Limits, Segment};
+    use tdm_stepper::regs::{table_for, Access};
+    let python = repo().join("target/venv-tools/bin/python");
+    assert!(python.is_file(), "{} is missing: scripts/test.sh installs the venv", python.display());
+    let vectors: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(repo().join("vectors/paper_experiment.json")).unwrap()).unwrap();
+    let segments: Vec<Vec<Segment>> = vectors["axes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| {
+            a["segments"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| Segment { v0_rate: s["v0_rate"].as_u64().unwrap() as u32, t_ticks: s["t_ticks"].as_u64().unwrap() as u32, steps: s["steps"].as_i64().unwrap() as i32 })
+                .collect()
+        })
+        .collect();
+    // The experiment at a tenth of its durations and steps (the same speeds and shape,
+    // 420 edges in 5 ms) in the test command; TDM_COCOTB_FULL=1 runs it whole (50 ms,
+    // 4,200 edges: minutes per bus with cocotb).
+    let scale: u32 = if std::env::var_os("TDM_COCOTB_FULL").is_some() { 1 } else { 10 };
+    let segments: Vec<Vec<Segment>> = segments
+        .iter()
+        .map(|a| a.iter().map(|s| Segment { t_ticks: s.t_ticks / scale, steps: s.steps / scale as i32, ..*s }).collect())
+        .collect();
+    let runs: Vec<AxisRun> = segments.iter().map(|s| AxisRun::run(s, &Limits::default())).collect();
+    for (r, s) in runs.iter().zip(&segments) {
+        let steps: u64 = s.iter().map(|g| g.steps.unsigned_abs() as u64).sum();
+        assert!(r.rejected.is_empty() && r.edge_ticks.len() as u64 == steps, "the experiment (scale 1/{scale}) runs whole in the model");
     }
+    let mut jobs = vec![];
+    for bus in [Bus::Spi, Bus::Wb, Bus::Axil] {
+        let opts = ExportOptions { axes: 2, bus, ..Default::default() };
+        let p = opts.params();
+        let dir = sim_dir(&format!("cocotb_{}", bus.name()), Simulator::Verilator);
+        let _ = std::fs::remove_dir_all(&dir);
+        tdm_stepper::package::export(&opts, &dir).unwrap();
+        let mut registers = serde_json::Map::new();
+        let mut rw = vec![];
+        for r in table_for(&p) {
+            let mask: u32 = r.fields.iter().map(|f| ((1u32 << f.width) - 1) << f.lsb).fold(0, |a, b| a | b);
+            registers.insert(r.name.into(), serde_json::json!({"word": r.address(0), "per_axis": r.per_axis, "reset": r.reset_value(&p), "mask": mask}));
+            if !r.per_axis && r.name != "CTRL" && r.fields.iter().all(|f| f.access == Access::Rw) {
+                rw.push(r.name);
+            }
+        }
+        let mapped = regs::mapped(&p);
+        let holes: Vec<usize> = [mapped.iter().position(|m| !m).unwrap(), regs::register("STATUS").address(2) as usize, 0x1ff]
+            .into_iter()
+            .inspect(|&h| assert!(!mapped[h], "{h:#x} is mapped"))
+            .collect();
+        let case = serde_json::json!({
+            "bus": bus.name(),
+            "axes": 2,
+            "clk_ps": 1_000_000_000_000u64 / opts.clock_hz as u64,
+            "bus_clk_ps": 9994,
+            "sck_hz": 25e6,
+            "spi_gap_ns": 50,
+            "spi_status_pattern": regs::SPI_STATUS_PATTERN,
+            "axis_stride": regs::AXIS_STRIDE,
+            "registers": registers,
+            "rw": rw,
+            "holes": holes,
+            "gstatus_enabled": 1u32 << regs::register("GSTATUS").field("ENABLED").lsb,
+            "segments": segments.iter().map(|s| s.iter().map(|g| [g.v0_rate as i64, g.t_ticks as i64, g.steps as i64]).collect::<Vec<_>>()).collect::<Vec<_>>(),
+            "edges": runs.iter().map(|r| r.edge_ticks.clone()).collect::<Vec<_>>(),
+            "dirs": segments.iter().map(|s| (s[0].steps < 0) as u8).collect::<Vec<_>>(),
+            "positions": runs.iter().map(|r| r.position).collect::<Vec<_>>(),
+            "settle_us": 100,
+            "min_traffic": 1000 / scale,
+        });
+        assert!(rw.len() >= 5, "{rw:?}");
+        std::fs::write(dir.join("case.json"), serde_json::to_string_pretty(&case).unwrap()).unwrap();
+        // The three benches run side by side (each builds and runs its own Verilator model).
+        let python = python.clone();
+        jobs.push(std::thread::spawn(move || {
+            let t0 = std::time::Instant::now();
+            let out = Command::new(&python)
+                .arg(repo().join("bench/cocotb/run_bench.py"))
+                .arg("--verilog")
+                .arg(dir.join("tdm_stepper.v"))
+                .arg("--case")
+                .arg(dir.join("case.json"))
+                .arg("--build")
+                .arg(dir.join("cocotb"))
+                .output()
+                .unwrap();
+            let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+            (bus, out.status.success(), all, t0.elapsed().as_secs_f64())
+        }));
+    }
+    let mut failed = vec![];
+    for j in jobs {
+        let (bus, ok, all, secs) = j.join().unwrap();
+        eprintln!("cocotb bench on {bus:?}: {secs:.0} s");
+        if !(ok && all.contains(&format!("PASS {}", bus.name())) && all.contains("run_bench: 1 test(s), 0 failed")) {
+            failed.push(format!("{bus:?}:\n{}", &all[all.len().saturating_sub(6000)..]));
+        }
+    }
+    assert!(failed.is_empty(), "cocotb bench failed on:\n{}", failed.join("\n"));
 }

@@ -253,7 +253,7 @@ fn breakdown_counts_cells_by_block() {
         .args([
             "-q",
             "-p",
-            &breakdown_script(2),
+            &breakdown_script(2, tdm_stepper::export::Bus::Exmc),
         ])
         .output()
         .unwrap();
@@ -282,19 +282,23 @@ fn breakdown_counts_cells_by_block() {
     assert_eq!(blocks.iter().map(|b| b.ffs).sum::<u64>(), 60);
     assert!(breakdown_blocks("{\"modules\": {}}", "tdm_stepper", Family::Xc7).is_err());
 
-    let exported = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions {
-        axes: 2,
-        ..Default::default()
-    })
-    .unwrap();
-    let mut names: Vec<&str> = exported
-        .lines()
-        .filter_map(|l| l.strip_prefix("module "))
-        .map(|l| l.split('(').next().unwrap())
-        .collect();
-    assert!(names.len() > 100);
-    names.retain(|n| block_of(n) == "other");
-    assert!(names.is_empty(), "modules in no block: {names:?}");
+    for bus in tdm_stepper::export::Bus::ALL {
+        let exported = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: 2, bus, ..Default::default() }).unwrap();
+        let mut names: Vec<&str> = exported
+            .lines()
+            .filter_map(|l| l.strip_prefix("module "))
+            .map(|l| l.split('(').next().unwrap())
+            .collect();
+        assert!(names.len() > 100);
+        names.retain(|n| block_of(n) == "other");
+        assert!(names.is_empty(), "{bus:?}: modules in no block: {names:?}");
+        // The core's blocks are the same on every bus; the front end is one block.
+        assert_eq!(block_of("tdm_stepper__exmc__core__div"), block_of("tdm_stepper__core__div"));
+        if bus != tdm_stepper::export::Bus::Exmc {
+            let front = format!("tdm_stepper__{}__master", bus.name());
+            assert!(block_of(&front).ends_with("front end"), "{front}: {}", block_of(&front));
+        }
+    }
 }
 
 /// 12345 → "12,345", as the README writes counts.
@@ -353,26 +357,28 @@ fn readme_quotes_the_committed_sweep() {
 }
 
 /// The Fmax wrapper connects every port of the core it wraps (yosys `hierarchy -check`
-/// on the wrapper and the export, with and without the machine I/O), and without it is
-/// the text earlier sweeps placed (so their cached runs and figures stay comparable).
+/// on the wrapper and the export, with and without the machine I/O, on every bus), and
+/// without them is the text earlier sweeps placed (so their cached runs and figures
+/// stay comparable).
 #[test]
 fn fmax_wrapper_connects_every_port_with_and_without_io() {
-    for io in [false, true] {
-        let dir = std::env::temp_dir().join(format!("tdm-fmax-wrapper-{}-{io}", std::process::id()));
+    use tdm_stepper::export::Bus;
+    for (io, bus) in [(false, Bus::Exmc), (true, Bus::Exmc), (false, Bus::Spi), (true, Bus::Wb), (false, Bus::Axil)] {
+        let dir = std::env::temp_dir().join(format!("tdm-fmax-wrapper-{}-{io}-{}", std::process::id(), bus.name()));
         std::fs::create_dir_all(&dir).unwrap();
-        let v = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: 3, io, ..Default::default() }).unwrap();
+        let v = tdm_stepper::export::verilog(&tdm_stepper::export::ExportOptions { axes: 3, io, bus, ..Default::default() }).unwrap();
         std::fs::write(dir.join("tdm_stepper.v"), v).unwrap();
-        std::fs::write(dir.join("fmax_top.v"), tdm_stepper::sweep::io_wrapper(3, io, false)).unwrap();
+        std::fs::write(dir.join("fmax_top.v"), tdm_stepper::sweep::io_wrapper(3, io, bus)).unwrap();
         let out = std::process::Command::new("yosys")
             .current_dir(&dir)
             .args(["-q", "-p", "read_verilog tdm_stepper.v fmax_top.v; hierarchy -check -top fmax_top; proc; opt_clean; check -assert"])
             .output()
             .expect("yosys is installed");
         std::fs::remove_dir_all(&dir).unwrap();
-        assert!(out.status.success(), "io {io}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(out.status.success(), "io {io}, {bus:?}: {}", String::from_utf8_lossy(&out.stderr));
     }
-    let plain = tdm_stepper::sweep::io_wrapper(2, false, false);
+    let plain = tdm_stepper::sweep::io_wrapper(2, false, Bus::Exmc);
     assert!(plain.contains("    .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));\n"), "{plain}");
     assert!(plain.contains("begin step_x <= ^step; dir_x"), "{plain}");
-    assert!(!plain.contains("estop_n") && tdm_stepper::sweep::io_wrapper(2, true, false).contains(".estop_n(pins[0])"));
+    assert!(!plain.contains("estop_n") && tdm_stepper::sweep::io_wrapper(2, true, Bus::Exmc).contains(".estop_n(pins[0])"));
 }

@@ -21,6 +21,10 @@
 //! | the non-TDM baseline: K one-axis cores | `baseline.rs` | as the core |
 //! | 2-FF bit synchroniser and 4-deep Gray-pointer async FIFO | `cdc.rs` | 2 edges / 2–3 edges |
 //! | EXMC/FSMC async SRAM slave, 16-bit | `exmc.rs` | write commits ≤ 4 bus clocks after NWE rises; read data ≤ 4 after NOE falls |
+//! | EXMC master of the other buses' front ends: one access at the minimum MCU timing | `exmc_master.rs` | `done` 4 (write) / 6 (read) bus clocks after the request |
+//! | SPI front end, modes 0 and 3 (`--bus spi`) | `spi_front.rs` | MISO 3 bus clocks after SCK rises |
+//! | Wishbone B4 classic front end, 32-bit (`--bus wb`) | `wb_front.rs` | ACK 5 (write) / 7 (read) bus clocks after STB |
+//! | AXI4-Lite front end, 32-bit (`--bus axil`) | `axil_front.rs` | BVALID 6 / RVALID 8 bus clocks after the handshake |
 //! | status handshake, core clock to bus clock, one axis per copy | `status_sync.rs` | ~3 + 3 cycles per axis |
 //! | push check: every command to the core, a push validated with the model's rules (bus clock) | `push_check.rs` | 4 cycles |
 //! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
@@ -78,6 +82,7 @@ pub fn u128_to_bits<const N: usize>(x: u128) -> rust_hdl::prelude::Bits<N> {
 
 pub mod axis_bank;
 pub mod axis_view;
+pub mod axil_front;
 pub mod baseline;
 pub mod bit_insert;
 pub mod block_ram;
@@ -91,6 +96,7 @@ pub mod enc_decoder;
 pub mod enc_extend;
 pub mod enc_regs;
 pub mod exmc;
+pub mod exmc_master;
 pub mod follow_err;
 pub mod input_filter;
 pub mod io_regs;
@@ -117,6 +123,7 @@ pub mod spi_front;
 pub mod setup_path;
 pub mod status_sync;
 pub mod step_gen;
+pub mod wb_front;
 pub mod stop_ramp;
 pub mod stop_regs;
 pub mod sync_start;

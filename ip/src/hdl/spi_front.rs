@@ -28,29 +28,24 @@
 //!   an error. FRAME_ERR in a frame's status byte is the previous frame's (one with
 //!   at least one SCK edge).
 //!
-//! **EXMC side.** A write holds NE and NWE low [`SPI_WRITE_LOW`] cycles; a read holds
-//! NE and NOE low [`SPI_READ_LOW`] cycles and takes `rdata` at the last of them; the
-//! strobes then stay high [`SPI_GAP`] cycles: the documented minimum timing of an MCU
-//! whose clock is the bus clock.
+//! **EXMC side.** An [`ExmcMaster`]: a write holds NE and NWE low [`SPI_WRITE_LOW`]
+//! cycles; a read holds NE and NOE low [`SPI_READ_LOW`] cycles and takes `rdata` at the
+//! last of them; the strobes then stay high [`SPI_GAP`] cycles: the documented minimum
+//! timing of an MCU whose clock is the bus clock.
 //!
-//! **Limits** (tests/hdl_spi.rs): SCK high and low each ≥ 2 bus clocks (SCK ≤
+//! **Limits** (tests/hdl_bus_fronts.rs): SCK high and low each ≥ 2 bus clocks (SCK ≤
 //! `bus_clk`/4); CS low ≥ 1 bus clock before the first SCK edge; CS high ≥
 //! [`SPI_CS_HIGH_MIN`] bus clocks between frames. MISO changes 3 bus clocks after
 //! SCK rises (2 of synchroniser, 1 of register).
 
 use super::cdc::BitSync;
+use super::exmc_master::ExmcMaster;
 use crate::regs::ADDR_BITS;
 use rust_hdl::prelude::*;
 
-/// Bus clocks NE and NWE stay low for a write.
-pub const SPI_WRITE_LOW: u64 = 3;
-/// Bus clocks NE and NOE stay low for a read; `rdata` is taken at the last.
-pub const SPI_READ_LOW: u64 = 5;
-/// Bus clocks the strobes stay high after an access.
-pub const SPI_GAP: u64 = 2;
-// The EXMC side's counters hold these minus one as literals (rust-hdl writes a
-// constant's name into the Verilog).
-const _: () = assert!(SPI_WRITE_LOW == 3 && SPI_READ_LOW == 5 && SPI_GAP == 2);
+/// The EXMC side's timing: bus clocks NE and NWE stay low for a write, NE and NOE for
+/// a read, and the strobes stay high after an access.
+pub use super::exmc_master::{GAP as SPI_GAP, READ_LOW as SPI_READ_LOW, WRITE_LOW as SPI_WRITE_LOW};
 /// Fewest bus clocks CS must stay high between frames, and the status byte's
 /// pattern (bits 5..0), from the register table.
 pub use crate::regs::{SPI_CS_HIGH_MIN, SPI_STATUS_PATTERN as STATUS_PATTERN};
@@ -98,15 +93,7 @@ pub struct SpiFront {
     err: DFF<Bit>,
     last_err: DFF<Bit>,
     in_frame: DFF<Bit>,
-    /// EXMC side: 0 idle, 1 write, 2 read, 3 gap; the strobes kept active high.
-    e_state: DFF<Bits<2>>,
-    e_cnt: DFF<Bits<3>>,
-    ne_a: DFF<Bit>,
-    noe_a: DFF<Bit>,
-    nwe_a: DFF<Bit>,
-    a_q: DFF<Bits<ADDR_BITS>>,
-    w_q: DFF<Bits<16>>,
-    r_q: DFF<Bits<16>>,
+    master: ExmcMaster,
     c_status: Constant<Bits<16>>,
     rise: Signal<Local, Bit>,
     word: Signal<Local, Bits<16>>,
@@ -156,14 +143,7 @@ impl Default for SpiFront {
             err: Default::default(),
             last_err: Default::default(),
             in_frame: Default::default(),
-            e_state: Default::default(),
-            e_cnt: Default::default(),
-            ne_a: Default::default(),
-            noe_a: Default::default(),
-            nwe_a: Default::default(),
-            a_q: Default::default(),
-            w_q: Default::default(),
-            r_q: Default::default(),
+            master: Default::default(),
             c_status: Constant::new(((STATUS_PATTERN as u64) << 8).into()),
             rise: Default::default(),
             word: Default::default(),
@@ -184,7 +164,7 @@ impl Logic for SpiFront {
     fn update(&mut self) {
         dff_setup!(
             self, clock, cs1, cs2, sk1, sk2, sk3, mo1, mo2, sin, sout, cnt, phase, rd_mode, inc, left, waddr, err,
-            last_err, in_frame, e_state, e_cnt, ne_a, noe_a, nwe_a, a_q, w_q, r_q
+            last_err, in_frame
         );
         self.rst.clock.next = self.clock.val();
         self.rst.sig_in.next = self.reset.val();
@@ -197,11 +177,14 @@ impl Logic for SpiFront {
         self.mo2.d.next = self.mo1.q.val();
         self.miso.next = self.sout.q.val().get_bit(15);
         self.miso_oe.next = !self.cs_n.val();
-        self.ne.next = !self.ne_a.q.val();
-        self.noe.next = !self.noe_a.q.val();
-        self.nwe.next = !self.nwe_a.q.val();
-        self.addr.next = self.a_q.q.val();
-        self.wdata.next = self.w_q.q.val();
+        self.master.clock.next = self.clock.val();
+        self.master.reset.next = self.rst.sig_out.val();
+        self.ne.next = self.master.ne.val();
+        self.noe.next = self.master.noe.val();
+        self.nwe.next = self.master.nwe.val();
+        self.addr.next = self.master.addr.val();
+        self.wdata.next = self.master.wdata.val();
+        self.master.rdata.next = self.rdata.val();
 
         self.rise.next = self.sk2.q.val() & !self.sk3.q.val() & !self.cs2.q.val();
         self.word.next = (self.sin.q.val() << 1) | bit_cast::<16, 1>(self.mo2.q.val().into());
@@ -250,7 +233,7 @@ impl Logic for SpiFront {
                         if self.left.q.val() == 0 {
                             self.phase.d.next = 3.into();
                         } else {
-                            self.sout.d.next = self.r_q.q.val();
+                            self.sout.d.next = self.master.rdata_q.val();
                             self.left.d.next = self.left.q.val() - 1;
                             self.phase.d.next = 2.into();
                             if self.left.q.val() != 1 {
@@ -288,40 +271,13 @@ impl Logic for SpiFront {
             self.sout.d.next = self.st_hi.val();
         }
 
-        // ---- the EXMC side ----------------------------------------------------
-        if self.req_wr.val() | self.req_rd.val() {
-            if self.e_state.q.val() != 0 {
-                self.err.d.next = true;
-            } else {
-                self.a_q.d.next = self.req_addr.val();
-                self.ne_a.d.next = true;
-                if self.req_wr.val() {
-                    self.w_q.d.next = self.word.val();
-                    self.nwe_a.d.next = true;
-                    self.e_state.d.next = 1.into();
-                    self.e_cnt.d.next = 2.into();
-                } else {
-                    self.noe_a.d.next = true;
-                    self.e_state.d.next = 2.into();
-                    self.e_cnt.d.next = 4.into();
-                }
-            }
-        } else if self.e_state.q.val() != 0 {
-            self.e_cnt.d.next = self.e_cnt.q.val() - 1;
-            if self.e_cnt.q.val() == 0 {
-                if self.e_state.q.val() == 3 {
-                    self.e_state.d.next = 0.into();
-                } else {
-                    if self.e_state.q.val() == 2 {
-                        self.r_q.d.next = self.rdata.val();
-                    }
-                    self.ne_a.d.next = false;
-                    self.noe_a.d.next = false;
-                    self.nwe_a.d.next = false;
-                    self.e_state.d.next = 3.into();
-                    self.e_cnt.d.next = 1.into();
-                }
-            }
+        // ---- the EXMC side: a word while the previous access is on it is refused.
+        self.master.req_wr.next = self.req_wr.val();
+        self.master.req_rd.next = self.req_rd.val();
+        self.master.req_addr.next = self.req_addr.val();
+        self.master.req_wdata.next = self.word.val();
+        if (self.req_wr.val() | self.req_rd.val()) & self.master.busy.val() {
+            self.err.d.next = true;
         }
 
         if self.rst.sig_out.val() {
@@ -330,10 +286,6 @@ impl Logic for SpiFront {
             self.in_frame.d.next = false;
             self.err.d.next = false;
             self.last_err.d.next = false;
-            self.e_state.d.next = 0.into();
-            self.ne_a.d.next = false;
-            self.noe_a.d.next = false;
-            self.nwe_a.d.next = false;
         }
     }
 }

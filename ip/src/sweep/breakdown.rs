@@ -10,6 +10,15 @@ pub fn block_of(module: &str) -> &'static str {
         Some((_, r)) => r,
         None => return "top level (IO, glue)",
     };
+    // A core on another bus is `<top>__exmc` inside the top, beside its front end.
+    const FRONTS: [(&str, &str); 3] = [("spi", "SPI front end"), ("wb", "Wishbone front end"), ("axil", "AXI4-Lite front end")];
+    if let Some(f) = FRONTS.iter().find(|(p, _)| rest == *p || rest.starts_with(&format!("{p}$"))) {
+        return f.1;
+    }
+    let rest = match rest.strip_prefix("exmc$") {
+        Some(inner) if BLOCKS.iter().any(|(p, _)| inner.starts_with(p)) => inner,
+        _ => rest,
+    };
     const BLOCKS: [(&str, &str); 19] = [
         ("core$ctx$", "per-axis contexts (current and next segment)"),
         ("core$ctx_ram", "per-axis contexts (current and next segment)"),
@@ -100,25 +109,31 @@ pub fn breakdown_blocks(json: &str, top: &str, family: Family) -> Result<Vec<Blo
 /// The modules [`breakdown_point`] keeps as blocks; the rest (rust-hdl's one-register
 /// modules, small helpers) is flattened into them, so that a block is optimised as it
 /// is in the flattened design (a register's hold multiplexer becomes its clock enable).
-pub fn breakdown_blocks_kept(axes: usize) -> Vec<String> {
+pub fn breakdown_blocks_kept(axes: usize, bus: export::Bus) -> Vec<String> {
+    // On another bus the core is `tdm_stepper__exmc` and the front end is kept whole.
+    let (core, front) = match bus {
+        export::Bus::Exmc => ("tdm_stepper".to_string(), None),
+        b => ("tdm_stepper__exmc".to_string(), Some(format!("tdm_stepper__{}", b.name()))),
+    };
     let mut m: Vec<String> = ["core", "core$div", "core$root", "core$mul", "core$mulw", "core$ctx_ram", "core$queues", "core$bank", "regs", "status", "cmd_fifo", "exmc"]
         .iter()
-        .map(|b| format!("tdm_stepper__{}", b.replace('$', "__")))
+        .map(|b| format!("{core}__{}", b.replace('$', "__")))
         .collect();
     for a in 0..axes {
         for b in ["ctx", "bank__axes"] {
-            m.push(format!("tdm_stepper__core__{b}__{a}"));
+            m.push(format!("{core}__core__{b}__{a}"));
         }
     }
+    m.extend(front);
     m
 }
 
 /// The yosys script of a breakdown: `synth_xilinx -flatten` with the blocks of
 /// [`breakdown_blocks_kept`] marked `keep_hierarchy`.
-pub fn breakdown_script(axes: usize) -> String {
+pub fn breakdown_script(axes: usize, bus: export::Bus) -> String {
     format!(
         "read_verilog tdm_stepper.v; hierarchy -top tdm_stepper; setattr -mod -set keep_hierarchy 1 {}; synth_xilinx -flatten -top tdm_stepper; tee -q -o stat.json stat -json",
-        breakdown_blocks_kept(axes).join(" ")
+        breakdown_blocks_kept(axes, bus).join(" ")
     )
 }
 
@@ -129,7 +144,7 @@ pub(super) fn breakdown_point(axes: usize, opts: &SweepOptions) -> Breakdown {
     let mut reused = false;
     let result = (|| -> Result<Vec<Block>, String> {
         let v = export::verilog(&ExportOptions { axes, clock_hz: opts.clock_hz, io: opts.io, io_omit: opts.io_omit, scurve: opts.scurve, encoder: opts.encoder, bus: opts.bus, ..Default::default() })?;
-        breakdown_blocks(&yosys_stat(&dir, &v, &breakdown_script(axes), opts, &mut reused)?, "tdm_stepper", Family::Xc7)
+        breakdown_blocks(&yosys_stat(&dir, &v, &breakdown_script(axes, opts.bus), opts, &mut reused)?, "tdm_stepper", Family::Xc7)
     })();
     let seconds = t0.elapsed().as_secs_f64();
     match result {

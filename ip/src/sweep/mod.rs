@@ -114,10 +114,9 @@ impl SweepOptions {
         };
         let io = if self.scurve { io + "_scurve" } else { io };
         let io = if self.encoder { io + "_enc" } else { io };
-        if self.bus == export::Bus::Spi {
-            io + "_spi"
-        } else {
-            io
+        match self.bus {
+            export::Bus::Exmc => io,
+            b => format!("{io}_{}", b.name()),
         }
     }
 }

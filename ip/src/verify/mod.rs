@@ -16,3 +16,4 @@ pub mod system;
 pub mod bus;
 pub mod encoder;
 pub mod spi;
+pub mod mmio;

@@ -1,4 +1,5 @@
-/* The C driver and planner against the exported IP, through exmc_shim.cpp.
+/* The C driver and planner against the exported IP, through exmc_shim.cpp (on the
+ * EXMC pins, or with SHIM_SPI on the SPI pins: shim_open() picks the transport).
  *
  * argv[1] is a moves file, one move per line:
  *   rates <axis> <steps> <speed> <accel> <decel>   (tdm_plan_rates)
@@ -15,8 +16,8 @@
 unsigned long shim_accesses(void);
 unsigned long long shim_clk_cycles(void);
 void shim_idle_ns(unsigned long ns);
-void shim_write16(void *ctx, uint32_t byte_offset, uint16_t value);
-uint16_t shim_read16(void *ctx, uint32_t byte_offset);
+void shim_open(tdm_dev *dev);
+int shim_spi_glitch(void);
 int driver_check_main(int argc, char **argv);
 
 #define MAX_SEGS 400
@@ -58,7 +59,7 @@ int driver_check_main(int argc, char **argv)
         fprintf(stderr, "usage: %s MOVES\n", argv[0]);
         return 2;
     }
-    tdm_open_hooks(&dev, shim_read16, shim_write16, 0);
+    shim_open(&dev);
     rc = tdm_identify(&dev);
     printf("IDENTIFY %d %u %lu %u %u %u %lu\n", rc, dev.axes, (unsigned long)dev.clock_hz, dev.queue_depth,
            dev.fifo_depth, dev.min_period, (unsigned long)dev.max_rate);
@@ -203,6 +204,15 @@ int driver_check_main(int argc, char **argv)
         printf("IRQ %u %u %u %u\n", ev.done, ev.queue_low, ev.error, ev.start_failed);
         ev = tdm_irq_service(&dev);
         printf("IRQ %u %u %u %u\n", ev.done, ev.queue_low, ev.error, ev.start_failed);
+    }
+    /* No frame was refused; then a frame cut mid-word is (SPI only): the register
+     * keeps its value and the next frame's status byte counts one bus error. */
+    printf("BUSERR %lu\n", dev.bus_errors);
+    {
+        uint16_t before = tdm_read(&dev, TDM_QLOW_LEVEL);
+        int glitched = shim_spi_glitch();
+        uint16_t after = tdm_read(&dev, TDM_QLOW_LEVEL);
+        printf("GLITCH %d %u %u %lu\n", glitched, before, after, dev.bus_errors);
     }
     printf("END %llu\n", shim_clk_cycles());
     return 0;

@@ -14,10 +14,17 @@
 // released, every other input inactive, and a home switch per axis that the C program
 // places with shim_home_switch(): active while the axis's position (counted here from
 // STEP and DIR) is at or beyond `at` in direction `dir`.
+// With SHIM_SPI (an `--bus spi` export) the shim is an SPI master on cs_n/sck/mosi/
+// miso instead (the board_spi_transfer of the README's SPI example, which opens the
+// core), at the fastest documented timing (docs/registers.md, "SPI"): SCK =
+// bus_clk/4 (2 T_bus low, 2 T_bus high), CS low 1 T_bus before the first edge and
+// after the last, CS high 4 T_bus between frames; mode SHIM_SPI_MODE (0 or 3). MISO
+// is sampled just before each rising SCK edge, as a mode 0/3 master does.
 #include "Vtdm_stepper.h"
 #include "verilated.h"
 #include <cstdint>
 #include <cstdio>
+#include "tdm_driver.h"
 
 #ifndef CLK_HALF_PS
 #define CLK_HALF_PS 10000ull
@@ -171,6 +178,7 @@ void shim_home_switch(unsigned axis, int32_t at, int dir)
 }
 #endif
 
+#ifndef SHIM_SPI
 // ADDSET: NE low with the address out, both strobes high.
 static void address_phase(uint32_t byte_offset)
 {
@@ -214,6 +222,67 @@ uint16_t shim_read16(void *ctx, uint32_t byte_offset)
     return v;
 }
 
+void shim_open(tdm_dev *dev) { tdm_open_hooks(dev, shim_read16, shim_write16, 0); }
+
+// No SPI pins: nothing to glitch.
+int shim_spi_glitch(void) { return 0; }
+#else
+#ifndef SHIM_SPI_MODE
+#define SHIM_SPI_MODE 0
+#endif
+static const uint64_t T_BUS = 2 * BUS_HALF_PS;
+static const uint8_t SCK_IDLE = SHIM_SPI_MODE == 3 ? 1 : 0;
+
+static void pins(int cs_n, int sck, int mosi)
+{
+    g_top->cs_n = cs_n;
+    g_top->sck = sck;
+    g_top->mosi = mosi;
+    g_top->eval();
+}
+
+// One frame of `bits` bits (MSB first from tx), MISO into rx.
+static void spi_bits(const uint8_t *tx, uint8_t *rx, unsigned bits)
+{
+    g_accesses++;
+    pins(0, SCK_IDLE, 0);
+    advance_to(g_now + T_BUS);
+    for (unsigned i = 0; i < bits; i++) {
+        int b = (tx[i / 8] >> (7 - i % 8)) & 1;
+        pins(0, 0, b);
+        advance_to(g_now + 2 * T_BUS);
+        int m = g_top->miso_oe ? (g_top->miso & 1) : 1;
+        if (rx) {
+            if (i % 8 == 0) rx[i / 8] = 0;
+            rx[i / 8] |= (uint8_t)(m << (7 - i % 8));
+        }
+        pins(0, 1, b);
+        advance_to(g_now + 2 * T_BUS);
+    }
+    if (!SCK_IDLE && bits) {
+        pins(0, 0, 0);
+        advance_to(g_now + T_BUS);
+    }
+    pins(1, SCK_IDLE, 0);
+    advance_to(g_now + 4 * T_BUS);
+}
+
+// The README's SPI example (linked in): its board hook is this shim's frame.
+int open_core_on_spi(tdm_dev *dev);
+void board_spi_transfer(const uint8_t *tx, uint8_t *rx, unsigned len) { spi_bits(tx, rx, 8 * len); }
+
+void shim_open(tdm_dev *dev) { printf("SPIOPEN %d\n", open_core_on_spi(dev)); }
+
+// A frame cut mid-word: a write of 0x0007 to QLOW_LEVEL with CS raised after 12 of
+// the word's 16 bits. The core must refuse it (FRAME_ERR in the next status byte).
+int shim_spi_glitch(void)
+{
+    uint8_t tx[4] = {TDM_SPI_CMD_WRITE, (uint8_t)(TDM_QLOW_LEVEL / 2u), 0x00, 0x07};
+    spi_bits(tx, 0, 16 + 12);
+    return 1;
+}
+#endif
+
 int driver_check_main(int argc, char **argv);
 
 }  // extern "C"
@@ -225,11 +294,17 @@ int main(int argc, char **argv)
     g_top = new Vtdm_stepper{g_ctx};
     g_top->clk = 1;
     g_top->bus_clk = 1;
+#ifdef SHIM_SPI
+    g_top->cs_n = 1;
+    g_top->sck = SCK_IDLE;
+    g_top->mosi = 0;
+#else
     g_top->ne = 1;
     g_top->noe = 1;
     g_top->nwe = 1;
     g_top->addr = 0;
     g_top->data_in = 0;
+#endif
 #ifdef SHIM_IO
     g_top->estop_n = 1;
 #endif

@@ -1,6 +1,8 @@
 /* tdm_identify() against a register bank in memory (no core): the bank answers every
  * ID register with this header's value and ID_OPTIONS with argv[1] (hex); the program
- * prints tdm_identify's code and the options it read: "IDENTIFY <rc> <options>". */
+ * prints tdm_identify's code and the options it read: "IDENTIFY <rc> <options>"; then
+ * the same through tdm_open_mmio32() on a 32-bit image of the bank whose bits 31..16
+ * hold junk (a Wishbone or AXI4-Lite core's region): "IDENTIFY32 <rc> <options>". */
 #include <stdio.h>
 #include <stdlib.h>
 #include "tdm_driver.h"
@@ -46,5 +48,15 @@ int main(int argc, char **argv)
     tdm_open_hooks(&dev, bank_read, bank_write, 0);
     rc = tdm_identify(&dev);
     printf("IDENTIFY %d %x\n", rc, (unsigned)dev.options);
+    {
+        static uint32_t bank32[512];
+        unsigned w;
+        for (w = 0; w < 512u; w++) {
+            bank32[w] = 0xA5A50000ul | bank_read(0, 2u * w);
+        }
+        tdm_open_mmio32(&dev, bank32);
+        rc = tdm_identify(&dev);
+        printf("IDENTIFY32 %d %x\n", rc, (unsigned)dev.options);
+    }
     return 0;
 }
