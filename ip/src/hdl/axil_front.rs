@@ -1,7 +1,7 @@
 //! AXI4-Lite front end (`export --bus axil`): an AXI4-Lite slave, 32-bit data, in
 //! `bus_clk` (the interconnect's clock), that makes each access on the EXMC slave's
 //! pins through an [`ExmcMaster`], so the register file and its contract are the same
-//! as on every other bus. Its protocol model is [`crate::verify::axil`].
+//! as on every other bus. Its protocol model is [`crate::verify::mmio::axil_expect`].
 //!
 //! **Addresses.** Byte addresses, 11 bits: register word w is at byte 4·w, in bits
 //! 15..0 of the data word (bits 31..16 read 0 and are ignored on writes); address bits

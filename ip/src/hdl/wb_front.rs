@@ -1,7 +1,7 @@
 //! Wishbone front end (`export --bus wb`): a Wishbone B4 **classic** slave, 32-bit
 //! data port, in `bus_clk` (the SoC's clock), that makes each access on the EXMC
 //! slave's pins through an [`ExmcMaster`], so the register file and its contract are
-//! the same as on every other bus. Its protocol model is [`crate::verify::wb`].
+//! the same as on every other bus. Its protocol model is [`crate::verify::mmio::wb_expect`].
 //!
 //! **Ports.** `wb_adr` is the register's word address (9 bits: the SoC decodes its
 //! region and passes the low bits of its word address); each 16-bit register sits in
