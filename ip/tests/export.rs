@@ -261,7 +261,7 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         (2, "tdm", "none", "trapezoid+wb"),
         (1, "tdm", "limits,home", "trapezoid+enc+wb"),
         (2, "tdm", "none", "trapezoid+axil"),
-        (16, "tdm", "all", "trapezoid,scurve+axil"),
+        (2, "tdm", "all", "trapezoid,scurve+axil"),
     ];
     for (k, arch, io, profiles) in cases {
         let (profiles, bus) = match profiles.rsplit_once('+') {
