@@ -370,3 +370,337 @@ fn poly_registers_read_back_and_the_arm_is_taken_by_one_push_three_ways() {
         &want,
     );
 }
+
+/// A register of a register-file block, as the register table says it behaves: its
+/// reset value, and a write that sets its Rw fields and clears its W1C bits written 1.
+struct TableReg {
+    addr: u16,
+    reset: u16,
+    value: u16,
+    rw: u16,
+    w1c: u16,
+}
+
+impl TableReg {
+    fn new(name: &str, p: &CoreParams) -> TableReg {
+        let r = regs::register(name);
+        let (mut rw, mut w1c) = (0u16, 0u16);
+        for f in &r.fields {
+            let m = (((1u32 << f.width) - 1) << f.lsb) as u16;
+            match f.access {
+                regs::Access::Rw => rw |= m,
+                regs::Access::W1c => w1c |= m,
+                a => panic!("{name}: a {} field in a read/write block", a.name()),
+            }
+        }
+        let reset = r.reset_value(p);
+        TableReg { addr: r.address(0), reset, value: reset, rw, w1c }
+    }
+    fn write(&self, data: u16) -> u16 {
+        (self.value & !self.rw & !(self.w1c & data)) | (data & self.rw)
+    }
+}
+
+fn params() -> CoreParams {
+    CoreParams { axes: K, clock_hz: 50_000_000, queue_depth: 16, fifo_depth: 4, t_calc: 22, min_period: 40, io: false, io_omit: 0, scurve: false, encoder: false }
+}
+
+/// IrqRegs against the register table on random traffic, three ways: IRQ_DONE,
+/// IRQ_QLOW and IRQ_ERROR set by events and cleared by writing 1 (an event in the
+/// cycle of its clearing write wins), cleared while ENABLE is 0; the masks and
+/// QLOW_LEVEL read back as written; `irq` the registered OR of the flags under their
+/// masks; resets; writes and reads of other addresses (no effect, 0).
+#[test]
+fn irq_registers_follow_the_register_table_three_ways() {
+    use tdm_stepper::hdl::irq_regs::IrqRegs;
+    let p = params();
+    let names = ["IRQ_DONE", "IRQ_QLOW", "IRQ_ERROR", "IRQ_MASK_DONE", "IRQ_MASK_QLOW", "IRQ_MASK_ERROR", "QLOW_LEVEL"];
+    let mut regs_: Vec<TableReg> = names.iter().map(|n| TableReg::new(n, &p)).collect();
+    assert!(regs_[..3].iter().all(|r| r.w1c == 0xFFFF) && regs_[3..].iter().all(|r| r.w1c == 0), "the table's access types changed");
+    let ours: Vec<u16> = regs_.iter().map(|r| r.addr).collect();
+    let others = [regs::addr("CTRL"), regs::addr("GSTATUS"), regs::addr("STEP_HIGH"), a("STATUS", 1), regs::addr("ID_MAGIC")];
+    let mut rng = Rng(0x5eed_1b0);
+    // Rows: reset, enable, wr, wr_addr, wr_data, ev_done, ev_qlow, ev_err, rd_addr.
+    let mut rows: Vec<Vec<u128>> = vec![vec![1, 1, 0, 0, 0, 0, 0, 0, 0]; 2];
+    for _ in 0..4000 {
+        let pick = |rng: &mut Rng| if rng.next() % 5 == 0 { others[(rng.next() % others.len() as u64) as usize] } else { ours[(rng.next() % ours.len() as u64) as usize] };
+        let ev = |rng: &mut Rng| if rng.next() % 6 == 0 { 1u64 << (rng.next() % 16) } else { 0 };
+        let wr = rng.next() % 2;
+        let wa = pick(&mut rng);
+        let data = match rng.next() % 3 {
+            0 => 0xFFFF,
+            1 => 1 << (rng.next() % 16),
+            _ => rng.next() & 0xFFFF,
+        };
+        let (e0, e1, e2) = (ev(&mut rng), ev(&mut rng), ev(&mut rng));
+        let ra = pick(&mut rng);
+        let enable = (rng.next() % 40 != 0) as u64;
+        let reset = (rng.next() % 700 == 0) as u64;
+        rows.push([reset, enable, wr, wa as u64, data, e0, e1, e2, ra as u64].map(|x| x as u128).to_vec());
+    }
+    let mut irq_q = false;
+    let mut want = Vec::new();
+    let (mut raised, mut cleared_by_write) = (0, 0);
+    for (k, r) in rows.iter().enumerate() {
+        let (reset, enable, wr, wa, data, ra) = (r[0] == 1, r[1] == 1, r[2] == 1, r[3] as u16, r[4] as u16, r[8] as u16);
+        let rd = regs_.iter().find(|x| x.addr == ra).map_or(0, |x| x.value);
+        want.push(if k < 2 { vec![None; 3] } else { vec![Some(rd as u128), Some(irq_q as u128), Some(regs_[6].value as u128)] });
+        let pending = (0..3).any(|i| regs_[i].value & regs_[i + 3].value != 0);
+        let mut next: Vec<u16> = regs_.iter().map(|x| x.value).collect();
+        if wr {
+            if let Some(i) = ours.iter().position(|&x| x == wa) {
+                next[i] = regs_[i].write(data);
+                cleared_by_write += (i < 3 && regs_[i].value & data != 0) as usize;
+            }
+        }
+        for i in 0..3 {
+            next[i] |= r[5 + i] as u16;
+            if !enable {
+                next[i] = 0;
+            }
+        }
+        let next_irq = pending && !reset;
+        raised += (!irq_q && next_irq) as usize;
+        irq_q = next_irq;
+        for (x, v) in regs_.iter_mut().zip(next) {
+            x.value = if reset { x.reset } else { v };
+        }
+    }
+    assert!(raised > 30 && cleared_by_write > 100, "the traffic raises irq ({raised}) and clears flags ({cleared_by_write})");
+    let make = || {
+        let mut u = IrqRegs::default();
+        u.reset.connect();
+        u.enable.connect();
+        u.wr.connect();
+        u.wr_addr.connect();
+        u.wr_data.connect();
+        u.ev_done.connect();
+        u.ev_qlow.connect();
+        u.ev_err.connect();
+        u.rd_addr.connect();
+        u.connect_all();
+        u
+    };
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("enable", 1),
+            Port::new("wr", 1),
+            Port::new("wr_addr", ADDR_BITS),
+            Port::new("wr_data", 16),
+            Port::new("ev_done", 16),
+            Port::new("ev_qlow", 16),
+            Port::new("ev_err", 16),
+            Port::new("rd_addr", ADDR_BITS),
+        ],
+        outputs: vec![Port::new("rd_data", 16), Port::new("irq", 1), Port::new("qlow_level", 5)],
+    };
+    three_ways(
+        "irq_regs",
+        make,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.enable.next = r[1] == 1;
+            u.wr.next = r[2] == 1;
+            u.wr_addr.next = (r[3] as u64).into();
+            u.wr_data.next = (r[4] as u64).into();
+            u.ev_done.next = (r[5] as u64).into();
+            u.ev_qlow.next = (r[6] as u64).into();
+            u.ev_err.next = (r[7] as u64).into();
+            u.rd_addr.next = (r[8] as u64).into();
+        },
+        |u| vec![u.rd_data.val().to_u64() as u128, u.irq.val() as u128, u.qlow_level.val().to_u64() as u128],
+        &spec,
+        &rows,
+        &want,
+    );
+}
+
+/// TimingRegs against the register table and the model's timing rule, three ways:
+/// STEP_HIGH, STEP_LOW, DIR_SETUP and DIR_HOLD read back as written; a write while
+/// `locked` or of 0 is refused (`refuse`, value kept); `high_min`/`low_min` follow a
+/// write two cycles on and `timing_ok` (`PulseTiming::check` with the minimum period)
+/// three; resets to 1; other addresses have no effect and read 0.
+#[test]
+fn timing_registers_follow_the_register_table_three_ways() {
+    use tdm_stepper::hdl::timing_regs::TimingRegs;
+    use tdm_stepper::model::pulse::PulseTiming;
+    let p = params();
+    let limits = Limits { min_period_ticks: p.min_period };
+    let names = ["STEP_HIGH", "STEP_LOW", "DIR_SETUP", "DIR_HOLD"];
+    let mut regs_: Vec<TableReg> = names.iter().map(|n| TableReg::new(n, &p)).collect();
+    let ours: Vec<u16> = regs_.iter().map(|r| r.addr).collect();
+    let others = [regs::addr("CTRL"), regs::addr("QLOW_LEVEL"), regs::addr("ID_MIN_PERIOD"), a("T_LO", 0)];
+    let mut rng = Rng(0x5eed_7133);
+    // Rows: reset, wr, wr_addr, wr_data, locked, rd_addr.
+    let mut rows: Vec<Vec<u128>> = vec![vec![1, 0, 0, 0, 0, 0]; 3];
+    for _ in 0..4000 {
+        let pick = |rng: &mut Rng| if rng.next() % 5 == 0 { others[(rng.next() % others.len() as u64) as usize] } else { ours[(rng.next() % ours.len() as u64) as usize] };
+        let wr = (rng.next() % 3 == 0) as u64;
+        let wa = pick(&mut rng);
+        let data = match rng.next() % 8 {
+            0 => 0,
+            1 => 0xFFFF,
+            _ => 1 + rng.next() % 30,
+        };
+        let locked = (rng.next() % 6 == 0) as u64;
+        let ra = pick(&mut rng);
+        let reset = (rng.next() % 900 == 0) as u64;
+        rows.push([reset, wr, wa as u64, data, locked, ra as u64].map(|x| x as u128).to_vec());
+    }
+    let timing = |t: &[u16]| PulseTiming { step_high: t[0], step_low: t[1], dir_setup: t[2], dir_hold: t[3] };
+    let mut t_prev = timing(&[1, 1, 1, 1]); // the values high_min and low_min were taken from
+    let (mut hmin, mut lmin, mut ok) = (0u32, 0u32, false);
+    let mut want = Vec::new();
+    let (mut refusals, mut oks, mut not_oks) = (0, 0, 0);
+    for (k, r) in rows.iter().enumerate() {
+        let (reset, wr, wa, data, locked, ra) = (r[0] == 1, r[1] == 1, r[2] as u16, r[3] as u16, r[4] == 1, r[5] as u16);
+        let rd = regs_.iter().find(|x| x.addr == ra).map_or(0, |x| x.value);
+        let ours_w = wr && ours.contains(&wa);
+        let refuse = ours_w && (locked || data == 0);
+        refusals += refuse as usize;
+        // The registers are defined after the first reset edge, high_min/low_min a
+        // cycle later, timing_ok two (they have no reset).
+        want.push(vec![
+            (k >= 1).then_some(rd as u128),
+            Some(refuse as u128),
+            (k >= 2).then_some(hmin as u128),
+            (k >= 2).then_some(lmin as u128),
+            (k >= 3).then_some(ok as u128),
+        ]);
+        if k >= 3 {
+            oks += ok as usize;
+            not_oks += !ok as usize;
+        }
+        let now: Vec<u16> = regs_.iter().map(|x| x.value).collect();
+        ok = t_prev.check(&limits).is_ok();
+        t_prev = timing(&now);
+        hmin = t_prev.high_min();
+        lmin = t_prev.low_min();
+        if ours_w && !refuse {
+            let i = ours.iter().position(|&x| x == wa).unwrap();
+            regs_[i].value = regs_[i].write(data);
+        }
+        if reset {
+            regs_.iter_mut().for_each(|x| x.value = x.reset);
+        }
+    }
+    assert!(refusals > 100 && oks > 500 && not_oks > 500, "refusals {refusals}, timing ok {oks}, not ok {not_oks}");
+    let make = || {
+        let mut u = TimingRegs::new(p.min_period);
+        u.reset.connect();
+        u.wr.connect();
+        u.wr_addr.connect();
+        u.wr_data.connect();
+        u.locked.connect();
+        u.rd_addr.connect();
+        u.connect_all();
+        u
+    };
+    let spec = TbSpec {
+        clock: "clock".into(),
+        inputs: vec![
+            Port::new("reset", 1),
+            Port::new("wr", 1),
+            Port::new("wr_addr", ADDR_BITS),
+            Port::new("wr_data", 16),
+            Port::new("locked", 1),
+            Port::new("rd_addr", ADDR_BITS),
+        ],
+        outputs: vec![
+            Port::new("rd_data", 16),
+            Port::new("refuse", 1),
+            Port::new("high_min", 16),
+            Port::new("low_min", 16),
+            Port::new("timing_ok", 1),
+        ],
+    };
+    three_ways(
+        "timing_regs",
+        make,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| {
+            u.reset.next = r[0] == 1;
+            u.wr.next = r[1] == 1;
+            u.wr_addr.next = (r[2] as u64).into();
+            u.wr_data.next = (r[3] as u64).into();
+            u.locked.next = r[4] == 1;
+            u.rd_addr.next = (r[5] as u64).into();
+        },
+        |u| {
+            vec![
+                u.rd_data.val().to_u64() as u128,
+                u.refuse.val() as u128,
+                u.high_min.val().to_u64() as u128,
+                u.low_min.val().to_u64() as u128,
+                u.timing_ok.val() as u128,
+            ]
+        },
+        &spec,
+        &rows,
+        &want,
+    );
+}
+
+/// IdRegs in a clocked harness (the testbenches clock their unit): the block itself is
+/// combinational.
+#[derive(LogicBlock)]
+struct IdHarness {
+    clock: Signal<In, Clock>,
+    rd_addr: Signal<In, Bits<ADDR_BITS>>,
+    rd_data: Signal<Out, Bits<16>>,
+    ids: tdm_stepper::hdl::id_regs::IdRegs,
+    q: DFF<Bits<16>>,
+}
+
+impl Logic for IdHarness {
+    #[hdl_gen]
+    fn update(&mut self) {
+        dff_setup!(self, clock, q);
+        self.ids.rd_addr.next = self.rd_addr.val();
+        self.q.d.next = self.ids.rd_data.val();
+        self.rd_data.next = self.q.q.val();
+    }
+}
+
+/// IdRegs, three ways: every one of the 512 word addresses reads the register table's
+/// value for an export with every option (K = 5, a 48 MHz clock, M = 97), and 0 where
+/// the table has no identity register.
+#[test]
+fn identity_registers_read_the_register_table_three_ways() {
+    use tdm_stepper::hdl::id_regs::{IdRegs, ID_REGISTERS};
+    let p = CoreParams { axes: 5, clock_hz: 48_000_000, queue_depth: 8, fifo_depth: 4, t_calc: 31, min_period: 97, io: true, io_omit: 0, scurve: true, encoder: true };
+    let ids: Vec<_> = regs::table_for(&p).into_iter().filter(|r| r.name.starts_with("ID_")).collect();
+    assert_eq!(ids.iter().map(|r| r.name).collect::<Vec<_>>(), ID_REGISTERS, "IdRegs answers every ID_ register of the table");
+    let rows: Vec<Vec<u128>> = (0..=512u128).map(|a| vec![a % 512]).collect();
+    // The harness registers the read: row k shows address k − 1.
+    let want: Vec<Vec<Option<u128>>> = (0..rows.len())
+        .map(|k| {
+            if k == 0 {
+                return vec![None];
+            }
+            let a = (k - 1) as u16;
+            vec![Some(ids.iter().find(|r| r.address(0) == a).map_or(0, |r| r.reset_value(&p)) as u128)]
+        })
+        .collect();
+    assert!(want.iter().flatten().flatten().filter(|&&v| v != 0).count() >= 10, "the identity reads are mostly non-zero");
+    let make = || {
+        let mut u = IdHarness { clock: Default::default(), rd_addr: Default::default(), rd_data: Default::default(), ids: IdRegs::new(&p), q: Default::default() };
+        u.rd_addr.connect();
+        u.connect_all();
+        u
+    };
+    let spec = TbSpec { clock: "clock".into(), inputs: vec![Port::new("rd_addr", ADDR_BITS)], outputs: vec![Port::new("rd_data", 16)] };
+    three_ways(
+        "id_regs",
+        make,
+        |u, c| u.clock.next = Clock::from(c),
+        |u, r| u.rd_addr.next = (r[0] as u64).into(),
+        |u| vec![u.rd_data.val().to_u64() as u128],
+        &spec,
+        &rows,
+        &want,
+    );
+}

@@ -27,7 +27,10 @@
 //! | AXI4-Lite front end, 32-bit (`--bus axil`) | `axil_front.rs` | BVALID 6 / RVALID 8 bus clocks after the handshake |
 //! | status handshake, core clock to bus clock, one axis per copy | `status_sync.rs` | ~3 + 3 cycles per axis |
 //! | push check: every command to the core, a push validated with the model's rules (bus clock) | `push_check.rs` | 4 cycles |
-//! | register file: decoder of the register table, mirror, IRQ | `regfile.rs` | 0 (read), 1 (write) |
+//! | register file: decoder of the register table, staging, mirror, events, commands | `regfile.rs` | 0 (read), 1 (write) |
+//! | identity registers (ID_*), constants of the export | `id_regs.rs` | 0 (read) |
+//! | output timing registers (STEP_HIGH … DIR_HOLD), the minima and their check | `timing_regs.rs` | 0 (read), 1 (write), `timing_ok` 3 |
+//! | interrupt flags, masks, QLOW_LEVEL and the irq line | `irq_regs.rs` | 0 (read), 1 (write), `irq` 2 |
 //! | one machine input: synchroniser, polarity, filter | `input_filter.rs` | 2 + n samples (pin to level) |
 //! | machine I/O and safety: input filters, e-stop latch, watchdog, hard-stop request, driver enables, latch strobes | `machine_io.rs` | as its filters; `hard_stop` 3 + n ticks from the e-stop pin |
 //! | encoder registers (bus clock) and their crossings: config, commands, ENC_FAIL, the window of one axis | `enc_regs.rs` | commands 3–4 clk; window copies every K·(3 clk + 3 bus clocks) |
@@ -98,8 +101,10 @@ pub mod enc_regs;
 pub mod exmc;
 pub mod exmc_master;
 pub mod follow_err;
+pub mod id_regs;
 pub mod input_filter;
 pub mod io_regs;
+pub mod irq_regs;
 pub mod iterate;
 pub mod mul_seq;
 pub mod mul_wide;
@@ -127,4 +132,5 @@ pub mod wb_front;
 pub mod stop_ramp;
 pub mod stop_regs;
 pub mod sync_start;
+pub mod timing_regs;
 pub mod top;

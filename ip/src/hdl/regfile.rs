@@ -1,7 +1,11 @@
 //! The register file, in the bus clock: the decoder of the register table
 //! ([`crate::regs`]), the per-axis staging registers, the mirror of each axis's
-//! status, the sticky flags and the IRQ logic. Every address, identity value and
-//! reset value comes from the table through a `Constant`.
+//! status, the sticky flags and the events. Every address, identity value and
+//! reset value comes from the table through a `Constant`. Three groups of global
+//! registers are blocks of their own, each with its three-way test: the identity
+//! ([`super::id_regs::IdRegs`]), the output timing ([`super::timing_regs::TimingRegs`])
+//! and the interrupt flags, masks and QLOW_LEVEL ([`super::irq_regs::IrqRegs`]); this
+//! block decodes the bus for them, feeds them its events and ORs their reads.
 //!
 //! **Writes** (`wr` from [`super::exmc::ExmcSlave`]) act at once: staging and control
 //! registers load, W1C bits clear, and START, ABORT and STEPS_HI put a command on
@@ -44,6 +48,9 @@
 //! while ENABLE and ENABLED are both 1 (else GSTATUS.REFUSED).
 
 use super::bit_insert::BitInsert;
+use super::id_regs::IdRegs;
+use super::irq_regs::IrqRegs;
+use super::timing_regs::TimingRegs;
 use super::lut_ram::LutRam;
 use super::push_check::{PushCheck, CMD_EXTRA_BITS};
 use crate::model::Limits;
@@ -144,6 +151,10 @@ pub struct RegFile<const K: usize, const S: usize = 0> {
     mc_ram: LutRam<16, 4>,
     /// Every command on its way to the command FIFO: pushes validated here.
     chk: PushCheck<S>,
+    /// The identity, output timing and interrupt registers: blocks of their own.
+    ids: IdRegs,
+    tim: TimingRegs,
+    irqs: IrqRegs,
     c_poly: Constant<Bit>,
     /// A polynomial push while the polynomial check is still busy: refused.
     p_refuse: Signal<Local, Bit>,
@@ -179,9 +190,6 @@ pub struct RegFile<const K: usize, const S: usize = 0> {
     ctrl_en: DFF<Bit>,
     core_en: DFF<Bit>,
     refused: DFF<Bit>,
-    irq_done: DFF<Bits<16>>,
-    irq_qlow: DFF<Bits<16>>,
-    irq_err: DFF<Bits<16>>,
     /// The QLOW test's first stage, registered from a status word: whether its taken
     /// count moved (and events are accepted), the axis's `pushed` and the new taken
     /// count, and the axis. The level test and IRQ_QLOW follow a cycle later, so the
@@ -190,24 +198,11 @@ pub struct RegFile<const K: usize, const S: usize = 0> {
     ql_pushed: DFF<Bits<8>>,
     ql_taken: DFF<Bits<8>>,
     ql_axis: DFF<Bits<8>>,
-    mask_done: DFF<Bits<16>>,
-    mask_qlow: DFF<Bits<16>>,
-    mask_err: DFF<Bits<16>>,
-    qlow: DFF<Bits<5>>,
-    t_high: DFF<Bits<16>>,
-    t_low: DFF<Bits<16>>,
-    t_setup: DFF<Bits<16>>,
-    t_hold: DFF<Bits<16>>,
-    hmin: DFF<Bits<16>>,
-    lmin: DFF<Bits<16>>,
-    timing_ok: DFF<Bit>,
     fail_prev: DFF<Bit>,
     start_failed: DFF<Bit>,
     start_last: DFF<Bits<16>>,
     c_axmask: Constant<Bits<16>>,
-    t_write: Signal<Local, Bit>,
     pos_latch: DFF<Bits<16>>,
-    irq_q: DFF<Bit>,
 
     accepting: Signal<Local, Bit>,
     w_glob: Signal<Local, Bit>,
@@ -269,45 +264,9 @@ pub struct RegFile<const K: usize, const S: usize = 0> {
     c_one: Constant<Bits<16>>,
     c_qdepth: Constant<Bits<8>>,
     c_last_axis: Constant<Bits<8>>,
-    v_magic: Constant<Bits<16>>,
-    v_version: Constant<Bits<16>>,
-    v_axes: Constant<Bits<16>>,
-    v_qdepth: Constant<Bits<16>>,
-    v_fdepth: Constant<Bits<16>>,
-    v_tcalc: Constant<Bits<16>>,
-    v_clk_lo: Constant<Bits<16>>,
-    v_clk_hi: Constant<Bits<16>>,
-    v_minp: Constant<Bits<16>>,
-    v_rmax_lo: Constant<Bits<16>>,
-    v_rmax_hi: Constant<Bits<16>>,
-    v_opts: Constant<Bits<16>>,
-    a_magic: Constant<Bits<ADDR_BITS>>,
-    a_version: Constant<Bits<ADDR_BITS>>,
-    a_axes: Constant<Bits<ADDR_BITS>>,
-    a_qdepth: Constant<Bits<ADDR_BITS>>,
-    a_fdepth: Constant<Bits<ADDR_BITS>>,
-    a_tcalc: Constant<Bits<ADDR_BITS>>,
-    a_clk_lo: Constant<Bits<ADDR_BITS>>,
-    a_clk_hi: Constant<Bits<ADDR_BITS>>,
-    a_minp: Constant<Bits<ADDR_BITS>>,
-    a_opts: Constant<Bits<ADDR_BITS>>,
-    a_t_high: Constant<Bits<ADDR_BITS>>,
-    a_t_low: Constant<Bits<ADDR_BITS>>,
-    a_t_setup: Constant<Bits<ADDR_BITS>>,
-    a_t_hold: Constant<Bits<ADDR_BITS>>,
-    c_minp17: Constant<Bits<17>>,
-    a_rmax_lo: Constant<Bits<ADDR_BITS>>,
-    a_rmax_hi: Constant<Bits<ADDR_BITS>>,
     a_ctrl: Constant<Bits<ADDR_BITS>>,
     a_start: Constant<Bits<ADDR_BITS>>,
     a_abort: Constant<Bits<ADDR_BITS>>,
-    a_irq_done: Constant<Bits<ADDR_BITS>>,
-    a_irq_qlow: Constant<Bits<ADDR_BITS>>,
-    a_irq_err: Constant<Bits<ADDR_BITS>>,
-    a_mask_done: Constant<Bits<ADDR_BITS>>,
-    a_mask_qlow: Constant<Bits<ADDR_BITS>>,
-    a_mask_err: Constant<Bits<ADDR_BITS>>,
-    a_qlow: Constant<Bits<ADDR_BITS>>,
     a_gstatus: Constant<Bits<ADDR_BITS>>,
     a_busy: Constant<Bits<ADDR_BITS>>,
     o_v0_lo: Constant<Bits<4>>,
@@ -327,7 +286,6 @@ impl<const K: usize, const S: usize> RegFile<K, S> {
         assert_eq!(p.axes, K, "RegFile: parameters for another K");
         assert!((1..=regs::MAX_AXES).contains(&K), "RegFile: K = {K} outside 1..={}", regs::MAX_AXES);
         assert!((1..=regs::MAX_QUEUE_DEPTH).contains(&p.queue_depth), "RegFile: queue depth {} outside 1..=16", p.queue_depth);
-        let v = |name: &str| c16(regs::register(name).reset_value(&p));
         RegFile {
             clock: Default::default(),
             reset: Default::default(),
@@ -363,6 +321,9 @@ impl<const K: usize, const S: usize> RegFile<K, S> {
             mb_ram: Default::default(),
             mc_ram: Default::default(),
             chk: PushCheck::new(Limits { min_period_ticks: p.min_period }),
+            ids: IdRegs::new(&p),
+            tim: TimingRegs::new(p.min_period),
+            irqs: IrqRegs::default(),
             c_poly: Constant::new(S > 0),
             p_refuse: Default::default(),
             poly_arm: Default::default(),
@@ -387,31 +348,15 @@ impl<const K: usize, const S: usize> RegFile<K, S> {
             ctrl_en: Default::default(),
             core_en: Default::default(),
             refused: Default::default(),
-            irq_done: Default::default(),
-            irq_qlow: Default::default(),
-            irq_err: Default::default(),
             ql_valid: Default::default(),
             ql_pushed: Default::default(),
             ql_taken: Default::default(),
             ql_axis: Default::default(),
-            mask_done: Default::default(),
-            mask_qlow: Default::default(),
-            mask_err: Default::default(),
-            qlow: Default::default(),
-            t_high: Default::default(),
-            t_low: Default::default(),
-            t_setup: Default::default(),
-            t_hold: Default::default(),
-            hmin: Default::default(),
-            lmin: Default::default(),
-            timing_ok: Default::default(),
             fail_prev: Default::default(),
             start_failed: Default::default(),
             start_last: Default::default(),
             c_axmask: Constant::new((((1u64 << K) - 1) as u64).into()),
-            t_write: Default::default(),
             pos_latch: Default::default(),
-            irq_q: Default::default(),
             accepting: Default::default(),
             w_glob: Default::default(),
             w_ax: Default::default(),
@@ -470,45 +415,9 @@ impl<const K: usize, const S: usize> RegFile<K, S> {
             c_one: c16(1),
             c_qdepth: Constant::new((p.queue_depth as u64).into()),
             c_last_axis: Constant::new(((K - 1) as u64).into()),
-            v_magic: v("ID_MAGIC"),
-            v_version: v("ID_VERSION"),
-            v_axes: v("ID_AXES"),
-            v_qdepth: v("ID_QUEUE_DEPTH"),
-            v_fdepth: v("ID_FIFO_DEPTH"),
-            v_tcalc: v("ID_T_CALC"),
-            v_clk_lo: v("ID_CLOCK_HZ_LO"),
-            v_clk_hi: v("ID_CLOCK_HZ_HI"),
-            v_minp: v("ID_MIN_PERIOD"),
-            v_rmax_lo: v("ID_MAX_RATE_LO"),
-            v_rmax_hi: v("ID_MAX_RATE_HI"),
-            v_opts: v("ID_OPTIONS"),
-            a_magic: c9("ID_MAGIC"),
-            a_version: c9("ID_VERSION"),
-            a_axes: c9("ID_AXES"),
-            a_qdepth: c9("ID_QUEUE_DEPTH"),
-            a_fdepth: c9("ID_FIFO_DEPTH"),
-            a_tcalc: c9("ID_T_CALC"),
-            a_clk_lo: c9("ID_CLOCK_HZ_LO"),
-            a_clk_hi: c9("ID_CLOCK_HZ_HI"),
-            a_minp: c9("ID_MIN_PERIOD"),
-            a_opts: c9("ID_OPTIONS"),
-            a_t_high: c9("STEP_HIGH"),
-            a_t_low: c9("STEP_LOW"),
-            a_t_setup: c9("DIR_SETUP"),
-            a_t_hold: c9("DIR_HOLD"),
-            c_minp17: Constant::new((p.min_period as u64).into()),
-            a_rmax_lo: c9("ID_MAX_RATE_LO"),
-            a_rmax_hi: c9("ID_MAX_RATE_HI"),
             a_ctrl: c9("CTRL"),
             a_start: c9("START"),
             a_abort: c9("ABORT"),
-            a_irq_done: c9("IRQ_DONE"),
-            a_irq_qlow: c9("IRQ_QLOW"),
-            a_irq_err: c9("IRQ_ERROR"),
-            a_mask_done: c9("IRQ_MASK_DONE"),
-            a_mask_qlow: c9("IRQ_MASK_QLOW"),
-            a_mask_err: c9("IRQ_MASK_ERROR"),
-            a_qlow: c9("QLOW_LEVEL"),
             a_gstatus: c9("GSTATUS"),
             a_busy: c9("BUSY"),
             o_v0_lo: c4("V0_LO"),
@@ -529,26 +438,26 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
     #[hdl_gen]
     fn update(&mut self) {
         dff_setup!(
-            self, clock, ctrl_en, core_en, refused, irq_done, irq_qlow, irq_err, mask_done, mask_qlow, mask_err, qlow,
-            pos_latch, irq_q, t_high, t_low, t_setup, t_hold, hmin, lmin, timing_ok, fail_prev, start_failed, start_last,
+            self, clock, ctrl_en, core_en, refused, pos_latch, fail_prev, start_failed, start_last,
             ql_valid, ql_pushed, ql_taken, ql_axis, st_aq, w_fq, w_vq
         );
         self.rn_axis.next = self.rd_axis_next.val().get_bits::<4>(0);
-        // Output timing: the two minima the core applies, and whether they fit in the
-        // minimum period (CTRL.ENABLE = 1 is refused otherwise). Registered: they
-        // change only with a timing write, which needs the core held in reset.
-        self.hmin.d.next = self.t_high.q.val();
-        if self.t_hold.q.val() > self.t_high.q.val() {
-            self.hmin.d.next = self.t_hold.q.val();
-        }
-        self.lmin.d.next = self.t_low.q.val();
-        if self.t_setup.q.val() > self.t_low.q.val() {
-            self.lmin.d.next = self.t_setup.q.val();
-        }
-        self.timing_ok.d.next =
-            (bit_cast::<17, 16>(self.hmin.q.val()) + bit_cast::<17, 16>(self.lmin.q.val())) <= self.c_minp17.val();
-        self.high_min.next = self.hmin.q.val();
-        self.low_min.next = self.lmin.q.val();
+        // The register map's own blocks: identity, output timing, interrupts.
+        self.ids.rd_addr.next = self.rd_addr.val();
+        self.tim.clock.next = self.clock.val();
+        self.tim.reset.next = self.reset.val();
+        self.tim.wr_addr.next = self.wr_addr.val();
+        self.tim.wr_data.next = self.wr_data.val();
+        self.tim.locked.next = self.ctrl_en.q.val() | self.core_en.q.val();
+        self.tim.rd_addr.next = self.rd_addr.val();
+        self.high_min.next = self.tim.high_min.val();
+        self.low_min.next = self.tim.low_min.val();
+        self.irqs.clock.next = self.clock.val();
+        self.irqs.reset.next = self.reset.val();
+        self.irqs.enable.next = self.ctrl_en.q.val();
+        self.irqs.wr_addr.next = self.wr_addr.val();
+        self.irqs.wr_data.next = self.wr_data.val();
+        self.irqs.rd_addr.next = self.rd_addr.val();
         for i in 0..K {
             self.st_vld[i].clock.next = self.clock.val();
             self.rq_sel[i].clock.next = self.clock.val();
@@ -575,7 +484,7 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
             self.f_code[i].d.next = self.f_code[i].q.val();
         }
         self.enable.next = self.ctrl_en.q.val();
-        self.irq.next = self.irq_q.q.val();
+        self.irq.next = self.irqs.irq.val();
         self.accepting.next = self.ctrl_en.q.val() & self.core_en.q.val();
         self.c_write.next = false;
         // The push check: busy while a command is in flight; its verdict 4 cycles on.
@@ -602,6 +511,8 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
         // ---- decode ----------------------------------------------------------
         self.w_glob.next = self.wr.val() & !self.wr_addr.val().get_bit(8);
         self.w_ax.next = self.wr.val() & self.wr_addr.val().get_bit(8);
+        self.tim.wr.next = self.w_glob.val();
+        self.irqs.wr.next = self.w_glob.val();
         self.w_axis.next = self.wr_addr.val().get_bits::<4>(4);
         self.w_off.next = self.wr_addr.val().get_bits::<4>(0);
         self.w_data32.next = bit_cast::<32, 16>(self.wr_data.val());
@@ -737,7 +648,7 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
         self.ql_onehot.next = self.c_one.val() << bit_cast::<16, 8>(self.ql_axis.q.val());
         if self.ql_valid.q.val()
             & self.accepting.val()
-            & ((self.ql_pushed.q.val() - self.ql_taken.q.val()) <= bit_cast::<8, 5>(self.qlow.q.val()))
+            & ((self.ql_pushed.q.val() - self.ql_taken.q.val()) <= bit_cast::<8, 5>(self.irqs.qlow_level.val()))
         {
             self.ev_qlow.next = self.ql_onehot.val();
         }
@@ -902,41 +813,18 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
         }
 
         // ---- global writes -----------------------------------------------------
-        self.t_write.next = (self.wr_addr.val() == self.a_t_high.val())
-            | (self.wr_addr.val() == self.a_t_low.val())
-            | (self.wr_addr.val() == self.a_t_setup.val())
-            | (self.wr_addr.val() == self.a_t_hold.val());
-        self.irq_done.d.next = self.irq_done.q.val() | self.ev_done.val();
-        self.irq_qlow.d.next = self.irq_qlow.q.val() | self.ev_qlow.val();
-        self.irq_err.d.next = self.irq_err.q.val() | self.ev_err.val();
         if self.w_glob.val() {
             if self.wr_addr.val() == self.a_ctrl.val() {
                 // ENABLE = 1 only with output timing that fits the minimum period.
-                if self.wr_data.val().get_bit(0) & !self.timing_ok.q.val() {
+                if self.wr_data.val().get_bit(0) & !self.tim.timing_ok.val() {
                     self.refused.d.next = true;
                 } else {
                     self.ctrl_en.d.next = self.wr_data.val().get_bit(0);
                 }
             }
-            // Output timing: written only while the core is off (CTRL.ENABLE and
-            // GSTATUS.ENABLED both 0), and never 0; otherwise refused, value kept.
-            if self.t_write.val() {
-                if self.ctrl_en.q.val() | self.core_en.q.val() | (self.wr_data.val() == 0) {
-                    self.refused.d.next = true;
-                } else {
-                    if self.wr_addr.val() == self.a_t_high.val() {
-                        self.t_high.d.next = self.wr_data.val();
-                    }
-                    if self.wr_addr.val() == self.a_t_low.val() {
-                        self.t_low.d.next = self.wr_data.val();
-                    }
-                    if self.wr_addr.val() == self.a_t_setup.val() {
-                        self.t_setup.d.next = self.wr_data.val();
-                    }
-                    if self.wr_addr.val() == self.a_t_hold.val() {
-                        self.t_hold.d.next = self.wr_data.val();
-                    }
-                }
+            // Output timing (refused while the core is not off, or 0).
+            if self.tim.refuse.val() {
+                self.refused.d.next = true;
             }
             if self.wr_addr.val() == self.a_start.val() {
                 if self.accepting.val() & !self.fifo_full.val() & !self.c_busy.val() {
@@ -952,27 +840,6 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
                 } else {
                     self.refused.d.next = true;
                 }
-            }
-            if self.wr_addr.val() == self.a_irq_done.val() {
-                self.irq_done.d.next = (self.irq_done.q.val() & !self.wr_data.val()) | self.ev_done.val();
-            }
-            if self.wr_addr.val() == self.a_irq_qlow.val() {
-                self.irq_qlow.d.next = (self.irq_qlow.q.val() & !self.wr_data.val()) | self.ev_qlow.val();
-            }
-            if self.wr_addr.val() == self.a_irq_err.val() {
-                self.irq_err.d.next = (self.irq_err.q.val() & !self.wr_data.val()) | self.ev_err.val();
-            }
-            if self.wr_addr.val() == self.a_mask_done.val() {
-                self.mask_done.d.next = self.wr_data.val();
-            }
-            if self.wr_addr.val() == self.a_mask_qlow.val() {
-                self.mask_qlow.d.next = self.wr_data.val();
-            }
-            if self.wr_addr.val() == self.a_mask_err.val() {
-                self.mask_err.d.next = self.wr_data.val();
-            }
-            if self.wr_addr.val() == self.a_qlow.val() {
-                self.qlow.d.next = self.wr_data.val().get_bits::<5>(0);
             }
             if (self.wr_addr.val() == self.a_gstatus.val()) & self.wr_data.val().get_bit(1) {
                 self.refused.d.next = false;
@@ -994,95 +861,26 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
         self.offer_axis.next = self.c_data.val().get_bits::<4>(96);
         self.offer_steps.next = self.c_data.val().get_bits::<32>(64);
         self.st_pushed.next = self.o_pushed.val();
-        self.irq_q.d.next = ((self.irq_done.q.val() & self.mask_done.q.val())
-            | (self.irq_qlow.q.val() & self.mask_qlow.q.val())
-            | (self.irq_err.q.val() & self.mask_err.q.val()))
-            .any();
+        // The events, complete here (their last terms are the pushes' above).
+        self.irqs.ev_done.next = self.ev_done.val();
+        self.irqs.ev_qlow.next = self.ev_qlow.val();
+        self.irqs.ev_err.next = self.ev_err.val();
 
         // ---- reads ---------------------------------------------------------------
         // Every register's address is distinct, so at most one test below passes: each
         // ORs its value into `g_data`, which synthesis makes a balanced OR of the
         // decoded values (an if chain that overwrote would be a 25-deep priority
         // multiplexer in front of `rd_data`, which was `bus_clk`'s critical path).
-        self.g_data.next = 0.into();
+        self.g_data.next = self.ids.rd_data.val() | self.tim.rd_data.val() | self.irqs.rd_data.val();
         if !self.r_ax.val() {
-            if self.rd_addr.val() == self.a_magic.val() {
-                self.g_data.next = self.g_data.val() | self.v_magic.val();
-            }
-            if self.rd_addr.val() == self.a_version.val() {
-                self.g_data.next = self.g_data.val() | self.v_version.val();
-            }
-            if self.rd_addr.val() == self.a_axes.val() {
-                self.g_data.next = self.g_data.val() | self.v_axes.val();
-            }
-            if self.rd_addr.val() == self.a_qdepth.val() {
-                self.g_data.next = self.g_data.val() | self.v_qdepth.val();
-            }
-            if self.rd_addr.val() == self.a_fdepth.val() {
-                self.g_data.next = self.g_data.val() | self.v_fdepth.val();
-            }
-            if self.rd_addr.val() == self.a_tcalc.val() {
-                self.g_data.next = self.g_data.val() | self.v_tcalc.val();
-            }
-            if self.rd_addr.val() == self.a_clk_lo.val() {
-                self.g_data.next = self.g_data.val() | self.v_clk_lo.val();
-            }
-            if self.rd_addr.val() == self.a_clk_hi.val() {
-                self.g_data.next = self.g_data.val() | self.v_clk_hi.val();
-            }
-            if self.rd_addr.val() == self.a_minp.val() {
-                self.g_data.next = self.g_data.val() | self.v_minp.val();
-            }
-            if self.rd_addr.val() == self.a_opts.val() {
-                self.g_data.next = self.g_data.val() | self.v_opts.val();
-            }
-            if self.rd_addr.val() == self.a_t_high.val() {
-                self.g_data.next = self.g_data.val() | self.t_high.q.val();
-            }
-            if self.rd_addr.val() == self.a_t_low.val() {
-                self.g_data.next = self.g_data.val() | self.t_low.q.val();
-            }
-            if self.rd_addr.val() == self.a_t_setup.val() {
-                self.g_data.next = self.g_data.val() | self.t_setup.q.val();
-            }
-            if self.rd_addr.val() == self.a_t_hold.val() {
-                self.g_data.next = self.g_data.val() | self.t_hold.q.val();
-            }
-            if self.rd_addr.val() == self.a_rmax_lo.val() {
-                self.g_data.next = self.g_data.val() | self.v_rmax_lo.val();
-            }
-            if self.rd_addr.val() == self.a_rmax_hi.val() {
-                self.g_data.next = self.g_data.val() | self.v_rmax_hi.val();
-            }
             if self.rd_addr.val() == self.a_ctrl.val() {
                 self.g_data.next = self.g_data.val() | bit_cast::<16, 1>(self.ctrl_en.q.val().into());
-            }
-            if self.rd_addr.val() == self.a_irq_done.val() {
-                self.g_data.next = self.g_data.val() | self.irq_done.q.val();
-            }
-            if self.rd_addr.val() == self.a_irq_qlow.val() {
-                self.g_data.next = self.g_data.val() | self.irq_qlow.q.val();
-            }
-            if self.rd_addr.val() == self.a_irq_err.val() {
-                self.g_data.next = self.g_data.val() | self.irq_err.q.val();
-            }
-            if self.rd_addr.val() == self.a_mask_done.val() {
-                self.g_data.next = self.g_data.val() | self.mask_done.q.val();
-            }
-            if self.rd_addr.val() == self.a_mask_qlow.val() {
-                self.g_data.next = self.g_data.val() | self.mask_qlow.q.val();
-            }
-            if self.rd_addr.val() == self.a_mask_err.val() {
-                self.g_data.next = self.g_data.val() | self.mask_err.q.val();
-            }
-            if self.rd_addr.val() == self.a_qlow.val() {
-                self.g_data.next = self.g_data.val() | bit_cast::<16, 5>(self.qlow.q.val());
             }
             if self.rd_addr.val() == self.a_gstatus.val() {
                 self.g_data.next = self.g_data.val()
                     | bit_cast::<16, 1>(self.core_en.q.val().into())
                     | (bit_cast::<16, 1>(self.refused.q.val().into()) << 1)
-                    | (bit_cast::<16, 1>(self.irq_q.q.val().into()) << 2)
+                    | (bit_cast::<16, 1>(self.irqs.irq.val().into()) << 2)
                     | (bit_cast::<16, 1>(self.start_failed.q.val().into()) << 3);
             }
             if self.rd_addr.val() == self.a_busy.val() {
@@ -1181,9 +979,6 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
 
         if !self.ctrl_en.q.val() {
             self.start_failed.d.next = false;
-            self.irq_done.d.next = 0.into();
-            self.irq_qlow.d.next = 0.into();
-            self.irq_err.d.next = 0.into();
         }
         if self.reset.val() {
             self.ctrl_en.d.next = false;
@@ -1191,19 +986,7 @@ impl<const K: usize, const S: usize> Logic for RegFile<K, S> {
             self.refused.d.next = false;
             self.start_failed.d.next = false;
             self.start_last.d.next = 0.into();
-            self.irq_done.d.next = 0.into();
-            self.irq_qlow.d.next = 0.into();
-            self.irq_err.d.next = 0.into();
-            self.mask_done.d.next = 0.into();
-            self.mask_qlow.d.next = 0.into();
-            self.mask_err.d.next = 0.into();
-            self.qlow.d.next = 1.into();
-            self.t_high.d.next = 1.into();
-            self.t_low.d.next = 1.into();
-            self.t_setup.d.next = 1.into();
-            self.t_hold.d.next = 1.into();
             self.pos_latch.d.next = 0.into();
-            self.irq_q.d.next = false;
         }
     }
 }
