@@ -24,10 +24,11 @@ import os
 import random
 
 import cocotb
-from cocotb.triggers import Edge, Timer
+from cocotb.triggers import Edge, RisingEdge, Timer
 from cocotb.utils import get_sim_time
 
-CASE = json.load(open(os.environ["TDM_CASE"]))
+with open(os.environ["TDM_CASE"]) as f:
+    CASE = json.load(f)
 BUS = CASE["bus"]
 
 
@@ -102,12 +103,24 @@ class WbRegs:
         await self.access({"adr": word, "dat": value, "sel": sel, "acktimeout": 100})
 
 
+async def tick(clock):
+    """Awaits every rising edge of `clock`, and does nothing else. With Verilator 5.006
+    and cocotb 1.9, cocotbext-axi's channels stall from their second access on unless
+    some coroutine waits on every clock edge: a channel that went idle re-arms its
+    RisingEdge(clock) from an Event and that edge is never delivered. With this
+    coroutine running, every access completes (one Python call per bus clock)."""
+    edge = RisingEdge(clock)
+    while True:
+        await edge
+
+
 class AxilRegs:
     """Register access through AXI4-Lite: register w at byte 4·w."""
 
     def __init__(self, dut):
         from cocotbext.axi import AxiLiteBus, AxiLiteMaster
 
+        cocotb.start_soon(tick(dut.bus_clk))
         self.m = AxiLiteMaster(AxiLiteBus.from_prefix(dut, "s_axil"), dut.bus_clk, dut.reset)
         # One INFO line per access otherwise: thousands during the experiment.
         self.m.write_if.log.setLevel(logging.WARNING)

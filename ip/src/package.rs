@@ -364,183 +364,33 @@ fn mcu_files() -> String {
 pub const TB_FILE: &str = "tdm_stepper_smoke_tb.v";
 
 /// A smoke testbench for Icarus (and the FuseSoC sim target): resets the core,
-/// reads ID_MAGIC and ID_AXES over the EXMC pins at a slow, safe timing, and
-/// prints PASS or FAIL (with `$fatal` on failure).
+/// reads ID_MAGIC and ID_AXES through the export's bus at a slow, safe timing (and,
+/// on Wishbone and AXI4-Lite, an unmapped address, which must be refused), and
+/// prints PASS or FAIL (with `$fatal` on failure). One generator for every bus: each
+/// bus gives its pins and a `read16` task ([`smoke_bus`]).
 pub fn smoke_testbench(opts: &ExportOptions) -> String {
-    match opts.bus {
-        crate::export::Bus::Spi => return smoke_testbench_spi(opts),
-        crate::export::Bus::Wb | crate::export::Bus::Axil => return smoke_testbench_mmio(opts),
-        crate::export::Bus::Exmc => {}
-    }
     let top = opts.name.as_str();
     let p = opts.params();
     let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
     let axes = crate::regs::register("ID_AXES").reset_value(&p);
     let a_magic = crate::regs::addr("ID_MAGIC");
     let a_axes = crate::regs::addr("ID_AXES");
-    let k = opts.axes;
     let aw = crate::regs::ADDR_BITS;
-    let sb = crate::hdl::core::STATE_BITS;
-    format!(
-        "`timescale 1ns/1ps\n\
-// Smoke test of the exported {top}: reset, then read ID_MAGIC and ID_AXES\n\
-// over the EXMC pins with wide strobes (20 bus_clk cycles). Prints PASS or FAIL.\n\
-module {top}_smoke_tb;\n\
-  reg clk = 0, bus_clk = 0, reset = 1, ne = 1, noe = 1, nwe = 1;\n\
-  reg [{am}:0] addr = 0;\n\
-  reg [15:0] data_in = 0;\n\
-  wire [15:0] data_out;\n\
-  wire data_oe, irq;\n\
-  wire [{km}:0] step, dir;\n\
-  wire [{sm}:0] fsm_state;\n\
-  always #10 clk = !clk;\n\
-  always #5.003 bus_clk = !bus_clk;\n\
-  {top} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), .ne(ne), .noe(noe), .nwe(nwe),\n\
-    .addr(addr), .data_in(data_in), .data_out(data_out), .data_oe(data_oe), .step(step), .dir(dir),\n\
-    .irq(irq), .fsm_state(fsm_state));\n\
-  task read16(input [{am}:0] a, output [15:0] v);\n\
-    begin\n\
-      addr = a; ne = 0; #50; noe = 0; #200; v = data_out; noe = 1; ne = 1; #100;\n\
-    end\n\
-  endtask\n\
-  reg [15:0] v_magic, v_axes;\n\
-  initial begin\n\
-    #200 reset = 0; #500;\n\
-    read16({aw}'h{a_magic:X}, v_magic);\n\
-    read16({aw}'h{a_axes:X}, v_axes);\n\
-    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes}) begin\n\
-      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d\", v_magic, v_axes);\n\
-      $finish;\n\
-    end else begin\n\
-      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes})\", v_magic, v_axes);\n\
-      $fatal(1);\n\
-    end\n\
-  end\n\
-endmodule\n",
-        am = aw - 1,
-        km = k - 1,
-        sm = sb - 1,
-    )
-}
-
-/// The smoke testbench of an SPI export: the same reads as single-word SPI read
-/// frames (mode 0, SCK = bus_clk/20), checking the status byte's pattern too.
-fn smoke_testbench_spi(opts: &ExportOptions) -> String {
-    let top = opts.name.as_str();
-    let p = opts.params();
-    let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
-    let axes = crate::regs::register("ID_AXES").reset_value(&p);
-    let a_magic = crate::regs::addr("ID_MAGIC");
-    let a_axes = crate::regs::addr("ID_AXES");
-    let k = opts.axes;
-    let sb = crate::hdl::core::STATE_BITS;
-    let pattern = crate::regs::SPI_STATUS_PATTERN;
-    format!(
-        "`timescale 1ns/1ps\n\
-// Smoke test of the exported {top} on SPI: reset, then read ID_MAGIC and ID_AXES\n\
-// in SPI read frames (mode 0, SCK = bus_clk/20). Prints PASS or FAIL.\n\
-module {top}_smoke_tb;\n\
-  reg clk = 0, bus_clk = 0, reset = 1, cs_n = 1, sck = 0, mosi = 0;\n\
-  wire miso, miso_oe, irq;\n\
-  wire [{km}:0] step, dir;\n\
-  wire [{sm}:0] fsm_state;\n\
-  always #10 clk = !clk;\n\
-  always #5.003 bus_clk = !bus_clk;\n\
-  {top} dut (.clk(clk), .bus_clk(bus_clk), .reset(reset), .cs_n(cs_n), .sck(sck), .mosi(mosi),\n\
-    .miso(miso), .miso_oe(miso_oe), .step(step), .dir(dir), .irq(irq), .fsm_state(fsm_state));\n\
-  // One byte out on MOSI and in from MISO, MSB first: MISO is sampled at each rising edge.\n\
-  task xfer(input [7:0] out, output [7:0] in);\n\
-    integer i;\n\
-    begin\n\
-      for (i = 7; i >= 0; i = i - 1) begin\n\
-        mosi = out[i]; #100; sck = 1; in[i] = miso; #100; sck = 0;\n\
-      end\n\
-    end\n\
-  endtask\n\
-  reg [7:0] st, junk, hi, lo;\n\
-  // A one-word read frame: command (read, LEN 1, address bit 8), address, turnaround, data.\n\
-  task read16(input [8:0] a, output [15:0] v, output [7:0] status);\n\
-    begin\n\
-      cs_n = 0; #100;\n\
-      xfer({{7'b0000000, a[8]}}, status); xfer(a[7:0], junk); xfer(8'h00, junk);\n\
-      xfer(8'h00, hi); xfer(8'h00, lo); v = {{hi, lo}};\n\
-      #100 cs_n = 1; #200;\n\
-    end\n\
-  endtask\n\
-  reg [15:0] v_magic, v_axes;\n\
-  reg [7:0] s_magic, s_axes;\n\
-  initial begin\n\
-    #200 reset = 0; #500;\n\
-    read16(9'h{a_magic:03X}, v_magic, s_magic);\n\
-    read16(9'h{a_axes:03X}, v_axes, s_axes);\n\
-    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes} && s_magic[5:0] == 6'h{pattern:02X} && s_axes[6:0] == 7'h{pattern:02X}) begin\n\
-      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d, status %h\", v_magic, v_axes, s_axes);\n\
-      $finish;\n\
-    end else begin\n\
-      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes}), status %h %h\", v_magic, v_axes, s_magic, s_axes);\n\
-      $fatal(1);\n\
-    end\n\
-  end\n\
-endmodule\n",
-        km = k - 1,
-        sm = sb - 1,
-    )
-}
-
-/// The smoke test on Wishbone or AXI4-Lite: reads ID_MAGIC and ID_AXES, and an
-/// unmapped address, which must be refused (ERR; SLVERR).
-fn smoke_testbench_mmio(opts: &ExportOptions) -> String {
-    let top = opts.name.as_str();
-    let p = opts.params();
-    let magic = crate::regs::register("ID_MAGIC").reset_value(&p);
-    let axes = crate::regs::register("ID_AXES").reset_value(&p);
-    let a_magic = crate::regs::addr("ID_MAGIC");
-    let a_axes = crate::regs::addr("ID_AXES");
-    let hole = crate::regs::mapped(&p).iter().position(|m| !m).expect("an unmapped address");
-    let k = opts.axes;
-    let sb = crate::hdl::core::STATE_BITS;
-    let aw = crate::regs::ADDR_BITS;
-    let wb = opts.bus == crate::export::Bus::Wb;
-    let (decl, conn, task) = if wb {
-        (
-            format!("  reg cyc = 0, stb = 0, we = 0;\n  reg [{}:0] adr = 0;\n  wire [31:0] dat_r;\n  wire ack, err;\n", aw - 1),
-            ".wb_cyc(cyc), .wb_stb(stb), .wb_we(we), .wb_adr(adr), .wb_sel(4'hF), .wb_dat_w(32'd0),\n    .wb_dat_r(dat_r), .wb_ack(ack), .wb_err(err)".to_string(),
-            format!(
-                "  // One Wishbone classic read: CYC and STB until ACK or ERR.\n\
-                 \x20 task read16(input [{}:0] a, output [15:0] v, output bad);\n\
-                 \x20   begin\n\
-                 \x20     @(negedge bus_clk); adr = a; cyc = 1; stb = 1;\n\
-                 \x20     @(posedge bus_clk); while (!ack && !err) @(posedge bus_clk);\n\
-                 \x20     v = dat_r[15:0]; bad = err; #1 cyc = 0; stb = 0;\n\
-                 \x20   end\n\
-                 \x20 endtask\n",
-                aw - 1
-            ),
-        )
-    } else {
-        (
-            format!("  reg arvalid = 0;\n  reg [{}:0] araddr = 0;\n  wire arready, rvalid;\n  wire [31:0] rdata;\n  wire [1:0] rresp, bresp;\n  wire awready, wready, bvalid;\n", aw + 1),
-            ".s_axil_awaddr(11'd0), .s_axil_awvalid(1'b0), .s_axil_awready(awready), .s_axil_wdata(32'd0),\n    .s_axil_wstrb(4'd0), .s_axil_wvalid(1'b0), .s_axil_wready(wready), .s_axil_bresp(bresp), .s_axil_bvalid(bvalid),\n    .s_axil_bready(1'b1), .s_axil_araddr(araddr), .s_axil_arvalid(arvalid), .s_axil_arready(arready),\n    .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid), .s_axil_rready(1'b1)".to_string(),
-            format!(
-                "  // One AXI4-Lite read: AR until ARREADY, then R (RREADY is tied high).\n\
-                 \x20 task read16(input [{}:0] a, output [15:0] v, output bad);\n\
-                 \x20   begin\n\
-                 \x20     @(negedge bus_clk); araddr = {{a, 2'b00}}; arvalid = 1;\n\
-                 \x20     @(posedge bus_clk); while (!arready) @(posedge bus_clk);\n\
-                 \x20     #1 arvalid = 0;\n\
-                 \x20     @(posedge bus_clk); while (!rvalid) @(posedge bus_clk);\n\
-                 \x20     v = rdata[15:0]; bad = rresp != 2'b00;\n\
-                 \x20   end\n\
-                 \x20 endtask\n",
-                aw - 1
-            ),
-        )
+    let b = smoke_bus(opts);
+    // Wishbone and AXI4-Lite also read an unmapped address, which must be refused.
+    let (hole_doc, hole_read, hole_ok, hole_msg) = match b.hole {
+        Some(h) => (
+            ", and an\n// unmapped address, which must be refused",
+            format!("    read16({aw}'h{h:03X}, v_hole, e_hole);\n"),
+            " && e_hole",
+            format!(", address {h:#05x} refused"),
+        ),
+        None => ("", String::new(), "", String::new()),
     };
-    let bus = if wb { "Wishbone" } else { "AXI4-Lite" };
     format!(
         "`timescale 1ns/1ps\n\
-// Smoke test of the exported {top} on {bus}: reset, read ID_MAGIC and ID_AXES, and an\n\
-// unmapped address, which must be refused. Prints PASS or FAIL.\n\
+// Smoke test of the exported {top}{on}: reset, then read ID_MAGIC and ID_AXES\n\
+// {how}{hole_doc}. Prints PASS or FAIL.\n\
 module {top}_smoke_tb;\n\
   reg clk = 0, bus_clk = 0, reset = 1;\n\
   wire irq;\n\
@@ -558,19 +408,125 @@ module {top}_smoke_tb;\n\
     #200 reset = 0; #500;\n\
     read16({aw}'h{a_magic:03X}, v_magic, e_magic);\n\
     read16({aw}'h{a_axes:03X}, v_axes, e_axes);\n\
-    read16({aw}'h{hole:03X}, v_hole, e_hole);\n\
-    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes} && !e_magic && !e_axes && e_hole) begin\n\
-      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d, address {hole:#05x} refused\", v_magic, v_axes);\n\
+{hole_read}\
+    if (v_magic == 16'h{magic:04X} && v_axes == 16'd{axes} && !e_magic && !e_axes{hole_ok}) begin\n\
+      $display(\"PASS: ID_MAGIC %h, ID_AXES %0d{hole_msg}\", v_magic, v_axes);\n\
       $finish;\n\
     end else begin\n\
-      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes}), errors %b%b, hole refused %b\", v_magic, v_axes, e_magic, e_axes, e_hole);\n\
+      $display(\"FAIL: ID_MAGIC %h (want {magic:04x}), ID_AXES %0d (want {axes}), errors %b%b%b\", v_magic, v_axes, e_magic, e_axes, e_hole);\n\
       $fatal(1);\n\
     end\n\
   end\n\
 endmodule\n",
-        km = k - 1,
-        sm = sb - 1,
+        on = b.on,
+        how = b.how,
+        decl = b.decl,
+        conn = b.conn,
+        task = b.task,
+        km = opts.axes - 1,
+        sm = crate::hdl::core::STATE_BITS - 1,
     )
+}
+
+/// What the smoke testbench needs of one bus: where it reads (for the comment), its
+/// declarations and connections, a task `read16(address, value, error)`, and an
+/// unmapped address to try if the bus refuses one.
+struct SmokeBus {
+    on: &'static str,
+    how: &'static str,
+    decl: String,
+    conn: String,
+    task: String,
+    hole: Option<usize>,
+}
+
+fn smoke_bus(opts: &ExportOptions) -> SmokeBus {
+    let aw = crate::regs::ADDR_BITS;
+    match opts.bus {
+        crate::export::Bus::Exmc => SmokeBus {
+            on: "",
+            how: "over the EXMC pins with wide strobes (20 bus_clk cycles)",
+            decl: format!("  reg ne = 1, noe = 1, nwe = 1;\n  reg [{}:0] addr = 0;\n  reg [15:0] data_in = 0;\n  wire [15:0] data_out;\n  wire data_oe;\n", aw - 1),
+            conn: ".ne(ne), .noe(noe), .nwe(nwe),\n    .addr(addr), .data_in(data_in), .data_out(data_out), .data_oe(data_oe)".into(),
+            task: format!(
+                "  task read16(input [{}:0] a, output [15:0] v, output bad);\n\
+                 \x20   begin\n\
+                 \x20     addr = a; ne = 0; #50; noe = 0; #200; v = data_out; bad = 0; noe = 1; ne = 1; #100;\n\
+                 \x20   end\n\
+                 \x20 endtask\n",
+                aw - 1
+            ),
+            hole: None,
+        },
+        crate::export::Bus::Spi => SmokeBus {
+            on: " on SPI",
+            how: "in SPI read frames (mode 0, SCK = bus_clk/20), with the status byte's pattern",
+            decl: "  reg cs_n = 1, sck = 0, mosi = 0;\n  wire miso, miso_oe;\n".into(),
+            conn: ".cs_n(cs_n), .sck(sck), .mosi(mosi),\n    .miso(miso), .miso_oe(miso_oe)".into(),
+            task: format!(
+                "  // One byte out on MOSI and in from MISO, MSB first: MISO is sampled at each rising edge.\n\
+                 \x20 task xfer(input [7:0] out, output [7:0] in);\n\
+                 \x20   integer i;\n\
+                 \x20   begin\n\
+                 \x20     for (i = 7; i >= 0; i = i - 1) begin\n\
+                 \x20       mosi = out[i]; #100; sck = 1; in[i] = miso; #100; sck = 0;\n\
+                 \x20     end\n\
+                 \x20   end\n\
+                 \x20 endtask\n\
+                 \x20 reg [7:0] st, junk, hi, lo;\n\
+                 \x20 // A one-word read frame: command (read, LEN 1, address bit 8), address, turnaround,\n\
+                 \x20 // data; an error if the status byte lacks its pattern (bits 5..0).\n\
+                 \x20 task read16(input [8:0] a, output [15:0] v, output bad);\n\
+                 \x20   begin\n\
+                 \x20     cs_n = 0; #100;\n\
+                 \x20     xfer({{7'b0000000, a[8]}}, st); xfer(a[7:0], junk); xfer(8'h00, junk);\n\
+                 \x20     xfer(8'h00, hi); xfer(8'h00, lo); v = {{hi, lo}}; bad = st[5:0] != 6'h{:02X};\n\
+                 \x20     #100 cs_n = 1; #200;\n\
+                 \x20   end\n\
+                 \x20 endtask\n",
+                crate::regs::SPI_STATUS_PATTERN
+            ),
+            hole: None,
+        },
+        crate::export::Bus::Wb => SmokeBus {
+            on: " on Wishbone",
+            how: "in Wishbone classic cycles",
+            decl: format!("  reg cyc = 0, stb = 0, we = 0;\n  reg [{}:0] adr = 0;\n  wire [31:0] dat_r;\n  wire ack, err;\n", aw - 1),
+            conn: ".wb_cyc(cyc), .wb_stb(stb), .wb_we(we), .wb_adr(adr), .wb_sel(4'hF), .wb_dat_w(32'd0),\n    .wb_dat_r(dat_r), .wb_ack(ack), .wb_err(err)".into(),
+            task: format!(
+                "  // One Wishbone classic read: CYC and STB until ACK or ERR.\n\
+                 \x20 task read16(input [{}:0] a, output [15:0] v, output bad);\n\
+                 \x20   begin\n\
+                 \x20     @(negedge bus_clk); adr = a; cyc = 1; stb = 1;\n\
+                 \x20     @(posedge bus_clk); while (!ack && !err) @(posedge bus_clk);\n\
+                 \x20     v = dat_r[15:0]; bad = err; #1 cyc = 0; stb = 0;\n\
+                 \x20   end\n\
+                 \x20 endtask\n",
+                aw - 1
+            ),
+            hole: crate::regs::mapped(&opts.params()).iter().position(|m| !m),
+        },
+        crate::export::Bus::Axil => SmokeBus {
+            on: " on AXI4-Lite",
+            how: "in AXI4-Lite reads",
+            decl: format!("  reg arvalid = 0;\n  reg [{}:0] araddr = 0;\n  wire arready, rvalid;\n  wire [31:0] rdata;\n  wire [1:0] rresp, bresp;\n  wire awready, wready, bvalid;\n", aw + 1),
+            conn: ".s_axil_awaddr(11'd0), .s_axil_awvalid(1'b0), .s_axil_awready(awready), .s_axil_wdata(32'd0),\n    .s_axil_wstrb(4'd0), .s_axil_wvalid(1'b0), .s_axil_wready(wready), .s_axil_bresp(bresp), .s_axil_bvalid(bvalid),\n    .s_axil_bready(1'b1), .s_axil_araddr(araddr), .s_axil_arvalid(arvalid), .s_axil_arready(arready),\n    .s_axil_rdata(rdata), .s_axil_rresp(rresp), .s_axil_rvalid(rvalid), .s_axil_rready(1'b1)".into(),
+            task: format!(
+                "  // One AXI4-Lite read: AR until ARREADY, then R (RREADY is tied high).\n\
+                 \x20 task read16(input [{}:0] a, output [15:0] v, output bad);\n\
+                 \x20   begin\n\
+                 \x20     @(negedge bus_clk); araddr = {{a, 2'b00}}; arvalid = 1;\n\
+                 \x20     @(posedge bus_clk); while (!arready) @(posedge bus_clk);\n\
+                 \x20     #1 arvalid = 0;\n\
+                 \x20     @(posedge bus_clk); while (!rvalid) @(posedge bus_clk);\n\
+                 \x20     v = rdata[15:0]; bad = rresp != 2'b00;\n\
+                 \x20   end\n\
+                 \x20 endtask\n",
+                aw - 1
+            ),
+            hole: crate::regs::mapped(&opts.params()).iter().position(|m| !m),
+        },
+    }
 }
 
 /// Every package file: (name, text).

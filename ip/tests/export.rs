@@ -268,19 +268,19 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
             Some((p, b)) if ["spi", "wb", "axil"].contains(&b) => (p, b.parse::<export::Bus>().unwrap()),
             _ => (profiles, export::Bus::Exmc),
         };
-        let spi = bus != export::Bus::Exmc;
+        let wrapped = bus != export::Bus::Exmc; // a front end in front of the EXMC core
         let (profiles, enc) = match profiles.strip_suffix("+enc") {
             Some(p) => (p, true),
             None => (profiles, false),
         };
         let tag = if profiles == "trapezoid" { String::new() } else { "_scurve".into() };
         let tag = if enc { tag + "_enc" } else { tag };
-        let tag = if spi { format!("{tag}_{}", bus.name()) } else { tag };
+        let tag = if wrapped { format!("{tag}_{}", bus.name()) } else { tag };
         let mut args = vec!["--axes".to_string(), k.to_string(), "--arch".into(), arch.into(), "--io".into(), io.into(), "--profiles".into(), profiles.into()];
         if enc {
             args.push("--encoder".into());
         }
-        if spi {
+        if wrapped {
             args.extend(["--bus".into(), bus.name().into()]);
         }
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -290,7 +290,7 @@ fn exported_verilog_lints_clean_and_has_the_documented_ports() {
         if enc {
             want_ports.extend(export::encoder_ports(k));
         }
-        if spi {
+        if wrapped {
             // The EXMC pins' place taken by the bus's pins, in the documented order.
             let exmc = ["ne", "noe", "nwe", "addr", "data_in", "data_out", "data_oe"];
             let at = want_ports.iter().position(|p| p.name == "ne").unwrap();
@@ -745,7 +745,7 @@ fn bus_export_packages_work_from_the_folder_alone() {
 }
 
 /// The cocotb bench (bench/cocotb/test_buses.py, run by run_bench.py with the venv of
-/// scripts/test.sh) on the SPI and Wishbone exports (AXI4-Lite with TDM_COCOTB_AXI=1),
+/// scripts/test.sh) on the SPI, Wishbone and AXI4-Lite exports, side by side,
 /// with the ecosystem's masters (cocotbext-spi, cocotbext-wishbone, cocotbext-axi) in
 /// Verilator: every register reads its documented reset value and the read/write
 /// ones read back what was written; bad framing is refused and changes nothing; the
@@ -785,16 +785,8 @@ fn cocotb_bench_drives_each_bus_with_the_ecosystems_masters() {
         let steps: u64 = s.iter().map(|g| g.steps.unsigned_abs() as u64).sum();
         assert!(r.rejected.is_empty() && r.edge_ticks.len() as u64 == steps, "the experiment (scale 1/{scale}) runs whole in the model");
     }
-    // AXI4-Lite only on request (TDM_COCOTB_AXI=1): with Verilator 5.006 and cocotb 1.9,
-    // cocotbext-axi's master stalls after its first access here (its coroutines wait on
-    // a trigger that never fires); the AXI4-Lite front is held to its model in
-    // tests/hdl_bus_fronts.rs by a reactive master with back-pressure instead.
-    let mut buses = vec![Bus::Spi, Bus::Wb];
-    if std::env::var_os("TDM_COCOTB_AXI").is_some() {
-        buses.push(Bus::Axil);
-    }
     let mut jobs = vec![];
-    for bus in buses {
+    for bus in [Bus::Spi, Bus::Wb, Bus::Axil] {
         let opts = ExportOptions { axes: 2, bus, ..Default::default() };
         let p = opts.params();
         let dir = sim_dir(&format!("cocotb_{}", bus.name()), Simulator::Verilator);
@@ -818,9 +810,8 @@ fn cocotb_bench_drives_each_bus_with_the_ecosystems_masters() {
             "bus": bus.name(),
             "axes": 2,
             "clk_ps": 1_000_000_000_000u64 / opts.clock_hz as u64,
-            // cocotbext-axi's master wakes at every bus clock edge, even idle: its bus
-            // clock is 25 MHz (the others' about 100 MHz, unrelated to clk).
-            "bus_clk_ps": if bus == Bus::Axil { 40_000 } else { 9_994 },
+            // About 100 MHz, unrelated to clk.
+            "bus_clk_ps": 9_994,
             "sck_hz": 25e6,
             "spi_gap_ns": 50,
             "spi_status_pattern": regs::SPI_STATUS_PATTERN,

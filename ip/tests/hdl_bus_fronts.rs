@@ -664,6 +664,20 @@ fn wishbone_accesses_are_the_models_three_ways() {
     verilog_matches_rust_hdl("wb_front", &verilog, &s, &rows, &outs, 4);
 }
 
+/// Drives one row of AXI4-Lite inputs (in `AXIL_INPUTS` order) into the harness.
+fn axil_set(u: &mut AxilHarness, r: &[u128]) {
+    u.reset.next = r[0] == 1;
+    u.awvalid.next = r[1] == 1;
+    u.awaddr.next = (r[2] as u64).into();
+    u.wvalid.next = r[3] == 1;
+    u.wdata.next = (r[4] as u64).into();
+    u.wstrb.next = (r[5] as u64).into();
+    u.bready.next = r[6] == 1;
+    u.arvalid.next = r[7] == 1;
+    u.araddr.next = (r[8] as u64).into();
+    u.rready.next = r[9] == 1;
+}
+
 #[test]
 fn axi_lite_accesses_are_the_models_three_ways() {
     let map = mapped();
@@ -677,18 +691,7 @@ fn axi_lite_accesses_are_the_models_three_ways() {
     let (rows, outs) = run_reactive(
         &mut uut,
         idle,
-        |u, r| {
-            u.reset.next = r[0] == 1;
-            u.awvalid.next = r[1] == 1;
-            u.awaddr.next = (r[2] as u64).into();
-            u.wvalid.next = r[3] == 1;
-            u.wdata.next = (r[4] as u64).into();
-            u.wstrb.next = (r[5] as u64).into();
-            u.bready.next = r[6] == 1;
-            u.arvalid.next = r[7] == 1;
-            u.araddr.next = (r[8] as u64).into();
-            u.rready.next = r[9] == 1;
-        },
+        axil_set,
         |u| {
             let mut o = vec![
                 u.awready.val() as u128,
@@ -769,18 +772,7 @@ fn axi_lite_latencies_are_as_documented() {
         &mut axil_uut(&map),
         &rows,
         |u, c| u.clock.next = Clock::from(c),
-        |u, r| {
-            u.reset.next = r[0] == 1;
-            u.awvalid.next = r[1] == 1;
-            u.awaddr.next = (r[2] as u64).into();
-            u.wvalid.next = r[3] == 1;
-            u.wdata.next = (r[4] as u64).into();
-            u.wstrb.next = (r[5] as u64).into();
-            u.bready.next = r[6] == 1;
-            u.arvalid.next = r[7] == 1;
-            u.araddr.next = (r[8] as u64).into();
-            u.rready.next = r[9] == 1;
-        },
+        axil_set,
         |u| vec![u.bvalid.val() as u128, u.rvalid.val() as u128, u.rresp.val().to_u64() as u128, u.rdata.val().to_u64() as u128],
     );
     let first = |col: usize, from: usize| (from..outs.len()).find(|&k| outs[k][col] == 1).unwrap();
