@@ -604,7 +604,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
                 let to_cycle = |s: f64| ((s * 1e12 / tick_ps as f64) as u64).min(cycles);
                 VcdOptions { path: opts.vcd.clone().unwrap_or_default(), window_cycles: (to_cycle(w0), to_cycle(w1)), probes }
             };
-            let ropts = RunOptions { vcd: Some(vcd), progress: opts.progress, pause_idle_bus_ps: Some(1_000_000_000) };
+            let ropts = RunOptions { vcd: Some(vcd), progress: opts.progress, pause_idle_bus_ps: Some(1_000_000_000), build_cache: None };
             let spec = system_spec(export::TOP_MODULE, watch);
             let work = std::path::absolute(&opts.work).map_err(|e| format!("{}: {e}", opts.work.display()))?;
             let trace = run_system_with(&work, &verilog, &spec, &clocks, b.events(), cycles, &ropts)?;

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use tdm_stepper::board;
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -591,4 +592,51 @@ fn readme_board_build_runs_as_written() {
     assert!(std::fs::metadata(&bit).map(|m| m.len() > 100_000).unwrap_or(false), "{} missing or small", bit.display());
     assert!(text.contains("Timing met") && text.contains("| clk | 50.0 |") && text.contains("| bus_clk | 100.0 |"), "{text}");
     assert!(text.contains("TRELLIS_COMB") && text.contains("TRELLIS_IO"), "utilisation: {text}");
+}
+
+/// The words of `text` that follow `prefix` up to the next non-identifier
+/// character (e.g. the port names of `.name(` connections).
+fn names_after<'a>(text: &'a str, prefix: &str) -> Vec<&'a str> {
+    text.match_indices(prefix)
+        .map(|(i, _)| {
+            let rest = &text[i + prefix.len()..];
+            let end = rest.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(rest.len());
+            &rest[..end]
+        })
+        .collect()
+}
+
+/// The board's top level connects every port of the IP it exports (the machine I/O
+/// included), and the constraint file places every pin of the top level, each bit
+/// of a bus, on a site of its own.
+#[test]
+fn the_top_level_connects_every_ip_port_and_the_lpf_places_every_pin() {
+    let core = board::TOP_V.split("tdm_stepper core (").nth(1).expect("the IP instance").split(");").next().unwrap();
+    let connected = names_after(core, ".");
+    for p in tdm_stepper::export::ports_of(&board::ip_options()) {
+        assert!(connected.contains(&p.name), "top.v leaves the IP's port {} unconnected", p.name);
+    }
+    for io in ["estop_n", "limit_neg", "home", "alarm", "drv_enable", "probe"] {
+        assert!(connected.contains(&io), "the board has the machine I/O ({io})");
+    }
+    let header = board::TOP_V.split("module ulx3s_top (").nth(1).unwrap().split(");").next().unwrap();
+    let mut sites = std::collections::BTreeSet::new();
+    for line in header.lines().map(str::trim).filter(|l| l.starts_with("input") || l.starts_with("output")) {
+        let name = line.trim_end_matches(',').split_whitespace().last().unwrap();
+        let width = match line.split_once('[') {
+            Some((_, r)) => r.split(':').next().unwrap().parse::<usize>().unwrap() + 1,
+            None => 1,
+        };
+        for b in 0..width {
+            let comp = if line.contains('[') { format!("{name}[{b}]") } else { name.to_string() };
+            let loc = board::LPF
+                .lines()
+                .find(|l| l.starts_with("LOCATE COMP") && l.contains(&format!("\"{comp}\"")))
+                .unwrap_or_else(|| panic!("ulx3s.lpf does not place {comp}"));
+            assert!(board::LPF.lines().any(|l| l.starts_with("IOBUF") && l.contains(&format!("\"{comp}\""))), "no IOBUF for {comp}");
+            let site = names_after(loc, "SITE \"")[0];
+            assert!(sites.insert(site.to_string()), "site {site} used twice ({comp})");
+        }
+    }
+    assert!(sites.len() >= 31, "{} pins placed", sites.len());
 }

@@ -1140,7 +1140,7 @@ fn spec_cs<const K: usize>() -> TbSpec {
 /// In the first (accelerating) the request is held as a level past the ramp's end, as
 /// a limit in controlled mode holds it, and a segment is pushed while the ramp runs:
 /// the ramp is not cut again and the segment is dropped (StopRamp's `stopping`).
-/// rust-hdl and Verilator give the same trace.
+/// rust-hdl and Verilator give the same trace up to the end of that first stop.
 #[test]
 fn controlled_stop_ramps_down_from_every_kind_of_segment() {
     controlled_stop_scenarios::<2>(true);
@@ -1256,7 +1256,8 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     // (what, segments, stop at this many ticks after the release)
     let uniform = vec![Segment::new(1 << 22, 51_200, -50)];
     let at_edge = |segs: &[Segment], i: usize| AxisRun::run(segs, &limits).edge_ticks[i];
-    // The first three run in rust-hdl too (it simulates a few thousand cycles a second).
+    // The first (the richest: the held request and the dropped push) runs in rust-hdl
+    // too; it simulates a few thousand cycles a second, and three took 6 minutes.
     let mut scenarios: Vec<(&str, Vec<Segment>, u64)> = vec![
         ("accelerating", accel.clone(), acc_run.edge_ticks[3]),
         ("in a dwell", dwell.clone(), AxisRun::run(&dwell[..dwell.len() - 3], &limits).end_tick + 15_000),
@@ -1274,7 +1275,7 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
             scenarios.push(("accelerating, stopped at every phase of a period", fast.clone(), at_edge(&fast, 100) + d));
         }
     }
-    const RUST_HDL_SCENARIOS: usize = 3;
+    const RUST_HDL_SCENARIOS: usize = 1;
     let row = |cmd: Option<(u128, &Segment)>, start: bool, cstop: u128| -> Vec<u128> {
         let (v, a, s) = match cmd {
             Some((a, s)) => (1, a, (s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128)),

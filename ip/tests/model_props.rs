@@ -1,6 +1,8 @@
 //! Property tests of the reference model over the documented range.
 //!
-//! Each property runs 10,000 cases (`PROPTEST_CASES` overrides). Segments are drawn
+//! Each property runs 10,000 cases, the heavier ones a fixed fraction of that (each
+//! says how many); `PROPTEST_CASES` scales them all (`PROPTEST_CASES=100000` runs ten
+//! times as many everywhere: the deep run, outside the timed test command). Segments are drawn
 //! log-uniformly over T ∈ [1, 2^30] and n ∈ [0, 2^24], with start speeds at the
 //! interval ends, uniform, and nearly uniform (tiny |D|, which reaches the widest
 //! accumulators and the uniform fallback). Every edge is checked twice: in f64
@@ -15,6 +17,11 @@ use tdm_stepper::model::*;
 const CASES: u32 = 10_000;
 /// Segments up to this many steps are checked at every step; longer ones at samples.
 const FULL_CHECK_STEPS: u32 = 4096;
+
+/// `n` cases at the default [`CASES`], scaled as `PROPTEST_CASES` scales it.
+fn scaled(n: u32) -> u32 {
+    (n as u64 * config().cases as u64 / CASES as u64).max(1) as u32
+}
 
 fn config() -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES").ok().and_then(|s| s.parse().ok()).unwrap_or(CASES);
@@ -249,7 +256,7 @@ proptest! {
 
 proptest! {
     // 2,000 cases: each checks up to 4,096 edges twice.
-    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+    #![proptest_config(ProptestConfig { cases: scaled(2_000), ..config() })]
 
     /// A deceleration to rest whose v0 = ⌈2n·2^32/T⌉ was rounded up (its end speed is
     /// below zero by less than one rate unit) is accepted and runs as its effective
@@ -337,7 +344,7 @@ fn pulse_timing(m: u32) -> impl Strategy<Value = PulseTiming> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+    #![proptest_config(ProptestConfig { cases: scaled(2_000), ..config() })]
 
     /// Multi-segment moves with reversals and dwells, under any accepted output timing:
     /// every pulse on the pins is at least max(H, D) high and max(L, S) low, DIR changes
@@ -409,7 +416,7 @@ fn pulse_timing_check_refuses_zero_and_a_sum_over_the_minimum_period() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+    #![proptest_config(ProptestConfig { cases: scaled(2_000), ..config() })]
 
     /// The distance/speed/acceleration planner: the steps sum to the request, every
     /// segment is one the core accepts, the phases are the documented roundings of
@@ -473,7 +480,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: config().cases.min(2_000), ..config() })]
+    #![proptest_config(ProptestConfig { cases: scaled(2_000), ..config() })]
 
     /// The controlled stop's segment (model::stop), from any last period Δ the core can
     /// emit (the minimum period up to the rest threshold) and any accepted deceleration:
@@ -727,8 +734,9 @@ proptest! {
 }
 
 proptest! {
-    // 1,000 cases: each runs up to seven segments of up to 4,096 steps twice.
-    #![proptest_config(ProptestConfig { cases: config().cases.min(1_000), ..config() })]
+    // 100 cases: each runs up to seven segments of up to 4,096 steps twice and takes
+    // the exact error of every edge (about 1 s a case; 1,000 took 15 minutes).
+    #![proptest_config(ProptestConfig { cases: scaled(100), ..config() })]
 
     /// Trapezoid and polynomial segments mixed on one axis: edges measured from the
     /// move start, cumulatively, never drift; a rejected segment between them changes
@@ -900,7 +908,7 @@ fn longest_gap_ticks(prof: &scurve::Profile, n: u64, f: u32) -> f64 {
 
 proptest! {
     // 300 cases: each runs a whole move through the models.
-    #![proptest_config(ProptestConfig { cases: config().cases.min(300), ..config() })]
+    #![proptest_config(ProptestConfig { cases: scaled(300), ..config() })]
 
     /// Jerk-limited moves over the range: planned, or refused only when the move is
     /// shorter than its speed change needs.
@@ -947,5 +955,434 @@ proptest! {
             }
             Err(e) => prop_assert!(false, "{e}"),
         }
+    }
+}
+
+// The model's example tests (one module per model file): they live here rather than
+// in the library, so that the test build compiles the library once (a `#[cfg(test)]`
+// library is a second whole build of it, about as long as the first).
+
+mod scurve_examples {
+    use tdm_stepper::model::scurve::*;
+    use tdm_stepper::model::axis::Motion;
+    use tdm_stepper::model::segment::Limits;
+    use tdm_stepper::model::AxisRun;
+
+    #[test]
+    fn a_jerk_limited_move_has_seven_phases_and_sums_exactly() {
+        let l = Limits::new(44).unwrap();
+        let f = 50_000_000;
+        let segs =
+            jerk_limited(20_000, 0.0, 0.0, 60_000.0, 400_000.0, 8_000_000.0, 400_000.0, 8_000_000.0, f, &l).unwrap();
+        assert_eq!(segs.iter().map(|m| m.steps() as i64).sum::<i64>(), 20_000);
+        let run = AxisRun::run_motions(&segs, &l);
+        assert!(run.rejected.is_empty(), "{:?}", run.rejected);
+        assert_eq!(run.edge_ticks.len(), 20_000);
+        assert!(run.max_edge_error_ticks() <= 0.5 + 1e-6, "{}", run.max_edge_error_ticks());
+        // Seven phases: jerk, hold, jerk, cruise, jerk, hold, jerk.
+        assert_eq!(segs.len(), 7);
+        assert!(segs.iter().all(|m| matches!(m, Motion::Poly(p) if p.degree() <= 3)));
+    }
+
+    #[test]
+    fn a_fourth_order_move_sums_exactly() {
+        let l = Limits::new(44).unwrap();
+        let segs = fourth_order(-12_345, 50_000.0, 500_000.0, 2.0e7, 2.0e9, 50_000_000, &l).unwrap();
+        assert_eq!(segs.iter().map(|m| m.steps() as i64).sum::<i64>(), -12_345);
+        assert!(segs.iter().any(|m| matches!(m, Motion::Poly(p) if p.degree() == 4)));
+        let run = AxisRun::run_motions(&segs, &l);
+        assert!(run.rejected.is_empty());
+        assert_eq!(run.position, -12_345);
+    }
+}
+
+mod encoder_examples {
+    use tdm_stepper::model::encoder::*;
+
+    fn run(cfg: &EncConfig, pins: &[EncPins]) -> EncoderModel {
+        let mut m = EncoderModel::new();
+        for _ in 0..3 {
+            m.clock(cfg, pins[0], false, false, true, true);
+        }
+        for &p in pins {
+            m.clock(cfg, p, false, false, true, false);
+        }
+        m
+    }
+
+    #[test]
+    fn counts_a_quadrature_walk_both_ways_and_its_period() {
+        for spacing in [1u64, 2, 5] {
+            let mut g = QuadratureGen::new(4000, spacing);
+            let mut pins = vec![QuadratureGen::lines(0, 4000)];
+            for t in 0..3000 {
+                pins.push(g.tick(if t < 1500 { 250 } else { -37 }));
+            }
+            pins.extend(std::iter::repeat(pins[pins.len() - 1]).take(5));
+            let m = run(&EncConfig::default(), &pins);
+            assert_eq!(m.outputs().count as i32, -37, "spacing {spacing}");
+            assert_eq!(m.outputs().illegal, 0);
+            assert_eq!(m.outputs().period as u64, spacing, "the last period is the spacing");
+            assert!(!m.outputs().last_dir);
+            let inv = run(&EncConfig { invert: true, ..Default::default() }, &pins);
+            assert_eq!(inv.outputs().count as i32, 37);
+        }
+    }
+
+    #[test]
+    fn both_lines_at_once_is_illegal_and_not_counted() {
+        let p = |a, b| EncPins { a, b, z: false };
+        let pins = [p(false, false), p(false, false), p(true, true), p(true, true), p(true, true), p(false, true), p(false, true), p(false, true)];
+        let m = run(&EncConfig::default(), &pins);
+        assert_eq!(m.outputs().illegal, 1);
+        // 11 → 01 is one count up.
+        assert_eq!(m.outputs().count, 1);
+    }
+
+    #[test]
+    fn the_filter_ignores_bounce_shorter_than_it() {
+        let cfg = EncConfig { filter: 3, ..Default::default() };
+        let p = |a| EncPins { a, b: false, z: false };
+        let mut pins = vec![p(false); 4];
+        pins.extend([p(true), p(true), p(true), p(false), p(true), p(false)]);
+        pins.extend(vec![p(false); 6]);
+        assert_eq!(run(&cfg, &pins).outputs().count, 0, "3-tick bounce under a 3-tick filter");
+        pins.extend(vec![p(true); 4]);
+        pins.extend(vec![p(true); 3]);
+        assert_eq!(run(&cfg, &pins).outputs().count, 1, "held 4 ticks");
+    }
+
+    #[test]
+    fn the_index_latches_and_the_armed_clear_counts_from_it() {
+        let cfg = EncConfig { gate: true, gate_ab: 0, ..Default::default() };
+        let mut g = QuadratureGen::new(16, 2);
+        let mut m = EncoderModel::new();
+        for _ in 0..3 {
+            m.clock(&cfg, g.tick(0), false, false, true, true);
+        }
+        m.clock(&cfg, g.tick(0), true, false, true, false);
+        assert!(m.outputs().armed);
+        let mut tog = m.outputs().index_tog;
+        let mut seen = vec![];
+        for _ in 0..200 {
+            m.clock(&cfg, g.tick(40), false, false, true, false);
+            if m.outputs().index_tog != tog {
+                tog = m.outputs().index_tog;
+                seen.push((m.outputs().index_count, m.outputs().count, m.outputs().armed));
+            }
+        }
+        // Z was high from reset at 0 (no edge); the indexes at 16 (armed: the count
+        // restarts there, a tick later) and 32 (16 counts later).
+        assert_eq!(seen, vec![(16, 16, false), (16, 16, false)]);
+        assert_eq!(m.outputs().count, 40 - 16);
+    }
+
+    /// The narrow decoders and the shared extension give, at every visit, the full
+    /// model's 32-bit count and latches: random walks at up to a count per tick, far
+    /// from 0 (every narrow field wraps), with indexes, armed clears (two indexes
+    /// within a visit too), probes next to clears and resets, for K = 1..16.
+    #[test]
+    fn the_extension_gives_the_full_count_and_latches_at_every_visit() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rng = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let mut checked = [0u64; 6];
+        for k in 1..=16usize {
+            let mut bank = EncoderBankModel::new(k);
+            let mut pos = vec![0i64; k];
+            // The step positions (0 at reset, a step a tick at most) and each axis's
+            // position at its last index.
+            let mut steps = vec![0u32; k];
+            let mut at_index = vec![0u32; k];
+            let mut target = vec![0i64; k];
+            // Some runs hold every axis still for longer than the velocity saturates.
+            let long = [1, 5, 16].contains(&k);
+            let stall = |t: u64| long && (6_000..74_000).contains(&t);
+            let mut visit = (0, EncOutputs::default(), false, 0u32);
+            for t in 0..if long { 80_000 } else { 6_000 } {
+                let reset = t < 3 || (!stall(t) && rng() % 3_000 == 0);
+                let vel_prescale = if long || k % 3 == 0 { 0 } else { 3 };
+                let mut i = BankInputs { mode: 0x20, vel_prescale, ..Default::default() };
+                for a in 0..k {
+                    if stall(t) {
+                        target[a] = pos[a];
+                    } else if rng() % 200 == 0 {
+                        // Far away, or near (then the axis rests until the next).
+                        target[a] = if rng() % 2 == 0 {
+                            (rng() % 4_000) as i64 - 2_000 + if a % 2 == 0 { 100_000 } else { -70_000 }
+                        } else {
+                            pos[a] + (rng() % 40) as i64 - 20
+                        };
+                    }
+                    // At most a count per tick (every other tick for some axes).
+                    if pos[a] != target[a] && (a % 3 != 0 || t % 2 == 0) {
+                        pos[a] += (target[a] - pos[a]).signum();
+                    }
+                    // An index every 6 counts, so two can fall between two visits.
+                    let p = QuadratureGen::lines(pos[a], 6);
+                    i.a |= (p.a as u32) << a;
+                    i.b |= (p.b as u32) << a;
+                    i.z |= (p.z as u32) << a;
+                    // Frequent armed clears on some axes, rare on the others.
+                    if !stall(t) && rng() % if a % 4 == 0 { 40 } else { 3_000 } == 0 {
+                        i.arm |= 1 << a;
+                    }
+                }
+                i.probe = rng() % 25 == 0;
+                if reset {
+                    steps.iter_mut().for_each(|s| *s = 0);
+                    at_index.iter_mut().for_each(|s| *s = 0);
+                } else if !stall(t) {
+                    for (a, s) in steps.iter_mut().enumerate() {
+                        // Runs one way and the other; some axes step every tick.
+                        let r = rng() % 8;
+                        if a % 5 == 1 || r < 3 {
+                            *s = if (t / 1_500 + a as u64) % 2 == 0 { s.wrapping_add(1) } else { s.wrapping_sub(1) };
+                        }
+                    }
+                }
+                i.position = steps[bank.pos_axis()];
+                i.pos_low = steps.iter().enumerate().fold(0u128, |w, (a, &s)| w | ((s & 0xFF) as u128) << (8 * a));
+                // The visit's sample, written by the next edge.
+                let (ax, full, ok, at_idx) = visit;
+                visit = (bank.fe.ax(), bank.dec[bank.fe.ax()].outputs(), !reset, at_index[bank.fe.ax()]);
+                let togs: Vec<bool> = bank.dec.iter().map(|d| d.outputs().index_tog).collect();
+                bank.clock(&i, reset);
+                for a in 0..k {
+                    if bank.dec[a].outputs().index_tog != togs[a] && !reset {
+                        at_index[a] = steps[a];
+                    }
+                }
+                if ok && !reset {
+                    let e = &bank.ext;
+                    assert_eq!(e.cnt[ax], full.count, "K {k}, tick {t}, axis {ax}: the count");
+                    assert_eq!(e.idx[ax], full.index_count, "K {k}, tick {t}, axis {ax}: the index latch");
+                    assert_eq!(e.prb[ax], full.probe_count, "K {k}, tick {t}, axis {ax}: the probe latch");
+                    // The step position at the last index: written at a visit with a new
+                    // index, held at the others.
+                    assert_eq!(e.ipos[ax], at_idx, "K {k}, tick {t}, axis {ax}: the index's step position (new: {})", full.inew);
+                    checked[5] += (full.inew && (at_idx as i32).unsigned_abs() > 300) as u64;
+                    assert_eq!(e.live[ax], live_word(&full));
+                    assert_eq!((e.per[ax], e.age[ax]), (full.period, full.age), "K {k}, tick {t}, axis {ax}: the velocity");
+                    checked[3] += (full.age == VEL_MAX) as u64;
+                    checked[4] += (full.period > 255 && full.enew && !full.e2) as u64;
+                    checked[0] += ((full.count as i32).unsigned_abs() > 1 << 9 && !full.cnew) as u64;
+                    checked[1] += (full.inew && full.iafter) as u64;
+                    checked[2] += (full.pnew && full.pafter) as u64;
+                }
+            }
+        }
+        assert!(checked.iter().all(|&c| c > 20), "every case was met: {checked:?}");
+    }
+
+    #[test]
+    fn the_rate_bound_keeps_two_ticks_and_grows_with_the_filter() {
+        assert_eq!(max_count_rate_ticks(0), 2);
+        assert_eq!(max_count_rate_ticks(1), 2);
+        assert_eq!(max_count_rate_ticks(3), 3);
+        assert_eq!(max_count_rate_ticks(15), 9);
+    }
+}
+
+mod guard_examples {
+    use tdm_stepper::model::guard::*;
+
+    fn free() -> GuardFlags {
+        GuardFlags::default()
+    }
+
+    #[test]
+    fn the_checks_in_their_order() {
+        let mut g = PushGuardModel::new(2);
+        assert_eq!(g.check(0, 10, free()), Err(GuardError::Halted), "stale after reset");
+        g.resync(0, 100);
+        assert_eq!(g.check(0, 10, free()), Ok(110));
+        assert_eq!(g.check(0, 10, GuardFlags { held: true, ..free() }), Err(GuardError::Halted));
+        assert_eq!(g.check(0, 10, GuardFlags { limit_pos: true, ..free() }), Err(GuardError::Limit));
+        assert_eq!(g.check(0, -10, GuardFlags { limit_pos: true, ..free() }), Ok(90), "away from the limit runs");
+        assert_eq!(g.check(0, -10, GuardFlags { limit_neg: true, ..free() }), Err(GuardError::Limit));
+        assert_eq!(g.check(0, 0, GuardFlags { limit_neg: true, limit_pos: true, held: false }), Ok(100), "a dwell");
+        assert_eq!(g.set_soft(0, Some(SoftLimits { min: 0, max: -1 })), Err(()));
+        assert_eq!(g.soft[0], None, "a refused pair changes nothing");
+        g.set_soft(0, Some(SoftLimits { min: 50, max: 150 })).unwrap();
+        assert_eq!(g.check(0, 50, free()), Ok(150), "max is inclusive");
+        assert_eq!(g.check(0, 51, free()), Err(GuardError::SoftLimit));
+        assert_eq!(g.check(0, -50, free()), Ok(50), "min is inclusive");
+        assert_eq!(g.check(0, -51, free()), Err(GuardError::SoftLimit));
+        g.accept(0, 150);
+        assert_eq!(g.check(0, 1, free()), Err(GuardError::SoftLimit), "after everything queued before it");
+        assert_eq!(g.check(0, 0, free()), Ok(150));
+        g.mark_stale(0);
+        assert_eq!(g.check(0, -1, free()), Err(GuardError::Halted));
+        g.resync(0, 120);
+        assert_eq!(g.check(0, 30, free()), Ok(150));
+        // The end is exact at the 32-bit edges (no wrap into range).
+        g.set_soft(1, Some(SoftLimits { min: i32::MIN, max: i32::MAX })).unwrap();
+        g.resync(1, i32::MAX - 5);
+        assert_eq!(g.check(1, 5, free()), Ok(i32::MAX as i64));
+        assert_eq!(g.check(1, 6, free()), Err(GuardError::SoftLimit));
+        g.set_soft(1, None).unwrap();
+        assert_eq!(g.check(1, 6, free()), Ok(i32::MAX as i64 + 1));
+        g.accept(1, i32::MAX as i64 + 1);
+        assert_eq!(g.plan[1], i32::MIN, "the plan wraps like the position");
+    }
+}
+
+mod poly_examples {
+    use tdm_stepper::model::poly::*;
+    use tdm_stepper::model::segment::{Limits, SegmentError, MAX_V0_RATE};
+
+    fn limits() -> Limits {
+        Limits::default()
+    }
+
+    fn check(seg: PolySegment) -> Vec<u32> {
+        seg.validate(&limits()).unwrap();
+        let plan = PolyPlan::new(seg);
+        let edges = plan.edges();
+        assert_eq!(edges.len() as u32, seg.n_steps());
+        for (k, &e) in edges.iter().enumerate() {
+            let i = k as u32 + 1;
+            assert_eq!(e, seg.edge_by_definition(i), "step {i} of {seg:?}");
+            assert!(seg.edge_within(i, e as i64, 4), "step {i} of {seg:?} not within ½ tick");
+        }
+        edges
+    }
+
+    #[test]
+    fn the_setup_state_is_the_search_at_base_one() {
+        let segs = [
+            PolySegment::cubic(0, 3000 << 16, 1 << 16, 1000).unwrap(),
+            PolySegment::new(1 << 20, 1 << 21, -(1 << 30), 1 << 12, 3),
+            PolySegment::cubic(MAX_V0_RATE / 3, 0, 1 << 24, -(1 << 20)).unwrap(),
+        ];
+        for seg in segs {
+            let plan = PolyPlan::new(seg);
+            let (a, b) = (plan.setup_state(), plan.search_after(0, 1));
+            assert_eq!((a.i, a.base, a.rem, a.taylor), (b.i, b.base, b.rem, b.taylor), "{seg:?}");
+        }
+    }
+
+    #[test]
+    fn a_cubic_from_rest_has_its_edges_at_the_cube_root() {
+        // x = n·u³ (v0 = 0, A = 0): v1 = 3n/T. T = 2^16, n = 1000: v1·2^32 = 3000·2^16.
+        let t = 1u32 << 16;
+        let seg = PolySegment::cubic(0, 3000 << 16, t, 1000).unwrap();
+        assert_eq!(seg.a_q32, 0);
+        assert_eq!(seg.degree(), 3);
+        let edges = check(seg);
+        for (k, &e) in edges.iter().enumerate() {
+            let exact = t as f64 * ((k + 1) as f64 / 1000.0).cbrt();
+            assert!((e as f64 - exact).abs() <= 0.5 + 1e-9, "step {}: {e} vs {exact}", k + 1);
+        }
+    }
+
+    #[test]
+    fn a_quartic_from_rest_matches_the_fourth_root() {
+        // x = n·u⁴: v0 = 0, A = 0, C = 0, Q = n → Rn = n, Rv = v1·T = 4n.
+        let t = 1u32 << 18;
+        let n = 4096;
+        let seg = PolySegment::new(0, ((4 * n as u64) << 32 >> 18) as u32, 0, t, n);
+        assert_eq!(seg.hermite_q32(), (0, (n as i128) << 32));
+        let edges = check(seg);
+        for (k, &e) in edges.iter().enumerate() {
+            let exact = t as f64 * ((k + 1) as f64 / n as f64).powf(0.25);
+            assert!((e as f64 - exact).abs() <= 0.5 + 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_uniform_segment_is_bresenham() {
+        let seg = PolySegment::cubic(1 << 28, 1 << 28, 1 << 20, 1 << 16).unwrap();
+        assert_eq!(seg.degree(), 1);
+        let edges = check(seg);
+        for (k, &e) in edges.iter().enumerate() {
+            assert_eq!(e, 16 * (k as u32 + 1));
+        }
+    }
+
+    #[test]
+    fn rest_to_rest_in_one_cubic_and_one_step() {
+        // x = n(3u² − 2u³): v0 = v1 = 0, A = 3n.
+        let seg = PolySegment::cubic(0, 0, POLY_MAX_T_TICKS, 1).unwrap();
+        assert_eq!(seg.a_q32, 3 << 32);
+        assert_eq!(check(seg), vec![POLY_MAX_T_TICKS]);
+        let seg = PolySegment::cubic(0, 0, POLY_MAX_T_TICKS, 2).unwrap();
+        assert_eq!(check(seg), vec![POLY_MAX_T_TICKS / 2, POLY_MAX_T_TICKS]);
+    }
+
+    #[test]
+    fn the_search_resumes_from_any_step() {
+        let mut seg = PolySegment::cubic(1 << 27, 3 << 26, 1 << 19, 20000).unwrap();
+        seg.a_q32 += 1 << 44; // a quartic
+        assert_eq!(seg.degree(), 4);
+        seg.validate(&limits()).unwrap();
+        let plan = PolyPlan::new(seg);
+        let edges = plan.edges();
+        for i in [0u32, 1, 77, 6000, 19998] {
+            let base = if i == 0 { 0 } else { edges[i as usize - 1] };
+            let mut s = plan.search_after(i, base);
+            let again: Vec<u32> = std::iter::from_fn(|| s.next_edge()).collect();
+            assert_eq!(&again[..], &edges[i as usize..]);
+        }
+    }
+
+    /// The widest search word over the corners of the range: every speed control point
+    /// at 0 or RMAX (minimum period 2), T = 2^24, 2^24 − 1 and 2^12, in windows at the start,
+    /// the middle and the end of each segment.
+    #[test]
+    fn the_search_words_fit_at_the_corners() {
+        let l = limits();
+        let mut widest = 0;
+        let mut coeff = [0u32; 4];
+        for seg in corner_segments(&l, &[POLY_MAX_T_TICKS, POLY_MAX_T_TICKS - 1, 1 << 12]) {
+            let plan = PolyPlan::new(seg);
+            for (k, c) in seg.n_coefficients().into_iter().enumerate() {
+                coeff[k] = coeff[k].max(signed_bits(c));
+            }
+            let n = seg.n_steps();
+            for start in [0, n / 2, n.saturating_sub(40)] {
+                let base = if start == 0 { 0 } else { seg.edge_by_definition(start) };
+                let mut s = plan.search_after(start, base);
+                for _ in 0..40 {
+                    if s.next_edge().is_none() {
+                        break;
+                    }
+                }
+                widest = widest.max(s.widest_bits);
+            }
+        }
+        eprintln!("widest poly search word: {widest} bits");
+        assert!(widest <= POLY_WORD_BITS && widest + 8 > POLY_WORD_BITS, "widest {widest}");
+        // The setup's products: within their widths, and the bounds not loose by
+        // more than the control points' slack (a few bits).
+        eprintln!("widest setup coefficients: {coeff:?} bits");
+        for k in 0..4 {
+            assert!(coeff[k] <= POLY_COEFF_BITS[k] && coeff[k] + 4 > POLY_COEFF_BITS[k], "c{}: {coeff:?}", k + 1);
+        }
+    }
+
+    #[test]
+    fn validation_catches_interior_reversal_and_peak() {
+        let l = limits();
+        let rmax = l.max_rate();
+        // n = 0 with an acceleration term reverses inside.
+        assert_eq!(PolySegment::new(0, 0, 1 << 40, 1000, 0).validate(&l), Err(SegmentError::Reverses));
+        assert!(PolySegment::new(0, 0, 0, 1000, 0).validate(&l).is_ok());
+        // Rest to rest over T with n steps peaks at 1.5·n/T: too fast when that exceeds RMAX
+        // although both ends are at rest.
+        let t = 3000u32;
+        let n = ((rmax as u64 * t as u64) >> 32) as i32; // average speed ≈ RMAX
+        assert_eq!(PolySegment::cubic(0, 0, t, n).unwrap().validate(&l), Err(SegmentError::PeriodTooShort));
+        assert_eq!(PolySegment::cubic(0, 0, t, 2 * n / 5).unwrap().validate(&l), Ok(()));
+        assert_eq!(
+            PolySegment::cubic(0, 0, POLY_MAX_T_TICKS + 1, 1).unwrap().validate(&l),
+            Err(SegmentError::TicksRange)
+        );
+        assert_eq!(PolySegment::new(MAX_V0_RATE + 1, 0, 0, 10, 1).validate(&l), Err(SegmentError::RateRange));
     }
 }

@@ -15,7 +15,7 @@ use tdm_stepper::regs::{self, CoreParams};
 use tdm_stepper::verify::bus::{
     position, run_stepper_io_rust_hdl, run_stepper_rust_hdl, samples_to_bus_events, stepper_watch, system_spec, BusModel, BusTiming, ReadId,
 };
-use tdm_stepper::verify::system::{run_system, run_system_with, Clocks, RunOptions, SystemTrace};
+use tdm_stepper::verify::system::{run_system_with, Clocks, RunOptions, SystemTrace};
 use tdm_stepper::verify::{Port, Simulator};
 
 // The export's configuration.
@@ -53,7 +53,9 @@ fn cycles_after(b: &BusModel, extra: u64) -> u64 {
 
 fn verilator<const K: usize>(name: &str, b: &BusModel, cycles: u64) -> SystemTrace {
     let verilog = generate_verilog(&dut::<K>());
-    run_system(&sim_dir(name, Simulator::Verilator), &verilog, &system_spec("top", stepper_watch(K)), &CLOCKS, b.events(), cycles).unwrap()
+    let opts = RunOptions { build_cache: Some(verilator_cache()), ..Default::default() };
+    run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &system_spec("top", stepper_watch(K)), &CLOCKS, b.events(), cycles, &opts)
+        .unwrap()
 }
 
 /// The same, on what `tdm-stepper export` writes.
@@ -84,7 +86,7 @@ fn verilator_exported_probed(
 ) -> SystemTrace {
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
     let spec = system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(opts.axes));
-    let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), vcd, ..Default::default() };
+    let opts = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), vcd, build_cache: Some(verilator_cache()), ..Default::default() };
     run_system_with(&sim_dir(name, Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &opts).unwrap()
 }
 
@@ -226,6 +228,47 @@ fn read16(b: &BusModel, t: &SystemTrace, id: tdm_stepper::verify::bus::ReadId) -
 }
 
 /// The paper's experiment, written through the bus into the exported core.
+/// Run folders share finished simulators through `RunOptions::build_cache`: a second
+/// folder with the same design runs the cached one (and builds nothing), gives the
+/// same trace, and a different design builds its own.
+#[test]
+fn run_folders_share_a_build_of_the_same_design() {
+    use tdm_stepper::verify::{system::{BusEvent, SystemSpec}, Port};
+    let counter = |step: &str| {
+        format!(
+            "module cnt(input clk, input bus_clk, input [7:0] d, output [7:0] q, output [7:0] s);\n\
+             reg [7:0] r = 0;\n  always @(posedge clk) r <= r + {step};\n  assign q = r;\n  assign s = r;\nendmodule\n"
+        )
+    };
+    let spec = SystemSpec { module: "cnt".into(), inputs: vec![Port::new("d", 8)], watch: vec![Port::new("q", 8)], sample: Port::new("s", 8) };
+    let events = [
+        BusEvent { time_ps: 2, inputs: vec![1], sample: false },
+        BusEvent { time_ps: 2 + 3 * 40_000, inputs: vec![3], sample: true },
+    ];
+    let cache = sim_dir("shared_build_cache", Simulator::Verilator);
+    let dirs: Vec<_> = ["shared_build_a", "shared_build_b", "shared_build_c"].map(|n| sim_dir(n, Simulator::Verilator)).into();
+    for d in dirs.iter().chain([&cache]) {
+        let _ = std::fs::remove_dir_all(d);
+    }
+    let opts = RunOptions { build_cache: Some(cache.clone()), ..Default::default() };
+    let run = |dir: &std::path::Path, v: &str| {
+        std::fs::create_dir_all(dir).unwrap();
+        run_system_with(dir, v, &spec, &CLOCKS, &events, 20, &opts).unwrap()
+    };
+    let cached = || std::fs::read_dir(&cache).unwrap().count();
+    let a = run(&dirs[0], &counter("d"));
+    assert!(dirs[0].join("obj_dir/Vsim").is_file(), "the first folder builds");
+    assert_eq!(cached(), 1);
+    let b = run(&dirs[1], &counter("d"));
+    assert!(!dirs[1].join("obj_dir").exists(), "the second folder runs the cached build");
+    assert_eq!(a, b);
+    assert_eq!(cached(), 1);
+    let c = run(&dirs[2], &counter("d + d"));
+    assert!(dirs[2].join("obj_dir/Vsim").is_file(), "another design builds its own");
+    assert_eq!(cached(), 2);
+    assert_ne!(a.changes, c.changes, "and runs it");
+}
+
 #[test]
 fn paper_experiment_through_the_bus_in_verilator() {
     let axes = paper_experiment_segments();
@@ -337,7 +380,7 @@ fn paper_experiment_through_spi_in_verilator() {
     let opts = tdm_stepper::export::ExportOptions { axes: 2, bus: tdm_stepper::export::Bus::Spi, ..Default::default() };
     let verilog = tdm_stepper::export::verilog(&opts).unwrap();
     let spec = spi_system_spec(tdm_stepper::export::TOP_MODULE, stepper_watch(2));
-    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), build_cache: Some(verilator_cache()), ..Default::default() };
     let t0 = std::time::Instant::now();
     let trace = run_system_with(&sim_dir("system_paper_spi", Simulator::Verilator), &verilog, &spec, &CLOCKS, b.events(), cycles, &run).unwrap();
     eprintln!("paper experiment through SPI: {} frames during the move, {cycles} clk cycles, Verilator build + run {:.1} s", k, t0.elapsed().as_secs_f64());
@@ -1216,7 +1259,7 @@ fn verilator_with_pins(
         spec.inputs.push(Port::new(n, w));
     }
     let (events, index) = tdm_stepper::verify::bus::with_extra_inputs(b.events(), initial, pins);
-    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), ..Default::default() };
+    let run = RunOptions { pause_idle_bus_ps: Some(PAUSE_GAP_PS), build_cache: Some(verilator_cache()), ..Default::default() };
     let mut tr = run_system_with(&sim_dir(name, Simulator::Verilator), verilog, &spec, &CLOCKS, &events, cycles, &run).unwrap();
     samples_to_bus_events(&mut tr, &index);
     tr

@@ -7,7 +7,7 @@
 //! (velocity, illegal count, flags), and registers the count for the following-error
 //! unit's stage 2. It equals
 //! `model::encoder::ExtendModel` clock for clock (tests/hdl_encoder.rs, through
-//! [`super::enc_bank::EncoderBank`], three ways); the model's unit test shows the
+//! [`super::enc_bank::EncoderBank`], three ways); the model's example test (tests/model_props.rs) shows the
 //! extended values equal the full-width count and latches at every visit.
 //!
 //! The arithmetic: with `base` the axis's last count (0 before its first visit since

@@ -533,36 +533,3 @@ fn plan(
     }
     Ok(out)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::model::AxisRun;
-
-    #[test]
-    fn a_jerk_limited_move_has_seven_phases_and_sums_exactly() {
-        let l = Limits::new(44).unwrap();
-        let f = 50_000_000;
-        let segs =
-            jerk_limited(20_000, 0.0, 0.0, 60_000.0, 400_000.0, 8_000_000.0, 400_000.0, 8_000_000.0, f, &l).unwrap();
-        assert_eq!(segs.iter().map(|m| m.steps() as i64).sum::<i64>(), 20_000);
-        let run = AxisRun::run_motions(&segs, &l);
-        assert!(run.rejected.is_empty(), "{:?}", run.rejected);
-        assert_eq!(run.edge_ticks.len(), 20_000);
-        assert!(run.max_edge_error_ticks() <= 0.5 + 1e-6, "{}", run.max_edge_error_ticks());
-        // Seven phases: jerk, hold, jerk, cruise, jerk, hold, jerk.
-        assert_eq!(segs.len(), 7);
-        assert!(segs.iter().all(|m| matches!(m, Motion::Poly(p) if p.degree() <= 3)));
-    }
-
-    #[test]
-    fn a_fourth_order_move_sums_exactly() {
-        let l = Limits::new(44).unwrap();
-        let segs = fourth_order(-12_345, 50_000.0, 500_000.0, 2.0e7, 2.0e9, 50_000_000, &l).unwrap();
-        assert_eq!(segs.iter().map(|m| m.steps() as i64).sum::<i64>(), -12_345);
-        assert!(segs.iter().any(|m| matches!(m, Motion::Poly(p) if p.degree() == 4)));
-        let run = AxisRun::run_motions(&segs, &l);
-        assert!(run.rejected.is_empty());
-        assert_eq!(run.position, -12_345);
-    }
-}

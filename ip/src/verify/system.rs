@@ -16,7 +16,7 @@
 use super::tb::{hex_lines, parse_value, tool, write_file, Change, Port};
 use rust_hdl::prelude::*;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The two clocks of the device, in picoseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,6 +66,12 @@ pub struct RunOptions {
     pub progress: bool,
     /// Pause `bus_clk` where the bus rests longer than this (ps), for speed.
     pub pause_idle_bus_ps: Option<u64>,
+    /// A folder of finished simulators named by their build stamp, shared by run
+    /// folders: a run whose design, testbench and main loop are there already runs
+    /// that simulator instead of building its own, and a run that builds adds its
+    /// simulator. The test suites share one across their run folders (the same core
+    /// is built once, not once per test).
+    pub build_cache: Option<PathBuf>,
 }
 
 /// Windows [start, end) in which `bus_clk` may pause: gaps between bus events
@@ -340,11 +346,21 @@ pub fn run_system_with(
     }
     write_file(dir, "pauses.txt", &pauses)?;
     let _ = std::fs::remove_file(dir.join("out.txt"));
-    if !built {
-        build_verilator(dir)?;
-        write_file(dir, BUILD_STAMP, &stamp)?;
-    }
-    let mut run = std::process::Command::new(dir.join("obj_dir/Vsim"));
+    let cached = opts.build_cache.as_ref().map(|c| c.join(stamp.trim())).filter(|exe| exe.is_file());
+    let exe = match (built, cached) {
+        (false, Some(exe)) => exe,
+        _ => {
+            if !built {
+                build_verilator(dir)?;
+                write_file(dir, BUILD_STAMP, &stamp)?;
+            }
+            if let Some(cache) = &opts.build_cache {
+                add_to_cache(cache, stamp.trim(), &dir.join("obj_dir/Vsim"))?;
+            }
+            dir.join("obj_dir/Vsim")
+        }
+    };
+    let mut run = std::process::Command::new(exe);
     run.args(run_args(clocks, cycles, opts));
     if opts.progress {
         run.stderr(std::process::Stdio::inherit());
@@ -366,6 +382,20 @@ const BUILD_FLAGS: [&str; 19] = [
     "--cc", "--exe", "--build", "-j", "2", "-O3", "--x-assign", "fast", "--x-initial", "fast", "-Wno-fatal", "-Wno-lint",
     "-Wno-style", "--top-module", "tb", "-CFLAGS", "-march=native", "-MAKEFLAGS", "OPT_FAST=-O3 OPT_SLOW=-O1 OPT_GLOBAL=-O2",
 ];
+
+/// Copies the simulator `exe` into `cache` as `name` unless it is there: written
+/// under a name of its own and renamed, so that runs in other processes sharing the
+/// cache see a whole file or none.
+fn add_to_cache(cache: &Path, name: &str, exe: &Path) -> Result<(), String> {
+    let dest = cache.join(name);
+    if dest.is_file() {
+        return Ok(());
+    }
+    std::fs::create_dir_all(cache).map_err(|e| format!("cannot create {}: {e}", cache.display()))?;
+    let part = cache.join(format!("{name}.{}.part", std::process::id()));
+    std::fs::copy(exe, &part).map_err(|e| format!("cannot copy {} to {}: {e}", exe.display(), part.display()))?;
+    std::fs::rename(&part, &dest).map_err(|e| format!("cannot rename {} to {}: {e}", part.display(), dest.display()))
+}
 
 /// FNV-1a, 64 bits, over the parts (each followed by a 0 byte): a stable hash for
 /// the build stamp.

@@ -108,6 +108,13 @@ pub fn sim_dir(name: &str, sim: Simulator) -> std::path::PathBuf {
     std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{name}_{sim:?}_{profile}"))
 }
 
+/// The Verilator simulators the test binaries share, by build stamp
+/// (`RunOptions::build_cache`): a core that several tests run is built once.
+#[allow(dead_code)]
+pub fn verilator_cache() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("verilator_cache")
+}
+
 /// Runs a block three ways on `rows`: `want` (the model's outputs per row), the
 /// block in a rust-hdl clock loop, and its exported Verilog in every simulator.
 pub fn three_ways<B: rust_hdl::prelude::Block>(
