@@ -227,7 +227,6 @@ fn read16(b: &BusModel, t: &SystemTrace, id: tdm_stepper::verify::bus::ReadId) -
     b.value(t, id).expect("read returned undefined bits")
 }
 
-/// The paper's experiment, written through the bus into the exported core.
 /// Run folders share finished simulators through `RunOptions::build_cache`: a second
 /// folder with the same design runs the cached one (and builds nothing), gives the
 /// same trace, and a different design builds its own.
@@ -269,6 +268,7 @@ fn run_folders_share_a_build_of_the_same_design() {
     assert_ne!(a.changes, c.changes, "and runs it");
 }
 
+/// The paper's experiment, written through the bus into the exported core.
 #[test]
 fn paper_experiment_through_the_bus_in_verilator() {
     let axes = paper_experiment_segments();
