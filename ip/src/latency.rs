@@ -8,6 +8,17 @@
 /// Bits per cycle of the shared multiplier, divider and square root.
 pub const RADIX_BITS: usize = 2;
 
+/// Segments per axis queue of an export.
+pub const QUEUE_DEPTH: usize = 16;
+
+/// The period FIFO depth of an export. Each supported configuration is compiled
+/// into the tool (the design is generic at compile time), so one depth is offered.
+/// 8 entries at the shortest period (K·t_calc) outlast a segment setup started while
+/// the FIFO was full plus the scheduler's round trip, at every K from 1 to 16
+/// (docs/architecture.md, "FIFO depth"; `fifo_depth_covers_a_setup_at_the_minimum_period`).
+/// The FIFO's LUT RAM has 32 entries whatever the depth, so the depth costs no area.
+pub const FIFO_DEPTH: usize = 8;
+
 /// Numerator bits of the shared divider ([`crate::hdl::divider`]).
 pub const DIV_NUM_BITS: usize = 104;
 

@@ -1,16 +1,14 @@
-//! tdm-stepper: a time-division multiplexed multi-axis stepper motor controller IP
-//! core. See README.md and docs/ for the architecture; this crate holds the
-//! reference model, the test vectors, the accuracy report and the CLI.
+//! tdm-stepper-ip: the IP core of tdm-stepper, a time-division multiplexed
+//! multi-axis stepper motor controller. See README.md and docs/ for the
+//! architecture. This crate holds the reference model, the register table, the HDL
+//! blocks, their verification harnesses, the test vectors and the accuracy report;
+//! the tool crate (ip/tool: export, package, sweep, sim, board and the CLI) builds on
+//! it and re-exports its modules as `tdm_stepper::…`.
 
 pub mod accuracy;
-pub mod board;
-pub mod export;
 pub mod hdl;
 pub mod latency;
 pub mod model;
-pub mod package;
 pub mod regs;
-pub mod sim;
-pub mod sweep;
 pub mod vectors;
 pub mod verify;

@@ -114,6 +114,55 @@ pub fn run_stepper_rust_hdl<const K: usize, const R: usize, const D: usize, cons
     )
 }
 
+/// Axis counts [`run_tdm_rust_hdl`] simulates (each is a compiled instance).
+pub const RUST_HDL_AXES: [usize; 4] = [1, 2, 4, 8];
+
+/// The exported TDM core (R = [`crate::latency::RADIX_BITS`], the export's FIFO and
+/// queue depths) for `params` (K in [`RUST_HDL_AXES`], with or without the S-curve
+/// option; no other option), simulated in rust-hdl with [`run_stepper_rust_hdl`]
+/// under bus `events`, the bus paused where [`super::system::bus_pauses`] finds it
+/// idle for a second or more: what `tdm-stepper sim --engine rust-hdl` runs. The
+/// instances are made here, in the optimised IP crate, not in the tool. Err for
+/// another K or option.
+pub fn run_tdm_rust_hdl(params: regs::CoreParams, clocks: &Clocks, events: &[BusEvent], cycles: u64, progress: bool) -> Result<SystemTrace, String> {
+    if params.io || params.encoder {
+        return Err("--engine rust-hdl simulates the core without the machine I/O and encoder options".into());
+    }
+    let (clocks, events) = (*clocks, events.to_vec());
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || {
+            let c = &clocks;
+            let e = events.as_slice();
+            match (params.axes, params.scurve) {
+                (1, false) => Ok(tdm_rust_hdl::<1, 0>(params, c, e, cycles, progress)),
+                (2, false) => Ok(tdm_rust_hdl::<2, 0>(params, c, e, cycles, progress)),
+                (4, false) => Ok(tdm_rust_hdl::<4, 0>(params, c, e, cycles, progress)),
+                (8, false) => Ok(tdm_rust_hdl::<8, 0>(params, c, e, cycles, progress)),
+                (1, true) => Ok(tdm_rust_hdl::<1, 1>(params, c, e, cycles, progress)),
+                (2, true) => Ok(tdm_rust_hdl::<2, 1>(params, c, e, cycles, progress)),
+                (4, true) => Ok(tdm_rust_hdl::<4, 1>(params, c, e, cycles, progress)),
+                (8, true) => Ok(tdm_rust_hdl::<8, 1>(params, c, e, cycles, progress)),
+                (k, _) => Err(format!("--engine rust-hdl supports --axes 1, 2, 4 or 8 (got {k})")),
+            }
+        })
+        .map_err(|e| e.to_string())?
+        .join()
+        .map_err(|_| "the rust-hdl simulation panicked".to_string())?
+}
+
+fn tdm_rust_hdl<const K: usize, const S: usize>(params: regs::CoreParams, clocks: &Clocks, events: &[BusEvent], cycles: u64, progress: bool) -> SystemTrace {
+    use crate::latency::{FIFO_DEPTH, QUEUE_DEPTH, RADIX_BITS};
+    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, FIFO_DEPTH, QUEUE_DEPTH, S>::new(params));
+    u.connect_ports();
+    let pauses = super::system::bus_pauses(events, 1_000_000_000);
+    let trace = run_stepper_rust_hdl(u.as_mut(), clocks, events, cycles, &pauses, progress);
+    if progress {
+        eprintln!();
+    }
+    trace
+}
+
 /// [`run_stepper_rust_hdl`] for the core with the machine I/O: each event holds the
 /// bus pins, then estop_n, probe, limit_neg, limit_pos, home and alarm (as
 /// [`with_extra_inputs`] adds them), and `drv_enable` is watched after `irq`.

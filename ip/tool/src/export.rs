@@ -18,17 +18,12 @@ use serde::Serialize;
 
 /// Bits per cycle of the shared multiplier, divider and square root.
 pub use crate::latency::RADIX_BITS;
-/// Segments per axis queue.
-pub const QUEUE_DEPTH: usize = 16;
+/// Segments per axis queue (defined beside the radix, in the IP crate).
+pub use crate::latency::QUEUE_DEPTH;
 /// Most axes an export supports (the register map's limit).
 pub const MAX_AXES: usize = regs::MAX_AXES;
-/// The period FIFO depth of an export. Each supported configuration is compiled
-/// into the tool (the design is generic at compile time), so one depth is offered.
-/// 8 entries at the shortest period (K·t_calc) outlast a segment setup started while
-/// the FIFO was full plus the scheduler's round trip, at every K from 1 to 16
-/// (docs/architecture.md, "FIFO depth"; `fifo_depth_covers_a_setup_at_the_minimum_period`).
-/// The FIFO's LUT RAM has 32 entries whatever the depth, so the depth costs no area.
-pub const FIFO_DEPTH: usize = 8;
+/// The period FIFO depth of an export (defined beside the radix, in the IP crate).
+pub use crate::latency::FIFO_DEPTH;
 
 /// Cycles per period the S-curve option plans for on each axis (`--profiles
 /// trapezoid,scurve`): the sustainable period is K times this. A polynomial period

@@ -6,6 +6,7 @@
 //! baseline), and clear errors
 //! for bad arguments.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 
 use common::*;
@@ -20,7 +21,7 @@ fn bin() -> Command {
 }
 
 fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
 fn export_to(args: &[&str], name: &str) -> PathBuf {

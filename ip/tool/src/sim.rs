@@ -20,10 +20,9 @@
 //! [`crate::verify::system::bus_pauses`].
 
 use crate::export::{self, ExportOptions, QUEUE_DEPTH, RADIX_BITS};
-use crate::hdl::top::TdmStepper;
 use crate::model::{planner, scurve, units, AxisRun, Limits, Motion, Segment};
-use crate::verify::bus::{position, run_stepper_rust_hdl, stepper_watch, system_spec, BusModel, BusTiming, ReadId};
-use crate::verify::system::{bus_pauses, gtkw_text, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
+use crate::verify::bus::{position, stepper_watch, system_spec, BusModel, BusTiming, ReadId};
+use crate::verify::system::{gtkw_text, run_system_with, write_vcd, Clocks, RunOptions, SystemTrace, VcdOptions};
 use plotters::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -623,7 +622,7 @@ pub fn run(opts: &SimOptions) -> Result<(Report, Vec<PathBuf>), String> {
             if opts.vcd.is_some() {
                 return Err("--vcd needs --engine verilator".into());
             }
-            rust_hdl_run(k, exp, &clocks, &b, cycles, opts.progress)?
+            crate::verify::bus::run_tdm_rust_hdl(exp.params(), &clocks, b.events(), cycles, opts.progress)?
         }
     };
     let wall = t0.elapsed().as_secs_f64();
@@ -714,37 +713,6 @@ fn rises(trace: &SystemTrace, a: usize) -> Vec<u64> {
         prev = s;
     }
     out
-}
-
-macro_rules! rust_hdl_k {
-    ($k:expr, $exp:expr, $clocks:expr, $b:expr, $cycles:expr, $progress:expr, [$($kk:literal),*]) => {
-        match ($k, $exp.scurve) {
-            $(($kk, false) => Ok(rust_hdl_sim::<$kk, 0>($exp, $clocks, $b, $cycles, $progress)),)*
-            $(($kk, true) => Ok(rust_hdl_sim::<$kk, 1>($exp, $clocks, $b, $cycles, $progress)),)*
-            _ => Err(format!("--engine rust-hdl supports --axes 1, 2, 4 or 8 (got {})", $k)),
-        }
-    };
-}
-
-fn rust_hdl_run(k: usize, exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> Result<SystemTrace, String> {
-    let (clocks, b) = (*clocks, b.clone());
-    std::thread::Builder::new()
-        .stack_size(256 << 20)
-        .spawn(move || rust_hdl_k!(k, exp, &clocks, &b, cycles, progress, [1, 2, 4, 8]))
-        .map_err(|e| e.to_string())?
-        .join()
-        .map_err(|_| "the rust-hdl simulation panicked".to_string())?
-}
-
-fn rust_hdl_sim<const K: usize, const S: usize>(exp: ExportOptions, clocks: &Clocks, b: &BusModel, cycles: u64, progress: bool) -> SystemTrace {
-    let mut u = Box::new(TdmStepper::<K, RADIX_BITS, { export::FIFO_DEPTH }, QUEUE_DEPTH, S>::new(exp.params()));
-    u.connect_ports();
-    let pauses = bus_pauses(b.events(), 1_000_000_000);
-    let trace = run_stepper_rust_hdl(u.as_mut(), clocks, b.events(), cycles, &pauses, progress);
-    if progress {
-        eprintln!();
-    }
-    trace
 }
 
 /// The exact acceleration of `motions` (of the speed's magnitude, steps/s²) against

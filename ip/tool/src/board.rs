@@ -21,8 +21,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The board's top level and constraints.
-pub const TOP_V: &str = include_str!("../../board/ulx3s/top.v");
-pub const LPF: &str = include_str!("../../board/ulx3s/ulx3s.lpf");
+pub const TOP_V: &str = include_str!("../../../board/ulx3s/top.v");
+pub const LPF: &str = include_str!("../../../board/ulx3s/ulx3s.lpf");
 /// The core clock and the bus clock the PLL makes from the 25 MHz oscillator.
 pub const CLK_HZ: u32 = 50_000_000;
 pub const BUS_CLK_HZ: u32 = 100_000_000;

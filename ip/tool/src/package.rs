@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 /// The lint waivers for the exported Verilog (Verilator configuration file), the
 /// same file the tests lint with.
-pub const LINT_WAIVERS: &str = include_str!("../verilog/lint_waivers.vlt");
+pub const LINT_WAIVERS: &str = include_str!("../../verilog/lint_waivers.vlt");
 
 /// File names in the export folder.
 pub const WAIVER_FILE: &str = "tdm_stepper_waivers.vlt";
@@ -26,12 +26,12 @@ pub const CORE_FILE: &str = "tdm_stepper.core";
 /// export (it plans on the host too); the driver pushes its segments only with a
 /// header from an S-curve export.
 pub const C_SOURCES: [(&str, &str); 6] = [
-    ("tdm_driver.h", include_str!("../c/tdm_driver.h")),
-    ("tdm_driver.c", include_str!("../c/tdm_driver.c")),
-    ("tdm_planner.h", include_str!("../c/tdm_planner.h")),
-    ("tdm_planner.c", include_str!("../c/tdm_planner.c")),
-    ("tdm_scurve.h", include_str!("../c/tdm_scurve.h")),
-    ("tdm_scurve.c", include_str!("../c/tdm_scurve.c")),
+    ("tdm_driver.h", include_str!("../../c/tdm_driver.h")),
+    ("tdm_driver.c", include_str!("../../c/tdm_driver.c")),
+    ("tdm_planner.h", include_str!("../../c/tdm_planner.h")),
+    ("tdm_planner.c", include_str!("../../c/tdm_planner.c")),
+    ("tdm_scurve.h", include_str!("../../c/tdm_scurve.h")),
+    ("tdm_scurve.c", include_str!("../../c/tdm_scurve.c")),
 ];
 
 /// `bus_clk` frequency the constraints assume (the register file and the slave close
