@@ -21,10 +21,10 @@ import threading
 import time
 
 # The longest binaries first, unknown ones after these. cli_and_readme ends with the
-# board build (yosys and nextpnr, about 20 minutes on a 2-core machine with the other
-# lane busy), so it starts at once; the rest in the order of their times there
-# (2026-12-02, before the cuts of that day: hdl_core 15 min, model_props 16, the small
-# sweep 14, system 12, export 7, c_driver 5).
+# board build (yosys and nextpnr), so it starts at once; the rest in the order of their
+# times in a clean-clone run (2026-12-02, 2-core machine: cli_and_readme 634 s,
+# hdl_core 397, system 356, model_props 176, export 254, the small sweep 147,
+# c_driver 130, hdl_encoder 110).
 LONGEST = [
     "cli_and_readme",
     "hdl_core",
