@@ -442,6 +442,8 @@ struct SmokeBus {
 
 fn smoke_bus(opts: &ExportOptions) -> SmokeBus {
     let aw = crate::regs::ADDR_BITS;
+    // The first word address that no register maps (Wishbone and AXI4-Lite refuse it).
+    let unmapped = crate::regs::mapped(&opts.params()).iter().position(|m| !m);
     match opts.bus {
         crate::export::Bus::Exmc => SmokeBus {
             on: "",
@@ -504,7 +506,7 @@ fn smoke_bus(opts: &ExportOptions) -> SmokeBus {
                  \x20 endtask\n",
                 aw - 1
             ),
-            hole: crate::regs::mapped(&opts.params()).iter().position(|m| !m),
+            hole: unmapped,
         },
         crate::export::Bus::Axil => SmokeBus {
             on: " on AXI4-Lite",
@@ -524,7 +526,7 @@ fn smoke_bus(opts: &ExportOptions) -> SmokeBus {
                  \x20 endtask\n",
                 aw - 1
             ),
-            hole: crate::regs::mapped(&opts.params()).iter().position(|m| !m),
+            hole: unmapped,
         },
     }
 }
