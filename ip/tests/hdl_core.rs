@@ -1256,8 +1256,9 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     // (what, segments, stop at this many ticks after the release)
     let uniform = vec![Segment::new(1 << 22, 51_200, -50)];
     let at_edge = |segs: &[Segment], i: usize| AxisRun::run(segs, &limits).edge_ticks[i];
-    // The first (the richest: the held request and the dropped push) runs in rust-hdl
-    // too; it simulates a few thousand cycles a second, and three took 6 minutes.
+    // The first three (the held request and the dropped push among them) run in
+    // rust-hdl too: it simulates a few thousand cycles a second, and these three take
+    // about 6 minutes of the test command (the rest run in Verilator only).
     let mut scenarios: Vec<(&str, Vec<Segment>, u64)> = vec![
         ("accelerating", accel.clone(), acc_run.edge_ticks[3]),
         ("in a dwell", dwell.clone(), AxisRun::run(&dwell[..dwell.len() - 3], &limits).end_tick + 15_000),
@@ -1275,7 +1276,7 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
             scenarios.push(("accelerating, stopped at every phase of a period", fast.clone(), at_edge(&fast, 100) + d));
         }
     }
-    const RUST_HDL_SCENARIOS: usize = 1;
+    const RUST_HDL_SCENARIOS: usize = 3;
     let row = |cmd: Option<(u128, &Segment)>, start: bool, cstop: u128| -> Vec<u128> {
         let (v, a, s) = match cmd {
             Some((a, s)) => (1, a, (s.v0_rate as u128, s.t_ticks as u128, s.steps as u32 as u128)),
