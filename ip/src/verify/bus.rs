@@ -114,12 +114,9 @@ pub fn run_stepper_rust_hdl<const K: usize, const R: usize, const D: usize, cons
     )
 }
 
-/// Axis counts [`run_tdm_rust_hdl`] simulates (each is a compiled instance).
-pub const RUST_HDL_AXES: [usize; 4] = [1, 2, 4, 8];
-
 /// The exported TDM core (R = [`crate::latency::RADIX_BITS`], the export's FIFO and
-/// queue depths) for `params` (K in [`RUST_HDL_AXES`], with or without the S-curve
-/// option; no other option), simulated in rust-hdl with [`run_stepper_rust_hdl`]
+/// queue depths) for `params` (K = 1, 2, 4 or 8, each a compiled instance; with or
+/// without the S-curve option; no other option), simulated in rust-hdl with [`run_stepper_rust_hdl`]
 /// under bus `events`, the bus paused where [`super::system::bus_pauses`] finds it
 /// idle for a second or more: what `tdm-stepper sim --engine rust-hdl` runs. The
 /// instances are made here, in the optimised IP crate, not in the tool. Err for
