@@ -1257,8 +1257,8 @@ fn controlled_stop_scenarios<const K: usize>(rust_hdl: bool) {
     let uniform = vec![Segment::new(1 << 22, 51_200, -50)];
     let at_edge = |segs: &[Segment], i: usize| AxisRun::run(segs, &limits).edge_ticks[i];
     // The first three (the held request and the dropped push among them) run in
-    // rust-hdl too: it simulates a few thousand cycles a second, and these three take
-    // about 6 minutes of the test command (the rest run in Verilator only).
+    // rust-hdl too: it simulates a few thousand cycles a second, and the three took
+    // 90 s alone, 6 minutes beside other tests (the rest run in Verilator only).
     let mut scenarios: Vec<(&str, Vec<Segment>, u64)> = vec![
         ("accelerating", accel.clone(), acc_run.edge_ticks[3]),
         ("in a dwell", dwell.clone(), AxisRun::run(&dwell[..dwell.len() - 3], &limits).end_tick + 15_000),
